@@ -1,0 +1,103 @@
+/* The chain's I2C command set (central control <-> modules).
+ *
+ * Every frame: byte 0 = command code, then the arguments, integers
+ * little-endian. Replies go to the central control's address
+ * CHAIN_CENTRAL_ADDR. Modules get addresses CHAIN_FIRST_MODULE_ADDR + k,
+ * k = 0.. in chain order, during discovery (docs/firmware.md).
+ *
+ *  code  name            dir        to       bytes  layout
+ *  0x01  ENUM_OFFER      C -> M     general  2      code, addr
+ *  0x02  ENUM_REPLY      M -> C     0x10     3      code, addr, type
+ *  0x10  SET_GAIT        C -> M     module   9      code, gait, amp_cdeg i16,
+ *                                                   omega_mrad_s i16, phase_mrad i16, axis
+ *  0x11  START           C -> M     general  1      code
+ *  0x12  STOP            C -> M     any      1      code
+ *  0x20  READ_SENSORS    C -> M     module   1      code
+ *  0x21  SENSORS         M -> C     0x10     3+2n   code, addr, n, n x angle_cdeg i16
+ *  0x22  STATUS          C -> M     module   1      code
+ *  0x23  STATUS_REPLY    M -> C     0x10     6      code, addr, type, state, gait, flags
+ *
+ * Modules ignore codes they do not know and frames of the wrong length
+ * (STATUS_REPLY then shows CC_FLAG_BAD_FRAME).
+ */
+#ifndef CHAIN_COMMANDS_H
+#define CHAIN_COMMANDS_H
+
+#include <stdint.h>
+
+/* addresses (7-bit) */
+#define CHAIN_CENTRAL_ADDR 0x10u
+#define CHAIN_FIRST_MODULE_ADDR 0x20u
+#define CHAIN_MAX_MODULES 32u /* addresses 0x20..0x3F */
+
+/* command codes */
+#define CC_ENUM_OFFER 0x01u
+#define CC_ENUM_REPLY 0x02u
+#define CC_SET_GAIT 0x10u
+#define CC_START 0x11u
+#define CC_STOP 0x12u
+#define CC_READ_SENSORS 0x20u
+#define CC_SENSORS 0x21u
+#define CC_STATUS 0x22u
+#define CC_STATUS_REPLY 0x23u
+
+/* frame lengths */
+#define CC_ENUM_OFFER_LEN 2u
+#define CC_ENUM_REPLY_LEN 3u
+#define CC_SET_GAIT_LEN 9u
+#define CC_START_LEN 1u
+#define CC_STOP_LEN 1u
+#define CC_READ_SENSORS_LEN 1u
+#define CC_SENSORS_LEN(n) (3u + 2u * (n))
+#define CC_STATUS_LEN 1u
+#define CC_STATUS_REPLY_LEN 6u
+
+/* SET_GAIT byte offsets */
+#define CC_GAIT_OFF_GAIT 1u
+#define CC_GAIT_OFF_AMP 2u   /* i16 amplitude, centidegrees (0..18000) */
+#define CC_GAIT_OFF_OMEGA 4u /* i16 angular velocity, mrad/s */
+#define CC_GAIT_OFF_PHASE 6u /* i16 phase step between consecutive modules, mrad */
+#define CC_GAIT_OFF_AXIS 8u  /* CC_AXIS_* */
+
+/* module type codes (ENUM_REPLY, STATUS_REPLY) */
+#define MT_ROTATION 1u
+#define MT_HELICOIDAL 2u
+#define MT_SUPPORT 3u
+#define MT_EXTENSION 4u
+#define MT_TOUCH 5u
+#define MT_TRAVELLER 6u
+#define MT_PASSIVE 7u
+
+/* gait codes (SET_GAIT) */
+#define GAIT_NONE 0u          /* stop, servos to 0 */
+#define GAIT_FORWARD 1u       /* travelling sine wave, phase +k*phase */
+#define GAIT_BACKWARD 2u      /* the wave the other way, phase -k*phase */
+#define GAIT_TURN_LEFT 3u     /* reserved */
+#define GAIT_TURN_RIGHT 4u    /* reserved */
+#define GAIT_ROLL 5u          /* reserved */
+#define GAIT_ROTATE 6u        /* reserved */
+#define GAIT_LATERAL_SHIFT 7u /* reserved */
+#define GAIT_INCHWORM 8u      /* reserved */
+#define GAIT_HELICOIDAL 9u    /* reserved */
+
+/* axis (SET_GAIT): which servo of a rotation module moves */
+#define CC_AXIS_PITCH 0u /* servo 0 */
+#define CC_AXIS_YAW 1u   /* servo 1 */
+
+/* STATUS_REPLY state */
+#define CC_STATE_IDLE 0u
+#define CC_STATE_RUNNING 1u
+
+/* STATUS_REPLY flags (sticky until read by STATUS) */
+#define CC_FLAG_BAD_GAIT 0x01u  /* a gait or axis this module can't do */
+#define CC_FLAG_BAD_FRAME 0x02u /* unknown code or wrong length */
+#define CC_FLAG_SERVO 0x04u     /* setspangle refused a value */
+
+/* little-endian helpers */
+void cc_put_i16(uint8_t *p, int16_t v);
+int16_t cc_get_i16(const uint8_t *p);
+
+/* letter for a module type in the chain line: T R H S E W P, '?' if unknown */
+char cc_type_letter(uint8_t type);
+
+#endif

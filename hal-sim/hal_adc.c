@@ -1,0 +1,11 @@
+/* hal-sim: analog inputs, as of the latest TICK_BEGIN. */
+#include "hal_adc.h"
+
+#include "hal_sim_link.h"
+
+uint16_t hal_adc_read(uint8_t channel)
+{
+    if (channel >= hs.n_adc || channel >= CS_ADC_MAX)
+        return 0;
+    return hs.adc[channel];
+}

@@ -1,0 +1,60 @@
+// Module processes: spawn with their environment, end them, and say how they ended.
+#pragma once
+
+#include <sys/types.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace chainsim {
+
+struct ChildSpec {
+  std::string program;                   // path of the executable
+  std::vector<std::string> args;         // argv[1..]
+  std::vector<std::string> env;          // extra NAME=VALUE entries
+  std::string stdout_path;               // where its stdout and stderr go
+};
+
+// how a process ended, in words: "exit code 3", "signal 9 (Killed)"
+struct ExitStatus {
+  bool exited = false;
+  int code = 0;       // exit code when exited
+  int signal = 0;     // signal number when killed
+  std::string text() const;
+};
+
+class ChildProcess {
+ public:
+  ChildProcess() = default;
+  ~ChildProcess();
+  ChildProcess(const ChildProcess&) = delete;
+  ChildProcess& operator=(const ChildProcess&) = delete;
+
+  // fork and exec; the child gets its own process group and dies with the
+  // server (PR_SET_PDEATHSIG). Throws std::runtime_error if fork fails; an
+  // exec failure shows as exit code 127 with a message in its output file.
+  void spawn(const ChildSpec& spec);
+
+  pid_t pid() const { return pid_; }
+  bool running() const { return pid_ > 0 && !status_; }
+
+  // non-blocking reap; the status once the process has ended
+  const std::optional<ExitStatus>& poll();
+  // wait up to timeout_ms for the process to end
+  const std::optional<ExitStatus>& wait_for(int timeout_ms);
+  // SIGTERM, then SIGKILL after grace_ms; always reaps
+  void terminate(int grace_ms);
+
+ private:
+  pid_t pid_ = -1;
+  std::optional<ExitStatus> status_;
+};
+
+// end all of them: SIGTERM to each, then SIGKILL to those left after grace_ms
+void terminate_all(std::vector<ChildProcess*> children, int grace_ms);
+
+// directory of the running executable (/proc/self/exe)
+std::string executable_dir();
+
+}  // namespace chainsim

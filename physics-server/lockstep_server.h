@@ -1,0 +1,63 @@
+// A run: the physics server that spawns one process per module plus the
+// central control, advances them and the ODE world in lockstep, and writes
+// the run directory.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "scene.h"
+
+namespace chainsim {
+
+enum class FaultMode { Stop, Limp };
+
+// exit codes of `chainsim run`
+constexpr int kExitOk = 0;
+constexpr int kExitBadInput = 1;     // scene or options
+constexpr int kExitModuleFault = 2;  // a module crashed, hung or broke the protocol
+constexpr int kExitInternal = 3;
+constexpr int kExitInterrupted = 130;
+
+struct RunOptions {
+  std::string out_dir;                  // run directory to write
+  FaultMode on_fault = FaultMode::Stop;
+  double module_timeout_s = 10.0;       // wall clock, per exchange
+  std::set<int> attach;                 // endpoints the user starts by hand
+  std::string firmware_dir;             // where fw-* programs are; default: next to chainsim
+  bool progress = false;                // progress lines on stderr
+  bool quiet = false;                   // no messages on stderr except errors
+};
+
+// one applied servo command, for replaying a run without processes
+struct ServoCommand {
+  int64_t t_us;
+  int16_t module;
+  int8_t servo;
+  int8_t enabled;
+  double rad;
+};
+
+struct RunResult {
+  int exit_code = kExitOk;
+  std::string message;          // what ended the run when not a clean finish
+  nlohmann::json summary;       // as written to summary.json
+  double wall_time_s = 0;
+  uint64_t exchanges = 0;       // TickBegin/TickEnd round trips
+};
+
+// run scene; record, if given, collects every applied servo command
+RunResult run_scene(const Scene& scene, const RunOptions& options,
+                    std::vector<ServoCommand>* record = nullptr);
+
+// replay recorded commands into a fresh world for the scene's duration, with
+// no processes; the trace goes to trace_out (may be null). Returns wall seconds.
+double replay_physics(const Scene& scene, const std::vector<ServoCommand>& commands,
+                      std::string* trace_sha256);
+
+}  // namespace chainsim

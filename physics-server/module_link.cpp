@@ -1,0 +1,60 @@
+#include "module_link.h"
+
+namespace chainsim {
+
+namespace asio = boost::asio;
+
+ModuleLink::ModuleLink(Socket socket) : socket_(std::move(socket)) {}
+
+std::string ModuleLink::send(const cs_msg& m) {
+  const char* reason = nullptr;
+  const size_t n = cs_encode(&m, wbuf_.data(), wbuf_.size(), &reason);
+  if (n == 0) return std::string("server could not encode ") + cs_msg_name(m.type) + ": " + (reason ? reason : "?");
+  boost::system::error_code ec;
+  asio::write(socket_, asio::buffer(wbuf_.data(), n), ec);
+  if (ec) return io_error(ec);
+  return {};
+}
+
+void ModuleLink::async_receive(Handler handler) {
+  handler_ = std::move(handler);
+  asio::async_read(socket_, asio::buffer(rbuf_.data(), 4),
+                   [this](const boost::system::error_code& ec, size_t) { on_prefix(ec); });
+}
+
+void ModuleLink::on_prefix(const boost::system::error_code& ec) {
+  if (ec) return handler_(io_error(ec));
+  const char* reason = nullptr;
+  if (cs_body_length(rbuf_.data(), &body_len_, &reason) != CS_OK)
+    return handler_(std::string("sent a malformed frame: ") + (reason ? reason : "bad length"));
+  asio::async_read(socket_, asio::buffer(rbuf_.data() + 4, body_len_),
+                   [this](const boost::system::error_code& e, size_t) { on_body(e); });
+}
+
+void ModuleLink::on_body(const boost::system::error_code& ec) {
+  if (ec) return handler_(io_error(ec));
+  const char* reason = nullptr;
+  if (cs_decode(rbuf_.data() + 4, body_len_, &in_, &reason) != CS_OK)
+    return handler_(std::string("sent a malformed frame: ") + (reason ? reason : "?"));
+  handler_({});
+}
+
+std::string ModuleLink::io_error(const boost::system::error_code& ec) const {
+  if (ec == asio::error::eof || ec == asio::error::connection_reset || ec == asio::error::broken_pipe)
+    return "closed its socket";
+  if (ec == asio::error::operation_aborted) return "operation aborted";
+  return "socket error: " + ec.message();
+}
+
+void ModuleLink::cancel() {
+  boost::system::error_code ec;
+  socket_.cancel(ec);
+}
+
+void ModuleLink::close() {
+  boost::system::error_code ec;
+  socket_.shutdown(Socket::shutdown_both, ec);
+  socket_.close(ec);
+}
+
+}  // namespace chainsim

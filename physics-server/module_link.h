@@ -1,0 +1,49 @@
+// One module process's connection: framed protocol messages over a Unix
+// stream socket (Boost.Asio). Errors are returned as text, never thrown.
+#pragma once
+
+#include <utility>  // before Asio: Boost 1.74 awaitable.hpp uses std::exchange without it
+#include <boost/asio.hpp>
+
+#include <array>
+#include <functional>
+#include <string>
+
+#include "chainsim_protocol.h"
+
+namespace chainsim {
+
+class ModuleLink {
+ public:
+  using Socket = boost::asio::local::stream_protocol::socket;
+  // called once per receive: error is empty on success (message in received())
+  using Handler = std::function<void(const std::string& error)>;
+
+  explicit ModuleLink(Socket socket);
+
+  // encode and write m completely (blocking: frames are small and the peer
+  // reads each one); returns an error text, empty on success
+  std::string send(const cs_msg& m);
+
+  // read one frame and decode it into received(); handler runs in the io_context
+  void async_receive(Handler handler);
+
+  const cs_msg& received() const { return in_; }
+  void cancel();
+  void close();
+  bool open() const { return socket_.is_open(); }
+
+ private:
+  void on_prefix(const boost::system::error_code& ec);
+  void on_body(const boost::system::error_code& ec);
+  std::string io_error(const boost::system::error_code& ec) const;
+
+  Socket socket_;
+  std::array<uint8_t, 4 + CS_BODY_MAX> rbuf_{};
+  std::array<uint8_t, 4 + CS_BODY_MAX> wbuf_{};
+  uint32_t body_len_ = 0;
+  cs_msg in_{};
+  Handler handler_;
+};
+
+}  // namespace chainsim

@@ -1,0 +1,251 @@
+#include "scene.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace chainsim {
+namespace {
+
+// a YAML node with the file name, for messages that say where
+struct Ctx {
+  const std::string& file;
+};
+
+std::string where(const Ctx& c, const YAML::Node& n) {
+  const YAML::Mark m = n.Mark();
+  std::ostringstream s;
+  s << c.file;
+  if (m.line >= 0) s << ":" << (m.line + 1) << ":" << (m.column + 1);
+  return s.str();
+}
+
+[[noreturn]] void fail(const Ctx& c, const YAML::Node& n, const std::string& what) {
+  throw SceneError(where(c, n) + ": " + what);
+}
+
+// every key of map node must be in allowed
+void check_keys(const Ctx& c, const YAML::Node& map, const std::string& path,
+                const std::set<std::string>& allowed) {
+  if (!map.IsMap()) fail(c, map, "'" + path + "' must be a mapping");
+  for (const auto& kv : map) {
+    const std::string key = kv.first.as<std::string>();
+    if (!allowed.count(key)) {
+      std::string known;
+      for (const auto& a : allowed) known += (known.empty() ? "" : ", ") + a;
+      fail(c, kv.first, "unknown key '" + key + "' in '" + path + "' (known: " + known + ")");
+    }
+  }
+}
+
+double get_double(const Ctx& c, const YAML::Node& map, const std::string& key, double dflt,
+                  double lo, double hi, const std::string& path) {
+  const YAML::Node n = map[key];
+  if (!n) return dflt;
+  double v = 0;
+  try {
+    v = n.as<double>();
+  } catch (const YAML::Exception&) {
+    fail(c, n, "'" + path + "." + key + "' must be a number");
+  }
+  if (!std::isfinite(v) || v < lo || v > hi) {
+    std::ostringstream s;
+    s << "'" << path << "." << key << "' = " << v << " is out of range [" << lo << ", " << hi << "]";
+    fail(c, n, s.str());
+  }
+  return v;
+}
+
+int64_t get_int(const Ctx& c, const YAML::Node& map, const std::string& key, int64_t dflt,
+                int64_t lo, int64_t hi, const std::string& path) {
+  const YAML::Node n = map[key];
+  if (!n) return dflt;
+  int64_t v = 0;
+  try {
+    v = n.as<int64_t>();
+  } catch (const YAML::Exception&) {
+    fail(c, n, "'" + path + "." + key + "' must be an integer");
+  }
+  if (v < lo || v > hi) {
+    std::ostringstream s;
+    s << "'" << path << "." << key << "' = " << v << " is out of range [" << lo << ", " << hi << "]";
+    fail(c, n, s.str());
+  }
+  return v;
+}
+
+std::string get_string(const Ctx& c, const YAML::Node& map, const std::string& key,
+                       const std::string& dflt, const std::string& path) {
+  const YAML::Node n = map[key];
+  if (!n) return dflt;
+  if (!n.IsScalar()) fail(c, n, "'" + path + "." + key + "' must be a string");
+  return n.as<std::string>();
+}
+
+std::map<std::string, int32_t> get_params(const Ctx& c, const YAML::Node& map,
+                                          const std::string& path) {
+  std::map<std::string, int32_t> out;
+  const YAML::Node n = map["params"];
+  if (!n) return out;
+  if (!n.IsMap()) fail(c, n, "'" + path + ".params' must be a mapping of name: integer");
+  for (const auto& kv : n) {
+    const std::string name = kv.first.as<std::string>();
+    if (name.empty() || name.size() > 15)
+      fail(c, kv.first, "parameter name '" + name + "' must have 1 to 15 characters");
+    out[name] = static_cast<int32_t>(
+        get_int(c, n, name, 0, INT32_MIN, INT32_MAX, path + ".params"));
+  }
+  if (out.size() > 16) fail(c, n, "'" + path + ".params' has more than 16 parameters");
+  return out;
+}
+
+Material get_material(const Ctx& c, const YAML::Node& map, const std::string& path) {
+  Material m;
+  const YAML::Node n = map["material"];
+  if (!n) return m;
+  const std::string p = path + ".material";
+  check_keys(c, n, p, {"mu", "bounce", "soft_erp", "soft_cfm"});
+  m.mu = get_double(c, n, "mu", m.mu, 0.0, 100.0, p);
+  m.bounce = get_double(c, n, "bounce", m.bounce, 0.0, 1.0, p);
+  m.soft_erp = get_double(c, n, "soft_erp", m.soft_erp, 0.0, 1.0, p);
+  m.soft_cfm = get_double(c, n, "soft_cfm", m.soft_cfm, 0.0, 1.0, p);
+  return m;
+}
+
+void load_chain(const Ctx& c, const YAML::Node& root, Scene* s) {
+  const YAML::Node n = root["chain"];
+  if (!n) fail(c, root, "missing key 'chain' (a string such as \"RRRRRRRR\" or a list of modules)");
+  if (n.IsScalar()) {
+    const std::string letters = n.as<std::string>();
+    if (letters.empty()) fail(c, n, "'chain' is empty");
+    for (char l : letters) {
+      const std::string type = module_type_for_letter(l);
+      if (type.empty())
+        fail(c, n, std::string("'chain' has unknown module letter '") + l +
+                       "' (T touch, R rotation, H helicoidal, S support, E extension, "
+                       "W traveller, P passive)");
+      s->modules.push_back({type, default_firmware(type), {}});
+    }
+  } else if (n.IsSequence()) {
+    for (size_t i = 0; i < n.size(); ++i) {
+      const YAML::Node m = n[i];
+      const std::string p = "chain[" + std::to_string(i) + "]";
+      check_keys(c, m, p, {"type", "firmware", "params"});
+      if (!m["type"]) fail(c, m, "'" + p + "' needs a 'type'");
+      SceneModule sm;
+      sm.type = get_string(c, m, "type", "", p);
+      sm.firmware = get_string(c, m, "firmware", default_firmware(sm.type), p);
+      sm.params = get_params(c, m, p);
+      s->modules.push_back(sm);
+    }
+    if (s->modules.empty()) fail(c, n, "'chain' is empty");
+  } else {
+    fail(c, n, "'chain' must be a string of module letters or a list of modules");
+  }
+  if (s->modules.size() > 64) fail(c, n, "'chain' has more than 64 modules");
+  for (const auto& m : s->modules) s->world.chain.push_back(m.type);
+}
+
+}  // namespace
+
+std::string module_type_for_letter(char letter) {
+  switch (letter) {
+    case 'T': return "touch";
+    case 'R': return "rotation";
+    case 'H': return "helicoidal";
+    case 'S': return "support";
+    case 'E': return "extension";
+    case 'W': return "traveller";
+    case 'P': return "passive";
+    default: return "";
+  }
+}
+
+std::string default_firmware(const std::string& type) { return "fw-" + type; }
+
+Scene load_scene_text(const std::string& text, const std::string& name) {
+  const Ctx c{name};
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    std::ostringstream s;
+    s << name << ":" << (e.mark.line + 1) << ":" << (e.mark.column + 1) << ": " << e.msg;
+    throw SceneError(s.str());
+  }
+  if (!root || !root.IsMap()) throw SceneError(name + ": a scene must be a YAML mapping");
+  check_keys(c, root, "scene",
+             {"name", "duration_s", "seed", "physics", "environment", "chain", "placement",
+              "central", "output"});
+
+  Scene s;
+  s.source = name;
+  s.name = get_string(c, root, "name", "unnamed", "scene");
+  s.duration_s = get_double(c, root, "duration_s", s.duration_s, 0.001, 86400.0, "scene");
+  s.seed = static_cast<uint64_t>(get_int(c, root, "seed", 1, 0, INT64_MAX, "scene"));
+  s.world.seed = s.seed;
+
+  if (const YAML::Node p = root["physics"]) {
+    check_keys(c, p, "physics", {"dt_us", "tick_us", "gravity_m_s2"});
+    s.world.dt_us = get_int(c, p, "dt_us", s.world.dt_us, 10, 100000, "physics");
+    s.tick_us = get_int(c, p, "tick_us", s.tick_us, 10, 1000000, "physics");
+    s.world.gravity_m_s2 = get_double(c, p, "gravity_m_s2", s.world.gravity_m_s2, 0.0, 100.0, "physics");
+    if (s.tick_us % s.world.dt_us != 0)
+      fail(c, p, "'physics.tick_us' (" + std::to_string(s.tick_us) +
+                     ") must be a multiple of 'physics.dt_us' (" + std::to_string(s.world.dt_us) + ")");
+  }
+
+  if (const YAML::Node e = root["environment"]) {
+    check_keys(c, e, "environment", {"type", "material"});
+    const std::string type = get_string(c, e, "type", "plane", "environment");
+    if (type != "plane")
+      fail(c, e["type"], "'environment.type' '" + type + "' is not known (known: plane)");
+    s.world.ground = get_material(c, e, "environment");
+  }
+
+  load_chain(c, root, &s);
+
+  if (const YAML::Node p = root["placement"]) {
+    check_keys(c, p, "placement", {"position_m", "heading_deg"});
+    if (const YAML::Node pos = p["position_m"]) {
+      if (!pos.IsSequence() || pos.size() != 3)
+        fail(c, pos, "'placement.position_m' must be a list of 3 numbers [x, y, z]");
+      for (int i = 0; i < 3; ++i) {
+        try {
+          s.world.head_position[i] = pos[i].as<double>();
+        } catch (const YAML::Exception&) {
+          fail(c, pos[i], "'placement.position_m' must be a list of 3 numbers [x, y, z]");
+        }
+      }
+    }
+    s.world.heading_rad = get_double(c, p, "heading_deg", 0.0, -360.0, 360.0, "placement") * M_PI / 180.0;
+  }
+
+  s.central = {"central", "fw-central", {}};
+  if (const YAML::Node ce = root["central"]) {
+    check_keys(c, ce, "central", {"program", "params"});
+    s.central.firmware = get_string(c, ce, "program", "fw-central", "central");
+    s.central.params = get_params(c, ce, "central");
+  }
+
+  if (const YAML::Node o = root["output"]) {
+    check_keys(c, o, "output", {"trace_hz"});
+    s.trace_hz = get_double(c, o, "trace_hz", s.trace_hz, 0.001, 1e6, "output");
+  }
+  return s;
+}
+
+Scene load_scene_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw SceneError(path + ": cannot open scene file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return load_scene_text(ss.str(), path);
+}
+
+Scene default_scene() { return load_scene_text(default_scene_text(), "<built-in default scene>"); }
+
+}  // namespace chainsim

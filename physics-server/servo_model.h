@@ -1,0 +1,120 @@
+// The paper's DC servomotor model (section 3.2, Table 1). Owned by the physics helper; see world.h.
+//
+// Continuous model (output-shaft quantities; theta, w = joint angle and rate):
+//   ea    = clamp(Kp (theta_r - theta), -Vs, Vs)      position loop + supply limit
+//   L di/dt = ea - R i - Km w                          armature circuit
+//   tau   = Kt i - B w - J dw/dt                       torque delivered to the joint
+//   tau_f di_f/dt = |i| - i_f                          current sensor behind an RC filter
+//   adc   = round(i_f / adc_full_scale_a * 1023)       10-bit ADC of the filtered current
+//
+// The electrical (L/R = 0.625 ms) and mechanical (J R/(Kt Km) = 0.43 ms)
+// time constants are as short as the 0.5 ms physics step, so the model is not
+// integrated with explicit Euler (that is unstable here). Per step h:
+//  * the electrical part is integrated in closed form with ea held (sampled
+//    from theta at the start of the step) and w held at its END-of-step value
+//    w' (implicit). The step-average current is then affine in w':
+//        i_avg = (1-phi) (ea - Km w')/R + phi i_n,  phi = (tau_e/h)(1 - e^(-h/tau_e))
+//  * the rotor inertia J is a *relative* inertia (the geared rotor turns with
+//    the joint's relative rate, not with the child body's absolute rate), so it
+//    is not added to a body: it is integrated implicitly on the joint rate:
+//    -J (w' - w_n)/h;
+//  * B w is taken at w' (implicit).
+// The total shaft torque over the step is therefore tau = D (v - w'), a linear
+// damper towards a target rate v, with damping D. The World realises it as a
+// one-axis ODE angular motor on the hinge with dParamVel = v and
+// dParamCFM = 1/D (ODE's constraint-force mixing makes a motor row exactly an
+// implicit damper: lambda = D (v - w_next)), so ODE solves it together with the
+// whole multibody system: the *true* effective inertia about the axis (whatever
+// the chain, the contacts and the joint limits do) is used, no estimate needed.
+// After the step the current is advanced exactly with the w' ODE produced:
+//   i_{n+1} = i_inf + (i_n - i_inf) e^(-h/tau_e),  i_inf = (ea - Km w')/R.
+// Zero-inertia limit (a massless link): the scheme is still stable for h/tau_e
+// = 0.8 (the current's step multiplier tends to -0.77); J > 0 keeps it further
+// from that limit. See servo_model_test.cpp for the convergence check against a
+// fine RK4 reference.
+//
+// Disabled / limp (no PWM pulses, or the module unpowered): the driver bridge is
+// off, the motor terminals are open: no drive voltage and no closed circuit for
+// the back-EMF, so there is no electrical braking; the current still flowing
+// decays with L/R (free-wheel) and then there is no torque at all. B and J stay
+// (they are mechanical). The paper's I_threshold dead zone (static friction)
+// is not modelled yet.
+#pragma once
+
+#include <cstdint>
+
+namespace chainsim {
+
+struct ServoParams {
+  double kp = 12.0;        // V/rad
+  double km = 0.14;        // V/(rad/s)
+  double kt = 0.14;        // N m/A
+  double r = 12.0;         // ohm
+  double l = 0.0075;       // H
+  double b = 3.5e-6;       // N m/(rad/s)
+  double j = 7.0e-7;       // kg m^2, referred to the output shaft
+  double supply_v = 5.0;   // V
+  double current_filter_tau_s = 0.003;
+  // Current sense chain (our assumption, the paper gives no figures): a 1 ohm
+  // shunt, an amplifier of gain 10 and a 10-bit ADC with a 5 V reference:
+  // 1023 counts = 0.5 A (0.489 mA per count). The stall current is
+  // Vs/R = 0.417 A = 853 counts, so the full range is used with headroom.
+  double adc_full_scale_a = 0.5;
+};
+
+class ServoModel {
+ public:
+  // the torque law for one physics step: tau = damping * (target_rate - w_next)
+  struct StepLaw {
+    double target_rate = 0.0;   // rad/s
+    double damping = 0.0;       // N m s/rad, > 0 (1/damping = the motor row's CFM)
+  };
+
+  explicit ServoModel(const ServoParams& params = ServoParams{});
+
+  const ServoParams& params() const { return p_; }
+
+  void set_setpoint(double rad) { setpoint_ = rad; }
+  double setpoint() const { return setpoint_; }
+  // disabled = no drive (limp); see above
+  void set_enabled(bool enabled) { enabled_ = enabled; }
+  bool enabled() const { return enabled_; }
+
+  // Start of a step of length h (s): theta, w = joint angle and rate now.
+  StepLaw begin_step(double theta, double w, double h);
+  // End of the step: w_next = the joint rate the physics produced.
+  void end_step(double w_next);
+
+  double current_a() const { return i_; }              // armature current now
+  double mean_current_a() const { return i_mean_; }    // average over the last step
+  double filtered_current_a() const { return i_f_; }   // after the RC filter
+  double drive_voltage_v() const { return ea_; }       // ea of the last step
+  double motor_torque_nm() const { return p_.kt * i_mean_; }  // Kt i, last step average
+  // 10-bit counts of the filtered current (0..1023)
+  uint16_t adc_counts() const;
+
+  // back to rest: no current, filter empty (set-point and enable kept)
+  void reset_state();
+
+ private:
+  void update_constants(double h);
+
+  ServoParams p_;
+  double setpoint_ = 0.0;
+  bool enabled_ = true;
+
+  // state
+  double i_ = 0.0;
+  double i_f_ = 0.0;
+  double i_mean_ = 0.0;
+  // held over the current step
+  double ea_ = 0.0;
+  bool drive_ = true;   // enabled_ at begin_step
+  // constants for h
+  double h_ = -1.0;
+  double e_ = 0.0;      // e^(-h/tau_e)
+  double phi_ = 0.0;    // (tau_e/h)(1 - e^(-h/tau_e)): weight of i_n in the step average
+  double ef_ = 0.0;     // e^(-h/tau_f)
+};
+
+}  // namespace chainsim

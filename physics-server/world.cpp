@@ -1,0 +1,559 @@
+// The ODE world of one run. See world.h (interface), module_library.h (how a
+// module type is described) and servo_model.h (the servo and how it is coupled
+// to ODE).
+//
+// Determinism: ODE's random generator (QuickStep reorders constraints with it)
+// is seeded with WorldConfig::seed and its state is saved/restored around every
+// step, so several Worlds in one thread do not disturb each other. Collisions
+// go through a simple space (geoms in creation order), contacts are created in
+// the order the space reports them. No wall clock anywhere.
+//
+// No allocation in step(): the contact-geometry buffer is a member array; the
+// contact joint group and ODE's stepper keep their memory between steps (both
+// grow only if a step needs more than any step before it).
+//
+// Solver: QuickStep, WorldConfig::solver_iterations (default 60). Measured on
+// an 8-module snake crawling on the plane and on a hanging chain (see
+// tests/physics): with 20 iterations the docking joints of the hanging 8-module
+// chain stretch by several mm; 60 keeps them well under 1 mm, and more buys
+// little. The global ERP/CFM are 0.2 / 1e-9 (joints stiff; contacts use their
+// Material's soft ERP/CFM).
+#include "world.h"
+
+#include <ode/ode.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+#include <stdexcept>
+
+#include "module_library.h"
+
+namespace chainsim {
+
+namespace {
+
+constexpr int kMaxContactsPerPair = 8;
+constexpr double kMotorFMax = 10.0;   // N m; far above any servo torque (stall 0.058 N m)
+constexpr double kPi = 3.14159265358979323846;
+
+Eigen::Isometry3d to_iso(const Pose& p) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = p.orientation.normalized().toRotationMatrix();
+  t.translation() = p.position;
+  return t;
+}
+
+Eigen::Isometry3d body_iso(dBodyID b) {
+  const dReal* p = dBodyGetPosition(b);
+  const dReal* q = dBodyGetQuaternion(b);
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).toRotationMatrix();
+  t.translation() = Eigen::Vector3d(p[0], p[1], p[2]);
+  return t;
+}
+
+void ode_init_once() {
+  static std::once_flag flag;
+  std::call_once(flag, [] { dInitODE2(0); });
+  dAllocateODEDataForThread(dAllocateMaskAll);
+}
+
+}  // namespace
+
+struct World::Impl {
+  struct Body {
+    dBodyID id = nullptr;
+    dGeomID geom = nullptr;
+    int module = -1;
+    std::string name;
+    bool touched = false;      // had a contact in the last step
+  };
+  struct Servo {
+    int module = -1;
+    dJointID hinge = nullptr;
+    dJointID motor = nullptr;  // one-axis angular motor realising the servo torque
+    ServoModel model;
+    double lo = 0, hi = 0;     // joint range, rad
+    bool enabled = true;
+    int follows = -1;          // global servo index whose set-point this one copies
+  };
+  struct Module {
+    std::string type;
+    int body0 = 0, nbody = 0;
+    std::vector<int> driven;   // global servo indices firmware drives (servo s = driven[s])
+    std::vector<int> all;      // all global servo indices of the module
+    bool powered = true;
+    int n_adc = 0;
+    int adc_servo[8] = {-1, -1, -1, -1, -1, -1, -1, -1};
+    std::vector<std::pair<int, int>> touch;  // (global body, input bit)
+    int front_body = 0, back_body = 0;       // global body indices
+    Eigen::Isometry3d front_in_body, back_in_body;  // face frames in their bodies' frames
+  };
+
+  WorldConfig cfg;
+  dWorldID world = nullptr;
+  dSpaceID space = nullptr;
+  dGeomID ground = nullptr;
+  dJointGroupID contact_group = nullptr;
+  unsigned long rand_seed = 0;
+  int64_t time_us = 0;
+  double h = 0;
+  int contact_count = 0;
+
+  std::vector<Body> bodies;
+  std::vector<Servo> servos;
+  std::vector<Module> modules;
+  dContactGeom contact_buf[kMaxContactsPerPair];
+
+  static void near_callback(void* data, dGeomID a, dGeomID b) {
+    static_cast<Impl*>(data)->collide_pair(a, b);
+  }
+
+  void collide_pair(dGeomID a, dGeomID b) {
+    const intptr_t ia = reinterpret_cast<intptr_t>(dGeomGetData(a));
+    const intptr_t ib = reinterpret_cast<intptr_t>(dGeomGetData(b));
+    if (ia == 0 && ib == 0) return;  // environment vs environment
+    const Material* mat = &cfg.ground;
+    if (ia != 0 && ib != 0) {
+      const Body& ba = bodies[ia - 1];
+      const Body& bb = bodies[ib - 1];
+      if (ba.module == bb.module) return;                              // no self-collision
+      if (dAreConnectedExcluding(ba.id, bb.id, dJointTypeContact)) return;  // docked pair
+      mat = &cfg.module_contact;
+    }
+    const int n = dCollide(a, b, kMaxContactsPerPair, contact_buf, sizeof(dContactGeom));
+    if (n <= 0) return;
+    if (ia) bodies[ia - 1].touched = true;
+    if (ib) bodies[ib - 1].touched = true;
+    for (int k = 0; k < n; ++k) {
+      dContact c;
+      c.geom = contact_buf[k];
+      c.surface.mode = dContactApprox1 | dContactSoftERP | dContactSoftCFM;
+      c.surface.mu = mat->mu;
+      c.surface.mu2 = 0;
+      c.surface.rho = c.surface.rho2 = c.surface.rhoN = 0;
+      c.surface.bounce = 0;
+      c.surface.bounce_vel = 0;
+      if (mat->bounce > 0) {
+        c.surface.mode |= dContactBounce;
+        c.surface.bounce = mat->bounce;
+        c.surface.bounce_vel = 0.01;
+      }
+      c.surface.soft_erp = mat->soft_erp;
+      c.surface.soft_cfm = mat->soft_cfm;
+      c.surface.motion1 = c.surface.motion2 = c.surface.motionN = 0;
+      c.surface.slip1 = c.surface.slip2 = 0;
+      c.fdir1[0] = c.fdir1[1] = c.fdir1[2] = c.fdir1[3] = 0;
+      dJointID j = dJointCreateContact(world, contact_group, &c);
+      dJointAttach(j, dGeomGetBody(c.geom.g1), dGeomGetBody(c.geom.g2));
+      ++contact_count;
+    }
+  }
+
+  void build();
+  void add_module(int index, const ModuleDef& def, const Eigen::Isometry3d& frame);
+
+  const Module& mod(int m) const {
+    if (m < 0 || m >= static_cast<int>(modules.size()))
+      throw std::out_of_range("module index " + std::to_string(m) + " out of range");
+    return modules[m];
+  }
+  int servo_index(int m, int s) const {
+    const Module& md = mod(m);
+    if (s < 0 || s >= static_cast<int>(md.driven.size()))
+      throw std::out_of_range("servo " + std::to_string(s) + " of module " + std::to_string(m) +
+                              " out of range");
+    return md.driven[s];
+  }
+  int body_index(int m, int b) const {
+    const Module& md = mod(m);
+    if (b < 0 || b >= md.nbody)
+      throw std::out_of_range("body " + std::to_string(b) + " of module " + std::to_string(m) +
+                              " out of range");
+    return md.body0 + b;
+  }
+};
+
+void World::Impl::add_module(int index, const ModuleDef& def, const Eigen::Isometry3d& frame) {
+  Module md;
+  md.type = def.type;
+  md.body0 = static_cast<int>(bodies.size());
+  md.nbody = static_cast<int>(def.bodies.size());
+
+  for (const BodyDef& bd : def.bodies) {
+    const Eigen::Isometry3d t = frame * to_iso(bd.pose);
+    const Eigen::Quaterniond q(t.linear());
+    Body b;
+    b.module = index;
+    b.name = bd.name;
+    b.id = dBodyCreate(world);
+    dBodySetPosition(b.id, t.translation().x(), t.translation().y(), t.translation().z());
+    const dQuaternion dq = {q.w(), q.x(), q.y(), q.z()};
+    dBodySetQuaternion(b.id, dq);
+    dMass m;
+    switch (bd.shape) {
+      case Shape::Capsule:
+        dMassSetCapsuleTotal(&m, bd.mass_kg, 3, bd.radius_m, bd.length_m);
+        b.geom = dCreateCapsule(space, bd.radius_m, bd.length_m);
+        break;
+      case Shape::Cylinder:
+        dMassSetCylinderTotal(&m, bd.mass_kg, 3, bd.radius_m, bd.length_m);
+        b.geom = dCreateCylinder(space, bd.radius_m, bd.length_m);
+        break;
+      case Shape::Box:
+        dMassSetBoxTotal(&m, bd.mass_kg, bd.box_m.x(), bd.box_m.y(), bd.box_m.z());
+        b.geom = dCreateBox(space, bd.box_m.x(), bd.box_m.y(), bd.box_m.z());
+        break;
+      case Shape::Sphere:
+        dMassSetSphereTotal(&m, bd.mass_kg, bd.radius_m);
+        b.geom = dCreateSphere(space, bd.radius_m);
+        break;
+    }
+    dBodySetMass(b.id, &m);
+    dGeomSetBody(b.geom, b.id);
+    // 1-based global body index; 0 marks the environment
+    dGeomSetData(b.geom, reinterpret_cast<void*>(static_cast<intptr_t>(bodies.size() + 1)));
+    bodies.push_back(b);
+  }
+
+  std::vector<dJointID> joints;
+  for (const JointDef& jd : def.joints) {
+    dBodyID parent = bodies[md.body0 + jd.parent].id;
+    dBodyID child = bodies[md.body0 + jd.child].id;
+    const Eigen::Vector3d anchor = frame * jd.anchor_m;
+    const Eigen::Vector3d axis = frame.linear() * jd.axis.normalized();
+    dJointID j = nullptr;
+    // body1 = child, body2 = parent: ODE's angle/position is body1 relative to body2
+    switch (jd.type) {
+      case JointType::Hinge:
+        j = dJointCreateHinge(world, nullptr);
+        dJointAttach(j, child, parent);
+        dJointSetHingeAnchor(j, anchor.x(), anchor.y(), anchor.z());
+        dJointSetHingeAxis(j, axis.x(), axis.y(), axis.z());
+        if (std::isfinite(jd.lo)) dJointSetHingeParam(j, dParamLoStop, jd.lo);
+        if (std::isfinite(jd.hi)) dJointSetHingeParam(j, dParamHiStop, jd.hi);
+        break;
+      case JointType::Slider:
+        j = dJointCreateSlider(world, nullptr);
+        dJointAttach(j, child, parent);
+        dJointSetSliderAxis(j, axis.x(), axis.y(), axis.z());
+        if (std::isfinite(jd.lo)) dJointSetSliderParam(j, dParamLoStop, jd.lo);
+        if (std::isfinite(jd.hi)) dJointSetSliderParam(j, dParamHiStop, jd.hi);
+        break;
+      case JointType::Fixed:
+        j = dJointCreateFixed(world, nullptr);
+        dJointAttach(j, child, parent);
+        dJointSetFixed(j);
+        break;
+    }
+    joints.push_back(j);
+  }
+
+  // actuators: servos (module-local actuator index -> global servo index)
+  std::vector<int> act_servo(def.actuators.size(), -1);
+  for (size_t a = 0; a < def.actuators.size(); ++a) {
+    const ActuatorDef& ad = def.actuators[a];
+    if (ad.type != ActuatorType::Servo)
+      throw std::invalid_argument("module type '" + def.type + "', actuator '" + ad.name +
+                                  "': linear servo and screw drive are not implemented yet");
+    const JointDef& jd = def.joints[ad.joint];
+    Servo s;
+    s.module = index;
+    s.hinge = joints[ad.joint];
+    s.model = ServoModel(ad.servo.value_or(cfg.servo));
+    s.lo = std::isfinite(jd.lo) ? jd.lo : -kPi;
+    s.hi = std::isfinite(jd.hi) ? jd.hi : kPi;
+    s.motor = dJointCreateAMotor(world, nullptr);
+    dJointAttach(s.motor, bodies[md.body0 + jd.child].id, bodies[md.body0 + jd.parent].id);
+    dJointSetAMotorMode(s.motor, dAMotorUser);
+    dJointSetAMotorNumAxes(s.motor, 1);
+    const Eigen::Vector3d axis = frame.linear() * jd.axis.normalized();
+    dJointSetAMotorAxis(s.motor, 0, 1, axis.x(), axis.y(), axis.z());
+    dJointSetAMotorParam(s.motor, dParamFMax, kMotorFMax);
+    act_servo[a] = static_cast<int>(servos.size());
+    md.all.push_back(static_cast<int>(servos.size()));
+    servos.push_back(std::move(s));
+  }
+  for (size_t a = 0; a < def.actuators.size(); ++a) {
+    if (def.actuators[a].follows >= 0)
+      servos[act_servo[a]].follows = act_servo[def.actuators[a].follows];
+  }
+  for (int a : driven_servo_actuators(def)) md.driven.push_back(act_servo[a]);
+
+  for (const SensorDef& sd : def.sensors) {
+    switch (sd.type) {
+      case SensorType::MotorCurrent:
+        md.adc_servo[sd.channel] = act_servo[sd.actuator];
+        md.n_adc = std::max(md.n_adc, sd.channel + 1);
+        break;
+      case SensorType::Touch:
+        md.touch.emplace_back(md.body0 + sd.body, sd.channel);
+        break;
+      case SensorType::Accelerometer:
+      case SensorType::WheelEncoder:
+        throw std::invalid_argument("module type '" + def.type + "', sensor '" + sd.name +
+                                    "': accelerometer and wheel encoder are not implemented yet");
+    }
+  }
+
+  md.front_body = md.body0 + def.front.body;
+  md.back_body = md.body0 + def.back.body;
+  md.front_in_body = to_iso(def.bodies[def.front.body].pose).inverse() * to_iso(def.front.frame);
+  md.back_in_body = to_iso(def.bodies[def.back.body].pose).inverse() * to_iso(def.back.frame);
+  modules.push_back(std::move(md));
+}
+
+void World::Impl::build() {
+  if (cfg.dt_us <= 0) throw std::invalid_argument("dt_us must be > 0");
+  h = static_cast<double>(cfg.dt_us) * 1e-6;
+  ode_init_once();
+  world = dWorldCreate();
+  dWorldSetGravity(world, 0, 0, -cfg.gravity_m_s2);
+  dWorldSetERP(world, 0.2);
+  dWorldSetCFM(world, 1e-9);
+  dWorldSetQuickStepNumIterations(world, std::max(1, cfg.solver_iterations));
+  dWorldSetAutoDisableFlag(world, 0);
+  dWorldSetContactSurfaceLayer(world, 1e-4);
+  space = dSimpleSpaceCreate(nullptr);
+  ground = dCreatePlane(space, 0, 0, 1, 0);
+  dGeomSetData(ground, nullptr);
+  contact_group = dJointGroupCreate(0);
+  rand_seed = static_cast<unsigned long>(cfg.seed);
+
+  std::vector<ModuleDef> defs;
+  defs.reserve(cfg.chain.size());
+  for (const std::string& name : cfg.chain) {
+    defs.push_back(builtin_module_def(name));
+    validate_module_def(defs.back());
+  }
+  // head's front face at head_position, chain along +x rotated by heading about z
+  Eigen::Isometry3d face = Eigen::Isometry3d::Identity();
+  face.linear() = Eigen::AngleAxisd(cfg.heading_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  face.translation() = cfg.head_position;
+  for (size_t k = 0; k < defs.size(); ++k) {
+    const Eigen::Isometry3d frame = face * to_iso(defs[k].front.frame).inverse();
+    add_module(static_cast<int>(k), defs[k], frame);
+    face = frame * to_iso(defs[k].back.frame);
+  }
+  for (size_t k = 0; k + 1 < modules.size(); ++k) {
+    dJointID j = dJointCreateFixed(world, nullptr);
+    dJointAttach(j, bodies[modules[k].back_body].id, bodies[modules[k + 1].front_body].id);
+    dJointSetFixed(j);
+  }
+}
+
+World::World(const WorldConfig& config) : impl_(std::make_unique<Impl>()) {
+  impl_->cfg = config;
+  try {
+    impl_->build();
+  } catch (...) {
+    if (impl_->contact_group) dJointGroupDestroy(impl_->contact_group);
+    if (impl_->space) dSpaceDestroy(impl_->space);
+    if (impl_->world) dWorldDestroy(impl_->world);
+    throw;
+  }
+}
+
+World::~World() {
+  dJointGroupDestroy(impl_->contact_group);
+  dSpaceDestroy(impl_->space);   // destroys its geoms (cleanup mode)
+  dWorldDestroy(impl_->world);   // destroys bodies and joints
+}
+
+int World::module_count() const { return static_cast<int>(impl_->modules.size()); }
+const std::string& World::module_type(int module) const { return impl_->mod(module).type; }
+int World::servo_count(int module) const {
+  return static_cast<int>(impl_->mod(module).driven.size());
+}
+
+void World::set_servo_setpoint(int module, int servo, double rad) {
+  Impl::Servo& s = impl_->servos[impl_->servo_index(module, servo)];
+  if (std::isnan(rad)) return;
+  s.model.set_setpoint(std::clamp(rad, s.lo, s.hi));
+}
+
+void World::set_servo_enabled(int module, int servo, bool enabled) {
+  impl_->servos[impl_->servo_index(module, servo)].enabled = enabled;
+}
+
+void World::set_module_powered(int module, bool powered) {
+  impl_->mod(module);
+  impl_->modules[module].powered = powered;
+}
+
+void World::step() {
+  Impl& w = *impl_;
+  dAllocateODEDataForThread(dAllocateMaskAll);  // no-op once done for this thread
+  // servo torque laws for this step (followers copy their master's set-point)
+  for (Impl::Servo& s : w.servos) {
+    if (s.follows >= 0) s.model.set_setpoint(w.servos[s.follows].model.setpoint());
+    const Impl::Module& md = w.modules[s.module];
+    const bool master_enabled = s.follows >= 0 ? w.servos[s.follows].enabled : s.enabled;
+    s.model.set_enabled(md.powered && master_enabled);
+    const ServoModel::StepLaw law = s.model.begin_step(dJointGetHingeAngle(s.hinge),
+                                                       dJointGetHingeAngleRate(s.hinge), w.h);
+    dJointSetAMotorParam(s.motor, dParamVel, law.target_rate);
+    dJointSetAMotorParam(s.motor, dParamCFM, 1.0 / law.damping);
+  }
+  for (Impl::Body& b : w.bodies) b.touched = false;
+  w.contact_count = 0;
+  dRandSetSeed(w.rand_seed);
+  dSpaceCollide(w.space, &w, &Impl::near_callback);
+  dWorldQuickStep(w.world, w.h);
+  w.rand_seed = dRandGetSeed();
+  dJointGroupEmpty(w.contact_group);
+  for (Impl::Servo& s : w.servos) s.model.end_step(dJointGetHingeAngleRate(s.hinge));
+  w.time_us += w.cfg.dt_us;
+}
+
+int64_t World::time_us() const { return impl_->time_us; }
+int64_t World::dt_us() const { return impl_->cfg.dt_us; }
+
+void World::sample(int module, ModuleSample* out) const {
+  const Impl::Module& md = impl_->mod(module);
+  *out = ModuleSample{};
+  out->n_servos = static_cast<int>(md.driven.size());
+  out->n_adc = md.n_adc;
+  out->n_counters = 0;
+  if (!md.powered) return;
+  for (int s = 0; s < out->n_servos; ++s)
+    out->servo_angle_rad[s] = dJointGetHingeAngle(impl_->servos[md.driven[s]].hinge);
+  for (int c = 0; c < md.n_adc; ++c)
+    if (md.adc_servo[c] >= 0) out->adc[c] = impl_->servos[md.adc_servo[c]].model.adc_counts();
+  for (const auto& [body, bit] : md.touch)
+    if (impl_->bodies[body].touched) out->digital_in |= static_cast<uint16_t>(1u << bit);
+}
+
+double World::module_supply_current_a(int module) const {
+  const Impl::Module& md = impl_->mod(module);
+  if (!md.powered) return 0.0;
+  double sum = 0;
+  // a servo without drive free-wheels: its decaying current is not drawn from the supply
+  for (int s : md.all)
+    if (impl_->servos[s].model.enabled()) sum += std::fabs(impl_->servos[s].model.current_a());
+  return sum;
+}
+
+Eigen::Vector3d World::chain_com() const {
+  Eigen::Vector3d acc = Eigen::Vector3d::Zero();
+  double mass = 0;
+  for (const Impl::Body& b : impl_->bodies) {
+    dMass m;
+    dBodyGetMass(b.id, &m);
+    const dReal* p = dBodyGetPosition(b.id);
+    acc += m.mass * Eigen::Vector3d(p[0], p[1], p[2]);
+    mass += m.mass;
+  }
+  return mass > 0 ? Eigen::Vector3d(acc / mass) : Eigen::Vector3d::Zero();
+}
+
+int World::body_count(int module) const { return impl_->mod(module).nbody; }
+
+const std::string& World::body_name(int module, int body) const {
+  return impl_->bodies[impl_->body_index(module, body)].name;
+}
+
+World::BodyState World::body_state(int module, int body) const {
+  dBodyID id = impl_->bodies[impl_->body_index(module, body)].id;
+  BodyState s;
+  dMass m;
+  dBodyGetMass(id, &m);
+  s.mass_kg = m.mass;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) s.inertia_kg_m2(r, c) = m.I[r * 4 + c];
+  const dReal* p = dBodyGetPosition(id);
+  const dReal* q = dBodyGetQuaternion(id);
+  const dReal* v = dBodyGetLinearVel(id);
+  s.position = Eigen::Vector3d(p[0], p[1], p[2]);
+  s.quaternion_wxyz = Eigen::Vector4d(q[0], q[1], q[2], q[3]);
+  s.linear_velocity = Eigen::Vector3d(v[0], v[1], v[2]);
+  return s;
+}
+
+double World::servo_angle_rad(int module, int servo) const {
+  return dJointGetHingeAngle(impl_->servos[impl_->servo_index(module, servo)].hinge);
+}
+double World::servo_setpoint_rad(int module, int servo) const {
+  return impl_->servos[impl_->servo_index(module, servo)].model.setpoint();
+}
+double World::servo_current_a(int module, int servo) const {
+  return impl_->servos[impl_->servo_index(module, servo)].model.current_a();
+}
+double World::servo_filtered_current_a(int module, int servo) const {
+  return impl_->servos[impl_->servo_index(module, servo)].model.filtered_current_a();
+}
+
+void World::pin_body(int module, int body) {
+  dJointID j = dJointCreateFixed(impl_->world, nullptr);
+  dJointAttach(j, impl_->bodies[impl_->body_index(module, body)].id, nullptr);
+  dJointSetFixed(j);
+}
+
+double World::max_docking_error_m() const {
+  double worst = 0;
+  const auto& mods = impl_->modules;
+  for (size_t k = 0; k + 1 < mods.size(); ++k) {
+    const Eigen::Vector3d a =
+        (body_iso(impl_->bodies[mods[k].back_body].id) * mods[k].back_in_body).translation();
+    const Eigen::Vector3d b =
+        (body_iso(impl_->bodies[mods[k + 1].front_body].id) * mods[k + 1].front_in_body)
+            .translation();
+    worst = std::max(worst, (a - b).norm());
+  }
+  return worst;
+}
+
+int World::last_contact_count() const { return impl_->contact_count; }
+
+std::string World::trace_header() const {
+  std::string out = "t_s";
+  static const char* kBodyCols[] = {"x", "y", "z", "qw", "qx", "qy", "qz"};
+  for (size_t m = 0; m < impl_->modules.size(); ++m) {
+    const Impl::Module& md = impl_->modules[m];
+    const std::string pre = "m" + std::to_string(m) + ".";
+    for (int b = 0; b < md.nbody; ++b)
+      for (const char* c : kBodyCols) out += "," + pre + impl_->bodies[md.body0 + b].name + "." + c;
+    for (size_t s = 0; s < md.driven.size(); ++s) {
+      const std::string sp = pre + "s" + std::to_string(s) + ".";
+      out += "," + sp + "setpoint_deg," + sp + "angle_deg," + sp + "current_a";
+    }
+    out += "," + pre + "supply_a";
+  }
+  out += "\n";
+  return out;
+}
+
+void World::append_trace_row(std::string* out) const {
+  constexpr double kDeg = 180.0 / kPi;
+  char buf[160];
+  const int64_t t = impl_->time_us;
+  std::snprintf(buf, sizeof buf, "%" PRId64 ".%06" PRId64, t / 1000000, t % 1000000);
+  *out += buf;
+  for (size_t m = 0; m < impl_->modules.size(); ++m) {
+    const Impl::Module& md = impl_->modules[m];
+    for (int b = 0; b < md.nbody; ++b) {
+      dBodyID id = impl_->bodies[md.body0 + b].id;
+      const dReal* p = dBodyGetPosition(id);
+      const dReal* q = dBodyGetQuaternion(id);
+      std::snprintf(buf, sizeof buf, ",%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f", p[0], p[1], p[2], q[0],
+                    q[1], q[2], q[3]);
+      *out += buf;
+    }
+    for (int s : md.driven) {
+      const Impl::Servo& sv = impl_->servos[s];
+      std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.5f", sv.model.setpoint() * kDeg,
+                    dJointGetHingeAngle(sv.hinge) * kDeg, sv.model.current_a());
+      *out += buf;
+    }
+    std::snprintf(buf, sizeof buf, ",%.5f", module_supply_current_a(static_cast<int>(m)));
+    *out += buf;
+  }
+  *out += "\n";
+}
+
+}  // namespace chainsim

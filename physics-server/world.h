@@ -1,0 +1,116 @@
+// The ODE world of one run: environment, the chain of modules, their actuator
+// models and sensors. Knows nothing of processes or sockets: the lockstep
+// server feeds it set-points and samples its sensors between steps.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "servo_model.h"
+
+namespace chainsim {
+
+// contact parameters of a pair of surfaces
+struct Material {
+  double mu = 0.8;          // Coulomb friction coefficient
+  double bounce = 0.0;      // restitution, 0..1
+  double soft_erp = 0.2;    // contact error reduction
+  double soft_cfm = 1e-5;   // contact constraint force mixing
+};
+
+struct WorldConfig {
+  int64_t dt_us = 500;                 // physics step
+  uint64_t seed = 1;                   // seeds ODE's dRandSetSeed
+  std::vector<std::string> chain;      // module type names, head first
+  Eigen::Vector3d head_position{0, 0, 0.02};  // centre of the head's front face, m
+  double heading_rad = 0.0;            // the chain points along +x rotated by this about z
+  Material ground;                     // module-ground contact
+  ServoParams servo;                   // every servo's model (paper Table 1 defaults)
+  double gravity_m_s2 = 9.81;
+  // --- added by the physics implementation ---
+  Material module_contact{0.3, 0.0, 0.2, 1e-5};  // module-module contact (plastic on plastic)
+  int solver_iterations = 60;          // ODE QuickStep iterations (see world.cpp for the measurements)
+};
+
+// what one module's sensors read at a sample time; what TickBegin carries
+struct ModuleSample {
+  int n_servos = 0;
+  double servo_angle_rad[4] = {};   // output shaft angle (potentiometer)
+  int n_adc = 0;
+  uint16_t adc[8] = {};             // 10-bit counts
+  uint16_t digital_in = 0;          // bit n = digital input n
+  int n_counters = 0;
+  int32_t counter[4] = {};
+};
+
+class World {
+ public:
+  explicit World(const WorldConfig& config);
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  int module_count() const;
+  const std::string& module_type(int module) const;
+  int servo_count(int module) const;
+
+  // set-point of servo s of module m, radians; clamped to the servo's range
+  void set_servo_setpoint(int module, int servo, double rad);
+  // a disabled servo gets no drive voltage (no pulses): it is limp
+  void set_servo_enabled(int module, int servo, bool enabled);
+  // an unpowered module: all servos limp, sensors read zero (limp mode after a fault)
+  void set_module_powered(int module, bool powered);
+
+  // advance the world by one physics step (dt_us); never allocates
+  void step();
+  int64_t time_us() const;
+  int64_t dt_us() const;
+
+  // sensor readings of module m now
+  void sample(int module, ModuleSample* out) const;
+
+  // supply current drawn by module m now, A (sum over its motors)
+  double module_supply_current_a(int module) const;
+
+  // mass-weighted centre of all module bodies, world frame, m
+  Eigen::Vector3d chain_com() const;
+
+  // --- diagnostics and test fixtures (added by the physics implementation) ---
+  struct BodyState {
+    double mass_kg = 0;
+    Eigen::Matrix3d inertia_kg_m2;        // about the centre of mass, body frame (from ODE)
+    Eigen::Vector3d position;             // centre of mass, world frame, m
+    Eigen::Vector4d quaternion_wxyz;      // body frame -> world
+    Eigen::Vector3d linear_velocity;      // m/s
+  };
+  int body_count(int module) const;
+  const std::string& body_name(int module, int body) const;
+  BodyState body_state(int module, int body) const;
+  double servo_angle_rad(int module, int servo) const;      // true hinge angle, even if unpowered
+  double servo_setpoint_rad(int module, int servo) const;
+  double servo_current_a(int module, int servo) const;      // armature current now
+  double servo_filtered_current_a(int module, int servo) const;
+  // fix a body to the static environment where it is now (e.g. a hanging chain)
+  void pin_body(int module, int body);
+  // largest distance between the two docking-face frames of a docked pair
+  // (back face of k, front face of k+1), each computed from its own body: how
+  // much the docking joints stretch, m
+  double max_docking_error_m() const;
+  // contact joints created in the last step
+  int last_contact_count() const;
+
+  // trace: one CSV header line, then one row per call; fixed formatting so
+  // that equal states give equal bytes
+  std::string trace_header() const;
+  void append_trace_row(std::string* out) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace chainsim

@@ -1,0 +1,123 @@
+// Module faults: a crash, an exit, a hang, a garbage frame or a kill is reported
+// by name (index, type, pid, cause, simulated time), nothing written is lost,
+// and no module process outlives the server.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+
+#include "scenario_util.h"
+
+using namespace scenario;
+
+namespace {
+
+// three rotation modules and, at the tail, a module running fw-test-misbehave
+std::string misbehave_scene(const std::string& dir, int mode, int at_ms) {
+  return write_file(dir, "s.yaml",
+                    "name: faulty\nduration_s: 2\nchain:\n  - {type: rotation}\n  - {type: rotation}\n"
+                    "  - {type: rotation}\n  - {type: rotation, firmware: " FW_MISBEHAVE
+                    ", params: {mode: " + std::to_string(mode) + ", at_ms: " + std::to_string(at_ms) + "}}\n");
+}
+
+const nlohmann::json& module(const Outcome& o, int i) { return o.summary["modules"][i]; }
+
+void expect_no_survivors(const Outcome& o) {
+  for (const auto& m : o.summary["modules"]) {
+    const pid_t pid = m["pid"].get<pid_t>();
+    if (pid > 0) EXPECT_FALSE(alive(pid)) << "orphan module process " << pid;
+  }
+}
+
+}  // namespace
+
+TEST(Faults, KilledModuleIsReportedByNameAndLeavesNoOrphans) {
+  const std::string dir = temp_dir("kill");
+  const std::string err = dir + "/stderr.txt";
+  const pid_t server = start_chainsim({"run", "--duration", "30", "--out", dir + "/run"}, err);
+  // wait until the nine module processes run and the trace has grown a little
+  std::vector<pid_t> kids;
+  ASSERT_TRUE(wait_until([&] { return (kids = children_of(server)).size() == 9; }, 30));
+  ASSERT_TRUE(wait_until([&] { return read_file(dir + "/run/trace.csv").size() > 100000; }, 60));
+  pid_t victim = 0;
+  for (pid_t k : kids)
+    if (read_file("/proc/" + std::to_string(k) + "/environ").find(std::string("CHAINSIM_MODULE_INDEX=3\0", 24)) !=
+        std::string::npos)
+      victim = k;
+  ASSERT_GT(victim, 0);
+  ASSERT_EQ(kill(victim, SIGKILL), 0);
+  const Outcome o = wait_chainsim(server, dir + "/run", err);
+  EXPECT_EQ(o.exit_code, 2) << o.stderr_text;
+  const std::string want = "module 3 (rotation, pid " + std::to_string(victim) + ")";
+  EXPECT_NE(o.stderr_text.find(want), std::string::npos) << o.stderr_text;
+  EXPECT_NE(o.stderr_text.find("signal 9"), std::string::npos) << o.stderr_text;
+  EXPECT_NE(o.stderr_text.find("at t="), std::string::npos) << o.stderr_text;
+  ASSERT_TRUE(o.summary.is_object());
+  EXPECT_NE(module(o, 3)["fault"].get<std::string>().find(want), std::string::npos);
+  EXPECT_TRUE(module(o, 2)["fault"].is_null());
+  EXPECT_LT(o.summary["sim_time_s"].get<double>(), 30.0);
+  EXPECT_EQ(o.summary["trace_sha256"], sha256_file(o.dir + "/trace.csv"));  // the trace is complete up to the stop
+  for (pid_t k : kids) EXPECT_FALSE(alive(k)) << "orphan " << k;
+}
+
+TEST(Faults, CrashingModuleStopsTheRunNamingItsSignal) {
+  const std::string dir = temp_dir("crash");
+  const Outcome o = run({misbehave_scene(dir, 2, 300)}, dir);
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.stderr_text.find("module 3 (rotation, pid " + std::to_string(module(o, 3)["pid"].get<int>())),
+            std::string::npos)
+      << o.stderr_text;
+  EXPECT_NE(o.stderr_text.find("Segmentation fault"), std::string::npos) << o.stderr_text;
+  EXPECT_NE(o.stderr_text.find("at t=0.30"), std::string::npos) << o.stderr_text;
+  // the module's last log line before the crash was kept
+  EXPECT_NE(read_file(o.dir + "/modules/03-rotation.log").find("misbehaving now"), std::string::npos);
+  expect_no_survivors(o);
+}
+
+TEST(Faults, HungModuleIsReportedByNameAfterTheTimeout) {
+  const std::string dir = temp_dir("hang");
+  const Outcome o = run({misbehave_scene(dir, 1, 200), "--module-timeout", "1"}, dir);
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.stderr_text.find("module 3 (rotation, pid"), std::string::npos) << o.stderr_text;
+  EXPECT_NE(o.stderr_text.find("did not answer within 1.0 s"), std::string::npos) << o.stderr_text;
+  expect_no_survivors(o);
+}
+
+TEST(Faults, GarbageFrameIsRejectedAndNamesTheSender) {
+  const std::string dir = temp_dir("garbage");
+  const std::string scene = write_file(
+      dir, "s.yaml", "chain:\n  - {type: rotation}\n  - {type: rotation, firmware: " FW_GARBAGE "}\n");
+  const Outcome o = run({scene, "--duration", "1"}, dir);
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.stderr_text.find("module 1 (rotation, pid"), std::string::npos) << o.stderr_text;
+  EXPECT_NE(o.stderr_text.find("malformed frame"), std::string::npos) << o.stderr_text;
+  expect_no_survivors(o);
+}
+
+TEST(Faults, LimpModeGoesOnWithTheModulePoweredOff) {
+  const std::string dir = temp_dir("limp");
+  const Outcome o = run({misbehave_scene(dir, 3, 500), "--on-module-fault=limp"}, dir);
+  EXPECT_EQ(o.exit_code, 0) << o.stderr_text;
+  EXPECT_NEAR(o.summary["sim_time_s"].get<double>(), 2.0, 1e-9);  // the run went on to the end
+  const std::string fault = module(o, 3)["fault"].get<std::string>();
+  EXPECT_NE(fault.find("exit code 5"), std::string::npos) << fault;
+  EXPECT_NE(fault.find("at t=0.50"), std::string::npos) << fault;
+  for (int i = 0; i < 3; ++i) EXPECT_TRUE(module(o, i)["fault"].is_null());
+  EXPECT_TRUE(module(o, 4)["fault"].is_null());
+  expect_no_survivors(o);
+}
+
+TEST(Faults, InterruptEndsEveryModuleAndKeepsTheOutputs) {
+  const std::string dir = temp_dir("sigint");
+  const std::string err = dir + "/stderr.txt";
+  const pid_t server = start_chainsim({"run", "--duration", "60", "--out", dir + "/run"}, err);
+  std::vector<pid_t> kids;
+  ASSERT_TRUE(wait_until([&] { return (kids = children_of(server)).size() == 9; }, 30));
+  ASSERT_TRUE(wait_until([&] { return read_file(dir + "/run/trace.csv").size() > 50000; }, 60));
+  kill(server, SIGINT);
+  const Outcome o = wait_chainsim(server, dir + "/run", err);
+  EXPECT_EQ(o.exit_code, 130) << o.stderr_text;
+  ASSERT_TRUE(o.summary.is_object());
+  EXPECT_NE(o.summary["stopped_by"].get<std::string>().find("interrupted"), std::string::npos);
+  EXPECT_EQ(o.summary["trace_sha256"], sha256_file(o.dir + "/trace.csv"));
+  for (pid_t k : kids) EXPECT_FALSE(alive(k)) << "orphan " << k;
+}

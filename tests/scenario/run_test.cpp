@@ -1,0 +1,62 @@
+// `chainsim run` end to end: real module processes, the default scene, bad input.
+#include <gtest/gtest.h>
+
+#include "scenario_util.h"
+
+using namespace scenario;
+
+TEST(Run, DefaultSceneMovesTheChainMoreThan5cmIn10SimulatedSeconds) {
+  const std::string dir = temp_dir("default");
+  const Outcome o = run({"--duration", "10"}, dir);
+  ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+  const auto& s = o.summary;
+  ASSERT_TRUE(s.is_object()) << "no summary.json";
+  EXPECT_EQ(s["scene"], "snake-open-air");
+  EXPECT_EQ(s["seed"], 1);
+  EXPECT_NEAR(s["sim_time_s"].get<double>(), 10.0, 1e-9);
+  EXPECT_GT(s["wall_time_s"].get<double>(), 0.0);
+  EXPECT_GT(s["real_time_factor"].get<double>(), 0.0);
+  const auto& d = s["chain"]["displacement_m"];
+  ASSERT_EQ(d.size(), 3u);
+  const double dist = std::hypot(d[0].get<double>(), d[1].get<double>());
+  EXPECT_GT(dist, 0.05) << "the chain moved only " << dist << " m";
+  EXPECT_GT(s["chain"]["speed_m_s"].get<double>(), 0.005);
+  // eight rotation modules and the central control, each its own process
+  ASSERT_EQ(s["modules"].size(), 9u);
+  std::set<int> pids;
+  for (int i = 0; i < 9; ++i) {
+    const auto& m = s["modules"][i];
+    EXPECT_EQ(m["index"], i);
+    EXPECT_EQ(m["type"], i < 8 ? "rotation" : "central");
+    EXPECT_TRUE(m["fault"].is_null()) << m["fault"];
+    pids.insert(m["pid"].get<int>());
+  }
+  EXPECT_EQ(pids.size(), 9u);
+  EXPECT_EQ(s["trace_sha256"], sha256_file(o.dir + "/trace.csv"));
+  // the central control discovered the chain through the sync lines and commanded it over I2C
+  const std::string central_log = read_file(o.dir + "/modules/08-central.log");
+  EXPECT_NE(central_log.find("RRRRRRRR"), std::string::npos) << central_log;
+  const std::string bus = read_file(o.dir + "/bus.log");
+  EXPECT_NE(bus.find("i2c from=8"), std::string::npos);
+  EXPECT_NE(bus.find("sync endpoint=0 sout=1"), std::string::npos);
+}
+
+TEST(Run, MalformedSceneIsRejectedWithFileLineAndColumn) {
+  const std::string dir = temp_dir("badscene");
+  const std::string scene = write_file(dir, "bad.yaml", "chain: RR\nphysics:\n  dt_us: fast\n");
+  const Outcome o = run({scene}, dir);
+  EXPECT_EQ(o.exit_code, 1);
+  EXPECT_NE(o.stderr_text.find("bad.yaml:3:10"), std::string::npos) << o.stderr_text;
+  EXPECT_NE(o.stderr_text.find("dt_us"), std::string::npos) << o.stderr_text;
+}
+
+TEST(Run, MissingModuleProgramIsNamed) {
+  const std::string dir = temp_dir("noprog");
+  const std::string scene =
+      write_file(dir, "s.yaml", "chain:\n  - {type: rotation}\n  - {type: rotation, firmware: /nonexistent/fw}\n");
+  const Outcome o = run({scene, "--duration", "0.1"}, dir);
+  EXPECT_EQ(o.exit_code, 1);
+  EXPECT_NE(o.stderr_text.find("module 1 (rotation)"), std::string::npos) << o.stderr_text;
+  EXPECT_NE(o.stderr_text.find("/nonexistent/fw"), std::string::npos) << o.stderr_text;
+  EXPECT_TRUE(o.summary.is_object());
+}

@@ -1,0 +1,44 @@
+// Helpers of the scenario tests: start build/bin/chainsim as a real process,
+// find its module processes, read what it wrote.
+#pragma once
+
+#include <sys/types.h>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace scenario {
+
+struct Outcome {
+  int exit_code = -1;       // -1 when killed by a signal
+  int signal = 0;
+  std::string stderr_text;
+  std::string dir;          // the run directory
+  nlohmann::json summary;   // summary.json, null when missing
+};
+
+// a fresh directory under /tmp for one test
+std::string temp_dir(const std::string& tag);
+// write text to dir/name; returns the path
+std::string write_file(const std::string& dir, const std::string& name, const std::string& text);
+std::string read_file(const std::string& path);
+
+// start `chainsim args...` with stderr to err_path
+pid_t start_chainsim(const std::vector<std::string>& args, const std::string& err_path);
+// wait for it (killing it after timeout_s) and collect the outcome
+Outcome wait_chainsim(pid_t pid, const std::string& out_dir, const std::string& err_path, double timeout_s = 240);
+// both at once: `chainsim run <args> --out <dir>/run`
+Outcome run(const std::vector<std::string>& args, const std::string& dir);
+
+// direct children of pid, from /proc
+std::vector<pid_t> children_of(pid_t pid);
+bool alive(pid_t pid);
+// poll pred every 10 ms until true or timeout_s; returns its last value
+bool wait_until(const std::function<bool()>& pred, double timeout_s);
+
+std::string sha256_file(const std::string& path);
+
+}  // namespace scenario
