@@ -19,6 +19,7 @@
 #include "child_process.h"
 #include "module_link.h"
 #include "run_output.h"
+#include "scene_json.h"
 #include "world.h"
 
 namespace chainsim {
@@ -104,7 +105,10 @@ class Server : public BarrierSink {
     if (record_) record_->push_back({now_us_, static_cast<int16_t>(module), static_cast<int8_t>(servo),
                                      static_cast<int8_t>(enabled), rad});
   }
-  void bus_event(int64_t t_us, const char* line) override { out_->bus(t_us, line); }
+  void bus_event(int64_t t_us, const char* line) override {
+    out_->bus(t_us, line);
+    if (opt_.observer) opt_.observer->bus_line(t_us, line);
+  }
   void module_log(int endpoint, int64_t t_us, const char* line) override { out_->module_log(endpoint, t_us, line); }
 
  private:
@@ -294,7 +298,7 @@ std::string Server::describe_end(Endpoint& e, const std::string& what) {
 
 bool Server::fault(Endpoint& e, const std::string& what) {
   e.fault = describe_end(e, what);
-  out_->bus(now_us_, ("fault " + e.fault).c_str());
+  bus_event(now_us_, ("fault " + e.fault).c_str());
   out_->flush();
   if (e.link) e.link->close();
   if (!e.attached) e.proc.terminate(kTerminateGraceMs);
@@ -412,8 +416,18 @@ RunResult Server::run() {
   TraceClock trace_clock(scene_);
   std::string row;
   row.reserve(1 << 14);
-  out_->trace(world_.trace_header());
-  auto write_row = [&](const std::string& s) { out_->trace(s); };
+  const std::string header = world_.trace_header();
+  out_->trace(header);
+  const nlohmann::json scene_desc = scene_json(scene_);
+  {
+    std::ofstream sj(out_->path("scene.json"));
+    sj << scene_desc.dump(2) << "\n";
+  }
+  if (opt_.observer) opt_.observer->started(scene_desc, header);
+  auto write_row = [&](const std::string& s) {
+    out_->trace(s);
+    if (opt_.observer) opt_.observer->trace_row(s);
+  };
 
   bool ok = true;
   try {
@@ -508,6 +522,7 @@ RunResult Server::run() {
                {"exit_code", r.exit_code},
                {"stopped_by", r.message.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.message)}};
   out_->write_summary(r.summary);
+  if (opt_.observer) opt_.observer->finished(r.summary);
   return r;
 }
 

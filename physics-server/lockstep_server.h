@@ -24,6 +24,18 @@ constexpr int kExitModuleFault = 2;  // a module crashed, hung or broke the prot
 constexpr int kExitInternal = 3;
 constexpr int kExitInterrupted = 130;
 
+// watches a run as it happens (the live view); called from the simulation
+// loop, so every method must return quickly and never block on a client.
+// Nothing it does can change the simulation's result.
+class RunObserver {
+ public:
+  virtual ~RunObserver() = default;
+  virtual void started(const nlohmann::json& scene, const std::string& trace_header) = 0;
+  virtual void trace_row(const std::string& row) = 0;      // one CSV line, newline included
+  virtual void bus_line(int64_t t_us, const char* line) = 0;
+  virtual void finished(const nlohmann::json& summary) = 0;
+};
+
 struct RunOptions {
   std::string out_dir;                  // run directory to write
   FaultMode on_fault = FaultMode::Stop;
@@ -32,6 +44,7 @@ struct RunOptions {
   std::string firmware_dir;             // where fw-* programs are; default: next to chainsim
   bool progress = false;                // progress lines on stderr
   bool quiet = false;                   // no messages on stderr except errors
+  RunObserver* observer = nullptr;      // e.g. the live view; may be null
 };
 
 // one applied servo command, for replaying a run without processes

@@ -1,0 +1,89 @@
+// The real firmware on the real server: discovery through the sync lines and
+// the gait the central control commands over I2C, as seen in the trace.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+
+#include "scenario_util.h"
+
+using namespace scenario;
+
+namespace {
+
+// column name -> values, from trace.csv
+std::map<std::string, std::vector<double>> read_trace(const std::string& path) {
+  std::istringstream in(read_file(path));
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  std::stringstream h(line);
+  for (std::string c; std::getline(h, c, ',');) names.push_back(c);
+  std::map<std::string, std::vector<double>> cols;
+  while (std::getline(in, line)) {
+    std::stringstream r(line);
+    size_t i = 0;
+    for (std::string v; std::getline(r, v, ',') && i < names.size(); ++i) cols[names[i]].push_back(std::stod(v));
+  }
+  return cols;
+}
+
+}  // namespace
+
+class Discovery : public ::testing::TestWithParam<int> {};
+
+TEST_P(Discovery, CentralControlLearnsTheChainThroughTheSyncLines) {
+  const int n = GetParam();
+  const std::string dir = temp_dir("disc");
+  const std::string scene = write_file(dir, "s.yaml", "chain: " + std::string(n, 'R') + "\nduration_s: 0.3\n");
+  const Outcome o = run({scene}, dir);
+  ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+  const std::string log = read_file(o.dir + "/modules/" + (n < 10 ? "0" : "") + std::to_string(n) + "-central.log");
+  EXPECT_NE(log.find("chain: " + std::string(n, 'R') + " (" + std::to_string(n) + " modules)"), std::string::npos)
+      << log;
+  // every module took the next address, in chain order
+  const std::string bus = read_file(o.dir + "/bus.log");
+  for (int k = 0; k < n; ++k) {
+    char want[64];
+    std::snprintf(want, sizeof want, "addr endpoint=%d address=0x%02x", k, 0x20 + k);
+    EXPECT_NE(bus.find(want), std::string::npos) << want;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(ChainLengths, Discovery, ::testing::Values(1, 3, 12));
+
+TEST(Gait, ServoSetPointsFollowTheCommandedTravellingWave) {
+  const std::string dir = temp_dir("gait");
+  // amplitude 30 deg, 4 rad/s, 0.8 rad between neighbours, on the yaw servo
+  const std::string scene = write_file(dir, "s.yaml",
+                                       "chain: RRRR\nduration_s: 2\ncentral:\n  params: {gait: 1, amplitude_cdeg: "
+                                       "3000, omega_mrad_s: 4000, phase_mrad: 800, axis: 1}\n");
+  const Outcome o = run({scene}, dir);
+  ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+  auto tr = read_trace(o.dir + "/trace.csv");
+  const auto& t = tr["t_s"];
+  ASSERT_GT(t.size(), 150u);
+  // the gait starts once discovery is over; find that start time t0 (ms grid) by best fit
+  auto max_error = [&](double t0) {
+    double worst = 0;
+    for (size_t i = 0; i < t.size(); ++i) {
+      if (t[i] < t0 + 0.05) continue;
+      for (int k = 0; k < 4; ++k) {
+        const double want = 30.0 * std::sin(4.0 * (t[i] - t0) + k * 0.8);
+        worst = std::max(worst, std::fabs(tr["m" + std::to_string(k) + ".s1.setpoint_deg"][i] - want));
+      }
+    }
+    return worst;
+  };
+  double best = 1e9, best_t0 = 0;
+  for (int ms = 0; ms <= 200; ++ms) {
+    const double e = max_error(ms * 1e-3);
+    if (e < best) best = e, best_t0 = ms * 1e-3;
+  }
+  // set-points change every 10 ms control step: at 30 deg * 4 rad/s that is at most 1.2 deg stale
+  EXPECT_LT(best, 1.3) << "best start time " << best_t0;
+  EXPECT_LT(best_t0, 0.1);
+  // the pitch servos are held at zero
+  for (int k = 0; k < 4; ++k)
+    for (double v : tr["m" + std::to_string(k) + ".s0.setpoint_deg"]) EXPECT_EQ(v, 0.0);
+}
