@@ -163,7 +163,6 @@ class Server : public BarrierSink {
   std::string socket_dir_, socket_path_;
   int n_modules_ = 0;
   std::vector<std::unique_ptr<Endpoint>> ep_;
-  size_t pending_ = 0;  // replies still awaited this tick
   std::unique_ptr<Barrier> barrier_;
   std::unique_ptr<RunOutput> out_;
   std::vector<double> energy_j_;
@@ -316,7 +315,6 @@ bool Server::fault(Endpoint& e, const std::string& what) {
 bool Server::exchange(const std::vector<int>& awake) {
   cs_msg msg{};
   msg.type = CS_MSG_TICK_BEGIN;
-  pending_ = 0;
   for (int i : awake) {
     Endpoint& e = *ep_[i];
     cs_tick_begin& tb = msg.u.tick_begin;
@@ -342,28 +340,31 @@ bool Server::exchange(const std::vector<int>& awake) {
       e.reply_error = err;
       continue;
     }
-    ++pending_;
     ++exchanges_;
-    e.link->async_receive([this, &e](const std::string& error) {
-      e.replied = true;
-      e.reply_error = error;
-      if (error.empty()) {
-        if (e.link->received().type != CS_MSG_TICK_END)
-          e.reply_error = std::string("sent ") + cs_msg_name(e.link->received().type) + " instead of TICK_END";
-        else
-          e.reply_error = barrier_->store_end(e.index, now_us_, e.link->received().u.tick_end);
-      }
-      --pending_;
-    });
   }
-  // wait for every reply; attached modules (maybe in a debugger) have no deadline
+  // collect every reply, in index order (the order they are applied in anyway);
+  // attached modules (maybe in a debugger) have no deadline
   const auto deadline = Clock::now() + std::chrono::duration<double>(opt_.module_timeout_s);
-  while (pending_ > 0 && !interrupted_) {
-    io_.run_one_for(std::chrono::milliseconds(100));
-    if (pending_ == 0 || Clock::now() < deadline) continue;
-    bool only_attached = true;
-    for (int i : awake) only_attached &= ep_[i]->replied || ep_[i]->attached;
-    if (!only_attached) break;
+  for (int i : awake) {
+    Endpoint& e = *ep_[i];
+    if (e.replied) continue;
+    for (;;) {
+      const auto got = e.link->receive(100);
+      if (got == ModuleLink::Receive::Pending) {
+        io_.poll();  // signals
+        if (interrupted_) return false;
+        if (!e.attached && Clock::now() > deadline) break;
+        continue;
+      }
+      e.replied = true;
+      if (got == ModuleLink::Receive::Failed)
+        e.reply_error = e.link->error();
+      else if (e.link->received().type != CS_MSG_TICK_END)
+        e.reply_error = std::string("sent ") + cs_msg_name(e.link->received().type) + " instead of TICK_END";
+      else
+        e.reply_error = barrier_->store_end(e.index, now_us_, e.link->received().u.tick_end);
+      break;
+    }
   }
   if (interrupted_) return false;
   for (int i : awake) {
@@ -374,12 +375,10 @@ bool Server::exchange(const std::vector<int>& awake) {
       std::snprintf(b, sizeof b, "did not answer within %.1f s (wall clock): hung, or busy without a HAL wait",
                     opt_.module_timeout_s);
       what = b;
-      e.link->cancel();
     }
     if (what.empty()) continue;
     if (!fault(e, what)) return false;
   }
-  io_.poll();  // handlers of cancelled reads
   return true;
 }
 

@@ -92,6 +92,8 @@ ModuleDef rotation_def() {
   yaw.anchor_m = Eigen::Vector3d(yaw_x, 0, 0);
   yaw.axis = Eigen::Vector3d::UnitZ();     // bends in the ground plane
   d.joints.push_back(yaw);
+  // signs (hinge angle = child relative to parent about the axis): pitch > 0
+  // lifts the rear of the module, yaw > 0 swings its rear to the right (-y)
 
   ActuatorDef s0;
   s0.name = "pitch_servo";
@@ -268,8 +270,8 @@ void validate_module_def(const ModuleDef& d) {
       invalid(d, "joint '" + j.name + "': zero axis");
     if (!finite(j.anchor_m)) invalid(d, "joint '" + j.name + "': bad anchor");
     if (!(j.lo <= j.hi)) invalid(d, "joint '" + j.name + "': lo > hi");
-    if (j.type == JointType::Hinge && (j.lo < -3.14159 || j.hi > 3.14159) &&
-        (std::isfinite(j.lo) || std::isfinite(j.hi)))
+    if (j.type == JointType::Hinge && ((std::isfinite(j.lo) && j.lo < -kPi) ||
+                                       (std::isfinite(j.hi) && j.hi > kPi)))
       invalid(d, "joint '" + j.name + "': hinge limits must be within [-pi, pi]");
   }
   for (int a = 0; a < na; ++a) {

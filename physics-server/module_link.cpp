@@ -1,5 +1,11 @@
 #include "module_link.h"
 
+#include <poll.h>
+#include <sys/socket.h>
+
+#include <cerrno>
+#include <cstring>
+
 namespace chainsim {
 
 namespace asio = boost::asio;
@@ -20,6 +26,47 @@ void ModuleLink::async_receive(Handler handler) {
   handler_ = std::move(handler);
   asio::async_read(socket_, asio::buffer(rbuf_.data(), 4),
                    [this](const boost::system::error_code& ec, size_t) { on_prefix(ec); });
+}
+
+ModuleLink::Receive ModuleLink::receive(int timeout_ms) {
+  const int fd = socket_.native_handle();
+  for (;;) {
+    const size_t need = rpos_ < 4 ? 4 : 4 + body_len_;
+    if (rpos_ == need) {
+      rpos_ = 0;
+      const char* reason = nullptr;
+      if (cs_decode(rbuf_.data() + 4, body_len_, &in_, &reason) != CS_OK) {
+        error_ = std::string("sent a malformed frame: ") + (reason ? reason : "?");
+        return Receive::Failed;
+      }
+      return Receive::Ready;
+    }
+    const ssize_t n = ::recv(fd, rbuf_.data() + rpos_, need - rpos_, MSG_DONTWAIT);
+    if (n > 0) {
+      rpos_ += static_cast<size_t>(n);
+      if (rpos_ == 4) {
+        const char* reason = nullptr;
+        if (cs_body_length(rbuf_.data(), &body_len_, &reason) != CS_OK) {
+          error_ = std::string("sent a malformed frame: ") + (reason ? reason : "bad length");
+          return Receive::Failed;
+        }
+      }
+      continue;
+    }
+    if (n == 0) {
+      error_ = "closed its socket";
+      return Receive::Failed;
+    }
+    if (errno == EINTR) continue;
+    if (errno != EAGAIN && errno != EWOULDBLOCK) {
+      error_ = errno == ECONNRESET ? "closed its socket" : std::string("socket error: ") + std::strerror(errno);
+      return Receive::Failed;
+    }
+    pollfd p{fd, POLLIN, 0};
+    const int r = ::poll(&p, 1, timeout_ms);
+    if (r == 0) return Receive::Pending;
+    if (r < 0 && errno == EINTR) return Receive::Pending;
+  }
 }
 
 void ModuleLink::on_prefix(const boost::system::error_code& ec) {

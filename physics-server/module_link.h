@@ -28,6 +28,13 @@ class ModuleLink {
   // read one frame and decode it into received(); handler runs in the io_context
   void async_receive(Handler handler);
 
+  // the lockstep hot path: wait up to timeout_ms for the rest of a frame and
+  // decode it into received(). Returns Ready, Pending (not complete yet: call
+  // again; bytes read so far are kept) or Failed (then error() says why).
+  enum class Receive { Ready, Pending, Failed };
+  Receive receive(int timeout_ms);
+  const std::string& error() const { return error_; }
+
   const cs_msg& received() const { return in_; }
   void cancel();
   void close();
@@ -42,6 +49,8 @@ class ModuleLink {
   std::array<uint8_t, 4 + CS_BODY_MAX> rbuf_{};
   std::array<uint8_t, 4 + CS_BODY_MAX> wbuf_{};
   uint32_t body_len_ = 0;
+  size_t rpos_ = 0;      // bytes of the current frame received (sync path)
+  std::string error_;
   cs_msg in_{};
   Handler handler_;
 };

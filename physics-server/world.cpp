@@ -9,15 +9,28 @@
 // the order the space reports them. No wall clock anywhere.
 //
 // No allocation in step(): the contact-geometry buffer is a member array; the
-// contact joint group and ODE's stepper keep their memory between steps (both
-// grow only if a step needs more than any step before it).
+// contact joint group is warmed up in the constructor (its arenas are kept
+// when it is emptied) and ODE's stepper reserves at least kStepReserveBytes,
+// kept between steps. ODE allocates its stepping context in the first step;
+// after that nothing is allocated unless a step needs more contacts or
+// working memory than reserved (tested: physics_test StepDoesNotAllocate).
 //
-// Solver: QuickStep, WorldConfig::solver_iterations (default 60). Measured on
-// an 8-module snake crawling on the plane and on a hanging chain (see
-// tests/physics): with 20 iterations the docking joints of the hanging 8-module
-// chain stretch by several mm; 60 keeps them well under 1 mm, and more buys
-// little. The global ERP/CFM are 0.2 / 1e-9 (joints stiff; contacts use their
-// Material's soft ERP/CFM).
+// Solver: QuickStep, WorldConfig::solver_iterations (default 30). Measured
+// (tests/physics, physics_bench), for 10 / 20 / 30 / 40 / 60 iterations:
+//  * largest docking-joint stretch of an 8-module chain hanging from its head,
+//    swinging limp onto the joint stops: 0.42 / 0.45 / 0.26 / 0.17 / 0.10 mm
+//    (powered and sagging: 0.36 / 0.14 / 0.11 / 0.07 / 0.04 mm); while
+//    crawling: 0.17 / 0.07 / 0.07 / 0.06 / 0.03 mm;
+//  * a servo holding a module at 45 degrees against gravity jitters by
+//    0.44 / 0.21 / 0.12 / 0.07 / 0.03 degrees peak to peak. That is solver
+//    noise (the unconverged iteration, reordered at random by ODE each step):
+//    dWorldStep (exact LCP) gives 0.000, at 3-4x the cost for 8 modules;
+//  * the 10 s crawl distance varies by +-10% with no trend (mildly chaotic);
+//  * cost grows about linearly: ~2 us per iteration for 8 modules.
+// 30 keeps the jitter under one potentiometer count (0.18 degrees) at about
+// 70 us per step for 8 modules. Global ERP/CFM 0.2 / 1e-9 (stiff joints; a
+// softer CFM up to 1e-5 changed nothing measurable); contacts use their
+// Material's soft ERP/CFM.
 #include "world.h"
 
 #include <ode/ode.h>
@@ -40,6 +53,8 @@ namespace {
 constexpr int kMaxContactsPerPair = 8;
 constexpr double kMotorFMax = 10.0;   // N m; far above any servo torque (stall 0.058 N m)
 constexpr double kPi = 3.14159265358979323846;
+constexpr unsigned kStepReserveBytes = 4u << 20;  // ODE stepper working memory, reserved
+constexpr int kWarmContactsPerGeom = 8;           // contact joints pre-allocated per geom
 
 Eigen::Isometry3d to_iso(const Pose& p) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
@@ -345,6 +360,18 @@ void World::Impl::build() {
     dJointAttach(j, bodies[modules[k].back_body].id, bodies[modules[k + 1].front_body].id);
     dJointSetFixed(j);
   }
+
+  // memory for step(): ODE's stepper keeps what it reserved; the contact
+  // group keeps its arenas when emptied, so fill it once and empty it
+  dWorldStepReserveInfo reserve{};
+  reserve.struct_size = sizeof(reserve);
+  reserve.reserve_factor = 1.2f;
+  reserve.reserve_minimum = kStepReserveBytes;
+  dWorldSetStepMemoryReservationPolicy(world, &reserve);
+  dContact dummy{};
+  const size_t warm = 64 + kWarmContactsPerGeom * bodies.size();
+  for (size_t k = 0; k < warm; ++k) dJointCreateContact(world, contact_group, &dummy);
+  dJointGroupEmpty(contact_group);
 }
 
 World::World(const WorldConfig& config) : impl_(std::make_unique<Impl>()) {

@@ -33,7 +33,7 @@ struct WorldConfig {
   double gravity_m_s2 = 9.81;
   // --- added by the physics implementation ---
   Material module_contact{0.3, 0.0, 0.2, 1e-5};  // module-module contact (plastic on plastic)
-  int solver_iterations = 60;          // ODE QuickStep iterations (see world.cpp for the measurements)
+  int solver_iterations = 30;          // ODE QuickStep iterations (see world.cpp for the measurements)
 };
 
 // what one module's sensors read at a sample time; what TickBegin carries
@@ -58,6 +58,12 @@ class World {
   const std::string& module_type(int module) const;
   int servo_count(int module) const;
 
+  // Servo s of module m = the s-th Servo actuator of its ModuleDef that
+  // firmware drives (rotation: 0 = pitch, 1 = yaw). Angles are the joint's:
+  // 0 as assembled (straight), + = the child side turned positively about the
+  // joint axis (rotation module: pitch + lifts the module's rear, yaw + swings
+  // it to the right); range +-90 degrees. The servo's own 0..180 degree scale
+  // is this angle + 90 degrees.
   // set-point of servo s of module m, radians; clamped to the servo's range
   void set_servo_setpoint(int module, int servo, double rad);
   // a disabled servo gets no drive voltage (no pulses): it is limp

@@ -196,7 +196,8 @@ static int32_t param_clamped(const char *name, int32_t def, int32_t lo, int32_t 
     return v;
 }
 
-static void send_gait(uint8_t gait, int16_t amp, int16_t omega, int16_t phase, uint8_t axis)
+static void send_gait(uint8_t gait, int16_t amp, int16_t omega, int16_t phase, uint8_t axis,
+                      int16_t posture)
 {
     uint8_t f[CC_SET_GAIT_LEN];
     uint8_t i;
@@ -207,6 +208,7 @@ static void send_gait(uint8_t gait, int16_t amp, int16_t omega, int16_t phase, u
     cc_put_i16(f + CC_GAIT_OFF_OMEGA, omega);
     cc_put_i16(f + CC_GAIT_OFF_PHASE, phase);
     f[CC_GAIT_OFF_AXIS] = axis;
+    cc_put_i16(f + CC_GAIT_OFF_POSTURE, posture);
     for (i = 0; i < n_modules; i++)
         if (module_type[i] == MT_ROTATION)
             send_frame((uint8_t)(CHAIN_FIRST_MODULE_ADDR + i), f, CC_SET_GAIT_LEN);
@@ -237,7 +239,7 @@ static void sleep_until(uint32_t until_ms)
 int main(void)
 {
     uint8_t gait, axis, started = 0, stopped = 0, i;
-    int16_t amp, omega, phase;
+    int16_t amp, omega, phase, posture;
     uint32_t start_ms, stop_ms, poll_ms, next_poll = 0;
 
     hal_init();
@@ -249,6 +251,7 @@ int main(void)
     omega = (int16_t)param_clamped("omega_mrad_s", 6000, -32767, 32767);
     phase = (int16_t)param_clamped("phase_mrad", 1000, -32767, 32767);
     axis = (uint8_t)param_clamped("axis", CC_AXIS_PITCH, CC_AXIS_PITCH, CC_AXIS_YAW);
+    posture = (int16_t)param_clamped("posture_cdeg", 0, -9000, 9000);
     start_ms = (uint32_t)param_clamped("start_ms", 0, 0, 0x7FFFFFFFL);
     stop_ms = (uint32_t)param_clamped("stop_ms", 0, 0, 0x7FFFFFFFL);
     poll_ms = (uint32_t)param_clamped("poll_ms", 0, 0, 60000L);
@@ -264,11 +267,13 @@ int main(void)
     sb_int(&sb, phase);
     sb_str(&sb, " axis=");
     sb_int(&sb, axis);
+    sb_str(&sb, " posture_cdeg=");
+    sb_int(&sb, posture);
     log_line(sb.buf);
 
     sleep_until(start_ms);
     if (gait != GAIT_NONE && n_modules != 0) {
-        send_gait(gait, amp, omega, phase, axis);
+        send_gait(gait, amp, omega, phase, axis, posture);
         send_code(HAL_I2C_GENERAL_CALL, CC_START); /* same tick for every module */
         started = 1;
         log_int("start at ms ", hal_millis());

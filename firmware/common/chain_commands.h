@@ -8,8 +8,9 @@
  *  code  name            dir        to       bytes  layout
  *  0x01  ENUM_OFFER      C -> M     general  2      code, addr
  *  0x02  ENUM_REPLY      M -> C     0x10     3      code, addr, type
- *  0x10  SET_GAIT        C -> M     module   9      code, gait, amp_cdeg i16,
- *                                                   omega_mrad_s i16, phase_mrad i16, axis
+ *  0x10  SET_GAIT        C -> M     module   11     code, gait, amp_cdeg i16,
+ *                                                   omega_mrad_s i16, phase_mrad i16, axis,
+ *                                                   posture_cdeg i16
  *  0x11  START           C -> M     general  1      code
  *  0x12  STOP            C -> M     any      1      code
  *  0x20  READ_SENSORS    C -> M     module   1      code
@@ -44,7 +45,7 @@
 /* frame lengths */
 #define CC_ENUM_OFFER_LEN 2u
 #define CC_ENUM_REPLY_LEN 3u
-#define CC_SET_GAIT_LEN 9u
+#define CC_SET_GAIT_LEN 11u
 #define CC_START_LEN 1u
 #define CC_STOP_LEN 1u
 #define CC_READ_SENSORS_LEN 1u
@@ -58,6 +59,11 @@
 #define CC_GAIT_OFF_OMEGA 4u /* i16 angular velocity, mrad/s */
 #define CC_GAIT_OFF_PHASE 6u /* i16 phase step between consecutive modules, mrad */
 #define CC_GAIT_OFF_AXIS 8u  /* CC_AXIS_* */
+/* i16 zig-zag posture of the other axis, centidegrees: module k holds its
+ * other servo at +P/2 (k = 0), -P (k odd), +P (k even), so the chain's links
+ * alternate +-P/2 about its axis; spreads the ground contacts of a vertical
+ * wave so the round modules do not roll over (0 = straight) */
+#define CC_GAIT_OFF_POSTURE 9u
 
 /* module type codes (ENUM_REPLY, STATUS_REPLY) */
 #define MT_ROTATION 1u

@@ -30,6 +30,7 @@ static int16_t amp_cdeg;
 static int16_t omega_mrad_s;
 static int16_t phase_mrad;
 static uint8_t axis = CC_AXIS_PITCH;
+static int16_t posture_cdeg; /* zig-zag of the other axis, CC_GAIT_OFF_POSTURE */
 
 static uint8_t running;
 static uint32_t t0_ms;        /* hal_millis() at START */
@@ -52,6 +53,14 @@ static void hold_straight(void)
     set_servo(SERVO_YAW, 0);
 }
 
+/* this module's share of the zig-zag posture (CC_GAIT_OFF_POSTURE) */
+static int16_t posture_angle(void)
+{
+    if (my_pos == 0)
+        return (int16_t)(posture_cdeg / 2);
+    return (my_pos & 1u) ? (int16_t)-posture_cdeg : posture_cdeg;
+}
+
 static uint8_t gait_supported(uint8_t g)
 {
     return g == GAIT_NONE || g == GAIT_FORWARD || g == GAIT_BACKWARD;
@@ -67,10 +76,10 @@ static void control_step(uint32_t now_ms)
     cdeg = gait_angle_cdeg(amp_cdeg, omega_mrad_s, now_ms - t0_ms, offset);
     if (axis == CC_AXIS_YAW) {
         set_servo(SERVO_YAW, cdeg);
-        set_servo(SERVO_PITCH, 0);
+        set_servo(SERVO_PITCH, posture_angle());
     } else {
         set_servo(SERVO_PITCH, cdeg);
-        set_servo(SERVO_YAW, 0);
+        set_servo(SERVO_YAW, posture_angle());
     }
 }
 
@@ -124,6 +133,11 @@ static void handle_frame(const uint8_t *buf, uint8_t len, uint8_t to)
         omega_mrad_s = cc_get_i16(buf + CC_GAIT_OFF_OMEGA);
         phase_mrad = cc_get_i16(buf + CC_GAIT_OFF_PHASE);
         axis = buf[CC_GAIT_OFF_AXIS];
+        posture_cdeg = cc_get_i16(buf + CC_GAIT_OFF_POSTURE);
+        if (posture_cdeg > 9000)
+            posture_cdeg = 9000;
+        if (posture_cdeg < -9000)
+            posture_cdeg = -9000;
         if (amp_cdeg < 0)
             amp_cdeg = (int16_t)-amp_cdeg;
         if (amp_cdeg > 18000)
