@@ -23,7 +23,7 @@ TEST(Determinism, SameSceneAndSeedGiveTheSameTraceEvenBesideACpuHog) {
     if (h == 0) {
       alarm(120);  // never outlives the test
       volatile unsigned long x = 0;
-      for (;;) ++x;
+      for (;;) x = x + 1;
     }
     hogs.push_back(h);
   }

@@ -24,7 +24,9 @@ const nlohmann::json& module(const Outcome& o, int i) { return o.summary["module
 void expect_no_survivors(const Outcome& o) {
   for (const auto& m : o.summary["modules"]) {
     const pid_t pid = m["pid"].get<pid_t>();
-    if (pid > 0) EXPECT_FALSE(alive(pid)) << "orphan module process " << pid;
+    if (pid > 0) {
+      EXPECT_FALSE(alive(pid)) << "orphan module process " << pid;
+    }
   }
 }
 
@@ -120,4 +122,17 @@ TEST(Faults, InterruptEndsEveryModuleAndKeepsTheOutputs) {
   EXPECT_NE(o.summary["stopped_by"].get<std::string>().find("interrupted"), std::string::npos);
   EXPECT_EQ(o.summary["trace_sha256"], sha256_file(o.dir + "/trace.csv"));
   for (pid_t k : kids) EXPECT_FALSE(alive(k)) << "orphan " << k;
+}
+
+TEST(Faults, ModulesDieWithAServerThatIsKilledOutright) {
+  const std::string dir = temp_dir("sigkill");
+  const std::string err = dir + "/stderr.txt";
+  const pid_t server = start_chainsim({"run", "--duration", "60", "--out", dir + "/run"}, err);
+  std::vector<pid_t> kids;
+  ASSERT_TRUE(wait_until([&] { return (kids = children_of(server)).size() == 9; }, 30));
+  kill(server, SIGKILL);  // no chance to clean up: the kernel must end the modules
+  wait_chainsim(server, dir + "/run", err);
+  for (pid_t k : kids) EXPECT_TRUE(wait_until([&] { return !alive(k); }, 5)) << "orphan " << k;
+  // what was flushed before the kill is still there
+  EXPECT_FALSE(read_file(dir + "/run/scene.json").empty());
 }
