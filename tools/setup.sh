@@ -6,7 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 PACKAGES=(
-  build-essential cmake pkg-config git
+  build-essential cmake pkg-config git python3
   libode-dev libyaml-cpp-dev libcli11-dev libboost-dev libeigen3-dev libassimp-dev
   nlohmann-json3-dev libssl-dev libgtest-dev
   clang libclang-rt-14-dev        # libFuzzer target of the protocol decoder
