@@ -1,5 +1,6 @@
 // chainsim: the command line of the co-simulator.
 //   chainsim run [SCENE.yaml]        run a scene (default: the built-in one)
+//   chainsim view RUN_DIR            replay.html of a run (--png: a picture); run --live: live view
 //   chainsim bench-lockstep          price of processes and sockets vs physics only
 #include <CLI/CLI.hpp>
 
@@ -11,8 +12,10 @@
 #include <iostream>
 #include <sstream>
 
+#include "live_view.h"
 #include "lockstep_server.h"
 #include "scene.h"
+#include "view_command.h"
 
 using namespace chainsim;
 
@@ -35,6 +38,9 @@ struct RunArgs {
   std::vector<int> attach;
   std::string firmware_dir;
   bool quiet = false;
+  bool live = false;       // --live: serve the live view while running
+  int live_port = 0;
+  double live_wait = 0;
 };
 
 int cmd_run(const RunArgs& a) {
@@ -65,6 +71,9 @@ int cmd_run(const RunArgs& a) {
     }
     opt.attach.insert(i);
   }
+  std::unique_ptr<LiveView> live;
+  if (a.live && !(live = start_live_view(scene.name, a.live_port, a.live_wait))) return kExitBadInput;
+  opt.observer = live.get();
   RunResult r;
   try {
     r = run_scene(scene, opt);
@@ -82,6 +91,7 @@ int cmd_run(const RunArgs& a) {
                  s["real_time_factor"].get<double>(), s["chain"]["distance_m"].get<double>(),
                  s["chain"]["speed_m_s"].get<double>(), opt.out_dir.c_str());
   }
+  if (live) live->wait_until_seen(3.0);
   return r.exit_code;
 }
 
@@ -162,6 +172,22 @@ int main(int argc, char** argv) {
       ->expected(0, -1);
   run->add_option("--firmware-dir", ra.firmware_dir, "where the fw-* programs are (default: next to chainsim)");
   run->add_flag("--quiet,-q", ra.quiet, "print only errors");
+  run->add_flag("--live", ra.live, "show the run as it happens: serve the viewer on 127.0.0.1 (URL printed)");
+  run->add_option("--live-port", ra.live_port, "port of the live view (default 0: any free port)")
+      ->check(CLI::Range(0, 65535));
+  run->add_option("--live-wait", ra.live_wait, "seconds to wait for a page to connect before the run starts")
+      ->check(CLI::NonNegativeNumber);
+
+  ViewArgs va;
+  auto* view = app.add_subcommand("view", "write RUN_DIR/replay.html, a replay of a run that opens from disk "
+                                          "(or, with --png, a picture of the scene at a time)");
+  view->add_option("run_dir", va.run_dir, "run directory (of chainsim run --out)")->required()
+      ->check(CLI::ExistingDirectory);
+  view->add_option("--png", va.png_time, "render a PNG of the scene at this time (s) with headless Chromium")
+      ->check(CLI::NonNegativeNumber);
+  view->add_option("--out,-o", va.out, "file to write (default RUN_DIR/replay.html; required with --png)");
+  view->add_option("--size", va.size, "picture size WIDTHxHEIGHT (default 960x540)");
+  view->add_option("--page-options", va.hash, "more options for the pictured page, e.g. follow=0");
 
   BenchArgs ba;
   auto* bench = app.add_subcommand("bench-lockstep",
@@ -174,6 +200,7 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
   if (*run) return cmd_run(ra);
+  if (*view) return cmd_view(va);
   if (*bench) return cmd_bench_lockstep(ba);
   return kExitBadInput;
 }

@@ -10,7 +10,10 @@ PACKAGES=(
   libode-dev libyaml-cpp-dev libcli11-dev libboost-dev libeigen3-dev libassimp-dev
   nlohmann-json3-dev libssl-dev libgtest-dev
   clang libclang-rt-14-dev        # libFuzzer target of the protocol decoder
+  chromium                        # chainsim view --png and the viewer tests (headless)
 )
+# node and npm bundle the viewer (tools/viewer); a node >= 18 already installed will do
+command -v node >/dev/null && command -v npm >/dev/null || PACKAGES+=(nodejs npm)
 
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -1,0 +1,105 @@
+// replay.html of a short run: opens from disk with no console or page errors,
+// has the whole trace, plays, scrubs (the picture changes), jumps to a bus
+// event when it is clicked, and shows a fault and a touch when they happen.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import { appendFileSync, cpSync, existsSync, readFileSync } from 'node:fs';
+import { join } from 'node:path';
+import { chainsim, launch, makeRun, newPage, tempDir, waitFor, cleanup } from './util.mjs';
+
+let browser, run;
+
+before(async () => {
+  run = makeRun(join(tempDir('replay'), 'run'), 2);
+  browser = await launch();
+});
+after(async () => {
+  await browser?.close();
+  cleanup();
+});
+
+async function open(dir, hash = '') {
+  const r = chainsim(['view', dir]);
+  assert.equal(r.code, 0, r.stderr);
+  const html = join(dir, 'replay.html');
+  assert.ok(existsSync(html));
+  const page = await newPage(browser);
+  await page.goto(`file://${html}${hash}`);
+  await waitFor(() => page.evaluate(() => window.chainsimViewer?.state.ready), 30000, 'the replay to be ready');
+  return page;
+}
+
+const canvasShot = (page) => page.locator('.cs-view3d canvas').screenshot();
+
+test('replay.html is one self-contained file that loads without errors', async () => {
+  const page = await open(run);
+  const html = readFileSync(join(run, 'replay.html'), 'utf8');
+  assert.doesNotMatch(html, /<script[^>]+src=|<link[^>]+stylesheet/, 'no external scripts or styles');
+  const rows = readFileSync(join(run, 'trace.csv'), 'utf8').trim().split('\n').length - 1;
+  const st = await page.evaluate(() => ({ ...window.chainsimViewer.state, dur: window.chainsimViewer.data.duration }));
+  assert.equal(st.rowsReceived, rows);
+  assert.ok(Math.abs(st.dur - 2) < 0.02, `duration ${st.dur}`);
+  assert.equal(await page.locator('.plot').count(), 4, 'four plots');
+  assert.ok((await page.locator('.cs-buslist .ev').count()) > 0, 'bus log lines listed');
+  // choose another module and joint for the plots
+  await page.selectOption('.sel-module', '3');
+  await page.selectOption('.sel-joint', '1');
+  assert.match(await page.locator('.plot .u-title').first().textContent(), /module 3: yaw_servo/);
+  // play for a while
+  await page.click('.cs-play');
+  await page.waitForTimeout(600);
+  await page.keyboard.press(' ');
+  const t = await page.evaluate(() => window.chainsimViewer.view.time);
+  assert.ok(t > 0.2, `played to ${t}`);
+  assert.deepEqual(page.problems, []);
+  await page.close();
+});
+
+test('scrubbing to another time changes the picture', async () => {
+  const page = await open(run, '#t=0.3');
+  const a = await canvasShot(page);
+  await page.locator('.cs-scrub').fill('1.7');
+  assert.ok(Math.abs((await page.evaluate(() => window.chainsimViewer.view.time)) - 1.7) < 1e-6);
+  await page.waitForTimeout(100);
+  const b = await canvasShot(page);
+  assert.notDeepEqual(a, b, 'the 3-D view is the same at t=0.3 and t=1.7');
+  // step keys move by 10 ms
+  await page.keyboard.press('ArrowRight');
+  assert.ok(Math.abs((await page.evaluate(() => window.chainsimViewer.view.time)) - 1.71) < 1e-6);
+  assert.deepEqual(page.problems, []);
+  await page.close();
+});
+
+test('clicking a bus event jumps to its time; faults and touches are highlighted', async () => {
+  const dir = join(tempDir('fault'), 'run');
+  cpSync(run, dir, { recursive: true });
+  appendFileSync(join(dir, 'bus.log'),
+    '800000 touch endpoint=2 level=1\n1100000 touch endpoint=2 level=0\n' +
+    '1500000 fault module 3 (rotation, pid 4242) ended: killed by signal 9 at t=1.500 s\n');
+  const page = await open(dir, '#t=0.5');
+  const banner = page.locator('.cs-banner');
+  assert.equal(await banner.isVisible(), false, 'no fault banner before the fault');
+  // the fault's line in the bus list
+  await page.locator('.cs-buslist .ev-fault').click();
+  assert.equal(await page.evaluate(() => window.chainsimViewer.view.time), 1.5);
+  assert.equal(await banner.isVisible(), true);
+  assert.match(await banner.textContent(), /FAULT at t=1\.500 s: module 3/);
+  const states = () => page.evaluate(() => window.chainsimViewer.scene3d.modules.map((m) => m.state));
+  assert.equal((await states())[3], 'fault');
+  // a point of the timeline: the touch, in its lane
+  await page.locator('.cs-buslist .ev-touch').first().click();
+  assert.equal(await page.evaluate(() => window.chainsimViewer.view.time), 0.8);
+  assert.equal((await states())[2], 'touch');
+  assert.equal(await page.locator('.cs-touch').isVisible(), true);
+  assert.equal(await banner.isVisible(), false);
+  // clicking in the timeline plot near the fault marker jumps to the fault
+  const box = await page.locator('.cs-timeline .u-over').boundingBox();
+  const [x, y] = await page.evaluate(() => {
+    const u = window.chainsimViewer.timeline.u;
+    return [u.valToPos(1.5, 'x'), u.valToPos(4, 'y')];  // lane 4: faults
+  });
+  await page.mouse.click(box.x + x + 3, box.y + y);
+  assert.equal(await page.evaluate(() => window.chainsimViewer.view.time), 1.5);
+  assert.deepEqual(page.problems, []);
+  await page.close();
+});

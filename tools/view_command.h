@@ -1,0 +1,23 @@
+// `chainsim view RUN_DIR`: writes RUN_DIR/replay.html, a self-contained page
+// (opens from disk) that replays the run; with --png TIME it renders a picture
+// of the scene at that time with headless Chromium instead.
+#pragma once
+
+#include <string>
+
+namespace chainsim {
+
+struct ViewArgs {
+  std::string run_dir;
+  std::string out;          // replay.html path (default RUN_DIR/replay.html) or the PNG
+  double png_time = -1;     // >= 0: render a PNG of this time
+  std::string size = "960x540";
+  std::string hash;         // more page options for the picture, e.g. "follow=0"
+};
+
+int cmd_view(const ViewArgs& a);
+
+// the Chromium program: $CHAINSIM_CHROMIUM, else /usr/bin/chromium; empty when missing
+std::string find_chromium();
+
+}  // namespace chainsim

@@ -1,0 +1,198 @@
+// chainsim viewer: the page of `chainsim view` (a replay with the run's data
+// inlined) and of `chainsim run --live` (the run streamed over a WebSocket).
+// URL hash options: t=SECONDS (start there), hideui (the 3-D view only, posed
+// at t: used for pictures), play, speed=X, follow=0.
+import 'uplot/dist/uPlot.min.css';
+import './style.css';
+import { RunData } from './data.js';
+import { Scene3D } from './scene3d.js';
+import { Plots } from './plots.js';
+import { Timeline } from './timeline.js';
+import { connectLive } from './live.js';
+import { buildPage } from './page.js';
+
+const hash = new URLSearchParams(location.hash.slice(1));
+const hideui = hash.has('hideui');
+const boot = JSON.parse(document.getElementById('chainsim-data')?.textContent || '{"mode":"none"}');
+const data = new RunData();
+const ui = buildPage(document.body, { hideui });
+
+const view = {
+  time: Number(hash.get('t') ?? 0) || 0,
+  playing: hash.has('play'),
+  speed: Number(hash.get('speed') ?? 1) || 1,
+  liveEdge: boot.mode === 'live',  // a live page follows the newest row until the user seeks
+  seek(t, ev) {
+    view.time = Math.max(0, Math.min(t, data.duration));
+    view.liveEdge = false;
+    changed(ev);
+  },
+};
+const state = { ready: false, rowsReceived: 0, messages: 0, finished: false, status: '', errors: [] };
+window.chainsimViewer = { state, view, data, seek: (t) => view.seek(t) };
+
+const scene3d = new Scene3D(ui.view3d, {
+  preserveDrawingBuffer: hideui,
+  note: (s) => ui.note(s),
+});
+scene3d.follow = hash.get('follow') !== '0';
+window.chainsimViewer.scene3d = scene3d;
+const plots = hideui ? null : new Plots(ui.plots, data, view);
+const timeline = hideui ? null : new Timeline(ui.timelinePlot, ui.timelineList, data, view);
+Object.assign(window.chainsimViewer, { plots, timeline });
+
+// per module: 'fault' after its fault event, 'touch' while its touch input is high
+function moduleStates(t) {
+  const states = {};
+  let fault = null, lastFaultT = -1, touch = null;
+  for (const e of data.marks) {
+    if (e.t > t) break;
+    if (e.kind === 'fault') {
+      fault = e;
+      lastFaultT = e.t;
+      if (e.module >= 0) states[e.module] = 'fault';
+    } else if (e.kind === 'touch' && e.module >= 0 && states[e.module] !== 'fault') {
+      states[e.module] = e.level ? 'touch' : 'ok';
+      if (e.level) touch = e;
+    }
+  }
+  // a fault flashes (in wall-clock time, also while paused) for 2 s of simulated time
+  const flashing = lastFaultT >= 0 && t - lastFaultT < 2;
+  let phase = flashing ? 0.5 + 0.5 * Math.cos((performance.now() / 1000) * 2 * Math.PI * 2.5) : 0.35;
+  if (hideui && flashing) phase = 1;  // a picture: the same every time
+  return { states, fault, touch, phase, flashing };
+}
+
+let lastUi = 0;
+function changed(selected) {
+  scene3d.pose(data, view.time);
+  const ms = moduleStates(view.time);
+  scene3d.highlight(ms.states, ms.phase);
+  state.flashing = ms.flashing;
+  ui.banner(ms.fault ? `FAULT at t=${ms.fault.t.toFixed(3)} s: ${ms.fault.text}` : '', 'fault');
+  ui.touchBadge(ms.touch && view.time - ms.touch.t < 0.5 ? `touch: module ${ms.touch.module}` : '');
+  ui.setTime(view.time, data.duration);
+  const now = performance.now();
+  if (selected !== undefined || now - lastUi > 80) {
+    lastUi = now;
+    plots?.redrawMarkers();
+    timeline?.follow(view.time);
+  }
+}
+
+let lastFrame = performance.now();
+function frame(now) {
+  const dt = Math.min(0.1, (now - lastFrame) / 1000);
+  lastFrame = now;
+  if (data.rows) {
+    if (view.liveEdge) {
+      view.time = data.duration;
+      changed();
+    } else if (view.playing) {
+      view.time += dt * view.speed;
+      if (view.time >= data.duration) {
+        view.time = data.duration;
+        if (boot.mode !== 'live' || state.finished) view.playing = false;
+      }
+      changed();
+      ui.setPlaying(view.playing);
+    } else if (state.flashing) {
+      changed();
+    }
+  }
+  scene3d.render();
+  requestAnimationFrame(frame);
+}
+
+// the scene is known: build the 3-D view, the plots, the timeline
+function onScene() {
+  scene3d.build(data.scene);
+  ui.title(`chainsim: ${data.scene.scene}`, `${data.scene.modules?.length ?? 0} modules, environment ${data.scene.environment?.type ?? '?'}`);
+  if (plots) { plots.controls(ui.plotBar); plots.rebuild(); }
+}
+
+// new rows or events: refresh what depends on them (plots at most 4 times a second)
+let refreshTimer = null;
+function onData(immediate) {
+  const go = () => {
+    refreshTimer = null;
+    plots?.update();
+    timeline?.update();
+    changed();
+  };
+  if (immediate) go();
+  else if (!refreshTimer) refreshTimer = setTimeout(go, 250);
+}
+
+function firstPose() {
+  view.time = Math.max(0, Math.min(view.time, data.duration));
+  scene3d.pose(data, view.time);
+  scene3d.resetCamera(scene3d.span());
+  changed();
+  scene3d.render(true);
+  state.ready = true;
+  document.body.dataset.ready = '1';
+}
+
+ui.onControl({
+  play: () => {
+    if (view.time >= data.duration && !view.liveEdge) view.time = 0;
+    view.playing = !view.playing;
+    view.liveEdge = false;
+    ui.setPlaying(view.playing);
+  },
+  scrub: (t) => view.seek(t),
+  step: (d) => view.seek(view.time + d),
+  speed: (s) => (view.speed = s),
+  follow: (on) => (scene3d.follow = on),
+  resetCamera: () => scene3d.resetCamera(scene3d.span()),
+  live: () => { view.liveEdge = true; view.playing = false; },
+  home: () => view.seek(0),
+  end: () => view.seek(data.duration),
+});
+ui.setPlaying(view.playing);
+ui.setSpeed(view.speed);
+ui.setFollow(scene3d.follow);
+
+window.addEventListener('error', (e) => state.errors.push(String(e.message)));
+
+if (boot.mode === 'replay') {
+  const nl = boot.trace.indexOf('\n');
+  data.setScene(boot.scene, nl < 0 ? boot.trace : boot.trace.slice(0, nl));
+  data.addRows(nl < 0 ? '' : boot.trace.slice(nl + 1));
+  data.addBus(boot.bus ?? '');
+  if (boot.summary) data.setSummary(boot.summary);
+  state.rowsReceived = data.rows;
+  state.finished = true;
+  ui.status(`replay: ${data.duration.toFixed(2)} s, ${data.rows} frames, ${data.events.length} bus events`);
+  onScene();
+  onData(true);
+  firstPose();
+} else if (boot.mode === 'live') {
+  ui.status('connecting');
+  ui.liveMode(true);
+  connectLive({
+    status: (s) => { state.status = s; ui.status(`live: ${s}`); },
+    started: (scene, header) => { data.setScene(scene, header); onScene(); },
+    rows: (csv) => {
+      const before = data.rows;
+      data.addRows(csv);
+      state.rowsReceived += data.rows - before;
+      state.messages++;
+      if (!state.ready && data.rows) firstPose();
+      onData(false);
+    },
+    bus: (lines) => { data.addBus(lines); onData(false); },
+    gap: (n) => ui.note(`this page missed ${n} trace rows (it was too slow to receive them)`),
+    finished: (summary) => {
+      data.setSummary(summary);
+      state.finished = true;
+      if (!state.ready) firstPose();
+      onData(true);
+      ui.liveMode(false);
+    },
+  });
+} else {
+  ui.status('no run data in this page');
+}
+requestAnimationFrame(frame);
