@@ -19,6 +19,8 @@
 #define SYNC_SETTLE_MS 2u   /* let Sout reach module 0's Sin before the first offer */
 #define LONG_SLEEP_MS 60000UL
 #define LOG_LINES_PER_WAIT 4u /* the simulator's per-wait limit; more are dropped */
+#define ROLL_SHIFT_MRAD 1571   /* default shift_mrad of the roll (pi/2); 0 for the others */
+#define BIAS_DEFAULT_CDEG 1000 /* default bias_cdeg: yaw offset of the turns */
 
 static uint8_t n_modules;
 static uint8_t module_type[CHAIN_MAX_MODULES];
@@ -197,7 +199,7 @@ static int32_t param_clamped(const char *name, int32_t def, int32_t lo, int32_t 
 }
 
 static void send_gait(uint8_t gait, int16_t amp, int16_t omega, int16_t phase, uint8_t axis,
-                      int16_t posture)
+                      int16_t posture, int16_t amp2, int16_t shift, int16_t bias)
 {
     uint8_t f[CC_SET_GAIT_LEN];
     uint8_t i;
@@ -209,6 +211,9 @@ static void send_gait(uint8_t gait, int16_t amp, int16_t omega, int16_t phase, u
     cc_put_i16(f + CC_GAIT_OFF_PHASE, phase);
     f[CC_GAIT_OFF_AXIS] = axis;
     cc_put_i16(f + CC_GAIT_OFF_POSTURE, posture);
+    cc_put_i16(f + CC_GAIT_OFF_AMP2, amp2);
+    cc_put_i16(f + CC_GAIT_OFF_SHIFT, shift);
+    cc_put_i16(f + CC_GAIT_OFF_BIAS, bias);
     for (i = 0; i < n_modules; i++)
         if (module_type[i] == MT_ROTATION)
             send_frame((uint8_t)(CHAIN_FIRST_MODULE_ADDR + i), f, CC_SET_GAIT_LEN);
@@ -239,7 +244,7 @@ static void sleep_until(uint32_t until_ms)
 int main(void)
 {
     uint8_t gait, axis, started = 0, stopped = 0, i;
-    int16_t amp, omega, phase, posture;
+    int16_t amp, omega, phase, posture, amp2, shift, bias;
     uint32_t start_ms, stop_ms, poll_ms, next_poll = 0;
 
     hal_init();
@@ -252,6 +257,11 @@ int main(void)
     phase = (int16_t)param_clamped("phase_mrad", 1000, -32767, 32767);
     axis = (uint8_t)param_clamped("axis", CC_AXIS_PITCH, CC_AXIS_PITCH, CC_AXIS_YAW);
     posture = (int16_t)param_clamped("posture_cdeg", 0, -9000, 9000);
+    /* the two-axis gaits and the turns (docs/firmware.md) */
+    amp2 = (int16_t)param_clamped("amplitude2_cdeg", amp, 0, 18000);
+    shift = (int16_t)param_clamped("shift_mrad", gait == GAIT_ROLL ? ROLL_SHIFT_MRAD : 0,
+                                   -32767, 32767);
+    bias = (int16_t)param_clamped("bias_cdeg", BIAS_DEFAULT_CDEG, 0, 9000);
     start_ms = (uint32_t)param_clamped("start_ms", 0, 0, 0x7FFFFFFFL);
     stop_ms = (uint32_t)param_clamped("stop_ms", 0, 0, 0x7FFFFFFFL);
     poll_ms = (uint32_t)param_clamped("poll_ms", 0, 0, 60000L);
@@ -270,10 +280,20 @@ int main(void)
     sb_str(&sb, " posture_cdeg=");
     sb_int(&sb, posture);
     log_line(sb.buf);
+    if (gait >= GAIT_TURN_LEFT) {
+        sb_reset(&sb);
+        sb_str(&sb, "gait: amp2_cdeg=");
+        sb_int(&sb, amp2);
+        sb_str(&sb, " shift_mrad=");
+        sb_int(&sb, shift);
+        sb_str(&sb, " bias_cdeg=");
+        sb_int(&sb, bias);
+        log_line(sb.buf);
+    }
 
     sleep_until(start_ms);
     if (gait != GAIT_NONE && n_modules != 0) {
-        send_gait(gait, amp, omega, phase, axis, posture);
+        send_gait(gait, amp, omega, phase, axis, posture, amp2, shift, bias);
         send_code(HAL_I2C_GENERAL_CALL, CC_START); /* same tick for every module */
         started = 1;
         log_int("start at ms ", hal_millis());

@@ -8,9 +8,10 @@
  *  code  name            dir        to       bytes  layout
  *  0x01  ENUM_OFFER      C -> M     general  2      code, addr
  *  0x02  ENUM_REPLY      M -> C     0x10     3      code, addr, type
- *  0x10  SET_GAIT        C -> M     module   11     code, gait, amp_cdeg i16,
+ *  0x10  SET_GAIT        C -> M     module   17     code, gait, amp_cdeg i16,
  *                                                   omega_mrad_s i16, phase_mrad i16, axis,
- *                                                   posture_cdeg i16
+ *                                                   posture_cdeg i16, amp2_cdeg i16,
+ *                                                   shift_mrad i16, bias_cdeg i16
  *  0x11  START           C -> M     general  1      code
  *  0x12  STOP            C -> M     any      1      code
  *  0x20  READ_SENSORS    C -> M     module   1      code
@@ -45,7 +46,7 @@
 /* frame lengths */
 #define CC_ENUM_OFFER_LEN 2u
 #define CC_ENUM_REPLY_LEN 3u
-#define CC_SET_GAIT_LEN 11u
+#define CC_SET_GAIT_LEN 17u
 #define CC_START_LEN 1u
 #define CC_STOP_LEN 1u
 #define CC_READ_SENSORS_LEN 1u
@@ -64,6 +65,11 @@
  * alternate +-P/2 about its axis; spreads the ground contacts of a vertical
  * wave so the round modules do not roll over (0 = straight) */
 #define CC_GAIT_OFF_POSTURE 9u
+/* the two-axis gaits (roll, rotate, lateral shift) and the turns; a sender
+ * that leaves these 0 gets the forward/backward gaits unchanged */
+#define CC_GAIT_OFF_AMP2 11u  /* i16 amplitude of the yaw wave, centidegrees (0..18000) */
+#define CC_GAIT_OFF_SHIFT 13u /* i16 phase of the yaw wave relative to the pitch wave, mrad */
+#define CC_GAIT_OFF_BIAS 15u  /* i16 yaw offset of a turn, centidegrees (0..9000) */
 
 /* module type codes (ENUM_REPLY, STATUS_REPLY) */
 #define MT_ROTATION 1u
@@ -78,11 +84,11 @@
 #define GAIT_NONE 0u          /* stop, servos to 0 */
 #define GAIT_FORWARD 1u       /* travelling sine wave, phase +k*phase */
 #define GAIT_BACKWARD 2u      /* the wave the other way, phase -k*phase */
-#define GAIT_TURN_LEFT 3u     /* reserved */
-#define GAIT_TURN_RIGHT 4u    /* reserved */
-#define GAIT_ROLL 5u          /* reserved */
-#define GAIT_ROTATE 6u        /* reserved */
-#define GAIT_LATERAL_SHIFT 7u /* reserved */
+#define GAIT_TURN_LEFT 3u     /* the forward wave + a yaw offset bending the chain left */
+#define GAIT_TURN_RIGHT 4u    /* the same, bent right */
+#define GAIT_ROLL 5u          /* pitch and yaw waves shifted 90 deg, phase step 0 */
+#define GAIT_ROTATE 6u        /* pitch wave of twice the yaw wave's phase step */
+#define GAIT_LATERAL_SHIFT 7u /* pitch and yaw waves of the same phase step, shifted */
 #define GAIT_INCHWORM 8u      /* reserved */
 #define GAIT_HELICOIDAL 9u    /* reserved */
 

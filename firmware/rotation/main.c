@@ -1,12 +1,15 @@
 /* Rotation module firmware (MICROTUB snake-like rotation module).
  *
  * Servo 0 = pitch, servo 1 = yaw. After discovery it sleeps on I2C and, while
- * a gait runs, wakes every control_ms to set
+ * a gait runs, wakes every control_ms to set its servos (t = ms since START,
+ * k = chain position = address - 0x20, P(k) = the zig-zag posture):
  *
- *     angle_cdeg = A * sin(omega * t + s * k * phase)     (s = +1 forward, -1 backward)
+ *   forward/backward  axis = A sin(w t + s k phi), other = P(k)   (s = +1 / -1)
+ *   turn left/right   the same with s = +1, and yaw += -bias / +bias
+ *   roll, lat. shift  pitch = A sin(w t + k phi), yaw = A2 sin(w t + k phi + shift)
+ *   rotate            pitch = A sin(w t + 2 k phi), yaw = A2 sin(w t + k phi + shift)
  *
- * on the gait's axis (the other servo is held at 0), t = ms since START,
- * k = chain position (address - 0x20). Integer arithmetic only.
+ * See docs/firmware.md. Integer arithmetic only.
  */
 #include "hal.h"
 
@@ -31,6 +34,9 @@ static int16_t omega_mrad_s;
 static int16_t phase_mrad;
 static uint8_t axis = CC_AXIS_PITCH;
 static int16_t posture_cdeg; /* zig-zag of the other axis, CC_GAIT_OFF_POSTURE */
+static int16_t amp2_cdeg;    /* yaw wave of the two-axis gaits, CC_GAIT_OFF_AMP2 */
+static int16_t shift_mrad;   /* yaw wave's phase relative to the pitch wave */
+static int16_t bias_cdeg;    /* yaw offset of the turns, CC_GAIT_OFF_BIAS */
 
 static uint8_t running;
 static uint32_t t0_ms;        /* hal_millis() at START */
@@ -63,24 +69,53 @@ static int16_t posture_angle(void)
 
 static uint8_t gait_supported(uint8_t g)
 {
-    return g == GAIT_NONE || g == GAIT_FORWARD || g == GAIT_BACKWARD;
+    return g <= GAIT_LATERAL_SHIFT; /* 0 none .. 7 lateral shift */
+}
+
+static int16_t clamp_i16(int32_t v, int16_t lim)
+{
+    if (v > lim)
+        return lim;
+    if (v < -lim)
+        return (int16_t)-lim;
+    return (int16_t)v;
 }
 
 static void control_step(uint32_t now_ms)
 {
-    /* k * phase, negated for the wave travelling the other way */
+    uint32_t t = now_ms - t0_ms;
+    /* k * phase (|k * phase| < 32 * 32768: 32 bits) */
     int32_t offset = (int32_t)my_pos * (int32_t)phase_mrad;
-    int16_t cdeg;
-    if (gait == GAIT_BACKWARD)
-        offset = -offset;
-    cdeg = gait_angle_cdeg(amp_cdeg, omega_mrad_s, now_ms - t0_ms, offset);
-    if (axis == CC_AXIS_YAW) {
-        set_servo(SERVO_YAW, cdeg);
-        set_servo(SERVO_PITCH, posture_angle());
+    int16_t pitch, yaw;
+
+    if (gait == GAIT_ROLL || gait == GAIT_ROTATE || gait == GAIT_LATERAL_SHIFT) {
+        /* two waves of the same omega; rotate: the pitch wave has twice the
+         * yaw wave's phase step */
+        pitch = gait_angle_cdeg(amp_cdeg, omega_mrad_s, t,
+                                gait == GAIT_ROTATE ? offset * 2 : offset);
+        yaw = gait_angle_cdeg(amp2_cdeg, omega_mrad_s, t, offset + shift_mrad);
     } else {
-        set_servo(SERVO_PITCH, cdeg);
-        set_servo(SERVO_YAW, posture_angle());
+        /* forward, backward, turns: one wave on the chosen axis, the zig-zag
+         * posture on the other; the wave travels the other way for backward */
+        int16_t wave;
+        if (gait == GAIT_BACKWARD)
+            offset = -offset;
+        wave = gait_angle_cdeg(amp_cdeg, omega_mrad_s, t, offset);
+        if (axis == CC_AXIS_YAW) {
+            yaw = wave;
+            pitch = posture_angle();
+        } else {
+            pitch = wave;
+            yaw = posture_angle();
+        }
+        /* a negative yaw offset bends the chain so that it crawls to the left */
+        if (gait == GAIT_TURN_LEFT)
+            yaw = clamp_i16((int32_t)yaw - bias_cdeg, 18000);
+        else if (gait == GAIT_TURN_RIGHT)
+            yaw = clamp_i16((int32_t)yaw + bias_cdeg, 18000);
     }
+    set_servo(SERVO_PITCH, pitch);
+    set_servo(SERVO_YAW, yaw);
 }
 
 static void stop_gait(void)
@@ -133,15 +168,15 @@ static void handle_frame(const uint8_t *buf, uint8_t len, uint8_t to)
         omega_mrad_s = cc_get_i16(buf + CC_GAIT_OFF_OMEGA);
         phase_mrad = cc_get_i16(buf + CC_GAIT_OFF_PHASE);
         axis = buf[CC_GAIT_OFF_AXIS];
-        posture_cdeg = cc_get_i16(buf + CC_GAIT_OFF_POSTURE);
-        if (posture_cdeg > 9000)
-            posture_cdeg = 9000;
-        if (posture_cdeg < -9000)
-            posture_cdeg = -9000;
+        posture_cdeg = clamp_i16(cc_get_i16(buf + CC_GAIT_OFF_POSTURE), 9000);
         if (amp_cdeg < 0)
             amp_cdeg = (int16_t)-amp_cdeg;
         if (amp_cdeg > 18000)
             amp_cdeg = 18000;
+        amp2_cdeg = cc_get_i16(buf + CC_GAIT_OFF_AMP2);
+        amp2_cdeg = clamp_i16(amp2_cdeg < 0 ? -(int32_t)amp2_cdeg : amp2_cdeg, 18000);
+        shift_mrad = cc_get_i16(buf + CC_GAIT_OFF_SHIFT);
+        bias_cdeg = clamp_i16(cc_get_i16(buf + CC_GAIT_OFF_BIAS), 9000);
         if (axis > CC_AXIS_YAW) {
             axis = CC_AXIS_PITCH;
             flags |= CC_FLAG_BAD_GAIT;
