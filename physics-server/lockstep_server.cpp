@@ -100,10 +100,17 @@ class Server : public BarrierSink {
   // BarrierSink
   void servo(int module, int servo, bool enabled, double rad) override {
     if (module >= n_modules_) return;
+    // the barrier reads the wire value as millidegrees; a linear servo's is
+    // micrometres and a screw drive's per mille (world.h): back to the wire
+    // value (exact) and into the actuator's own unit
+    const World::ServoKind kind = world_.servo_kind(module, servo);
+    const double v = kind == World::ServoKind::Rotary
+                         ? rad
+                         : World::servo_from_wire(kind, static_cast<int32_t>(std::lround(rad * 180.0 / M_PI * 1000.0)));
     world_.set_servo_enabled(module, servo, enabled);
-    if (enabled) world_.set_servo_setpoint(module, servo, rad);
+    if (enabled) world_.set_servo_setpoint(module, servo, v);
     if (record_) record_->push_back({now_us_, static_cast<int16_t>(module), static_cast<int8_t>(servo),
-                                     static_cast<int8_t>(enabled), rad});
+                                     static_cast<int8_t>(enabled), v});
   }
   void bus_event(int64_t t_us, const char* line) override {
     out_->bus(t_us, line);
@@ -324,7 +331,7 @@ bool Server::exchange(const std::vector<int>& awake) {
       world_.sample(i, &s);
       tb.n_servos = static_cast<uint8_t>(s.n_servos);
       for (int k = 0; k < s.n_servos; ++k)
-        tb.servo_pos[k] = static_cast<int32_t>(std::lround(s.servo_angle_rad[k] * 180.0 / M_PI * 1000.0));
+        tb.servo_pos[k] = World::servo_to_wire(world_.servo_kind(i, k), s.servo_angle_rad[k]);
       tb.n_adc = static_cast<uint8_t>(s.n_adc);
       for (int k = 0; k < s.n_adc; ++k) tb.adc[k] = std::min<uint16_t>(s.adc[k], CS_ADC_COUNTS_MAX);
       tb.digital_in = s.digital_in;

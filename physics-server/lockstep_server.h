@@ -53,7 +53,7 @@ struct ServoCommand {
   int16_t module;
   int8_t servo;
   int8_t enabled;
-  double rad;
+  double rad;   // set-point in the actuator's unit (world.h: rad, m or -1..1)
 };
 
 struct RunResult {

@@ -1,154 +1,23 @@
-// Built-in module types and ModuleDef helpers. See module_library.h.
+// Built-in module types and ModuleDef helpers. See module_library.h. The
+// built-in types are the files scenes/modules/*.yaml, compiled in
+// (builtin_modules.cpp.in) and parsed on first use (module_file.h).
 #include "module_library.h"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
+#include <mutex>
 #include <set>
 #include <sstream>
 #include <stdexcept>
+
+#include "module_file.h"
 
 namespace chainsim {
 
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-// rotation taking the body's z axis (ODE's capsule/cylinder axis) onto the
-// module's x axis: +90 degrees about y
-Eigen::Quaterniond z_along_x() {
-  return Eigen::Quaterniond(Eigen::AngleAxisd(kPi / 2.0, Eigen::Vector3d::UnitY()));
-}
-
-BodyDef make_body(std::string name, Shape shape, double radius, double length, double mass,
-                  double x_centre) {
-  BodyDef b;
-  b.name = std::move(name);
-  b.shape = shape;
-  b.radius_m = radius;
-  b.length_m = length;
-  b.mass_kg = mass;
-  b.pose.position = Eigen::Vector3d(x_centre, 0.0, 0.0);
-  b.pose.orientation = z_along_x();
-  return b;
-}
-
-// Rotation module (paper 3.3.1, Fig. 5a): a capsule and two cylinders as
-// connectors, two servos: pitch (front) then yaw (back), each limited to +-90
-// degrees (the real servos have 180 degrees of travel).
-//
-//   x = 0      -5                -16.5        -29.5          -41   -46 mm
-//   | front  |( capsule: servo pitch o ...... o servo yaw  )| back  |
-//   front face                                                 back face
-//
-// Sizes and masses (the MICROTUB modules are about 25 mm in diameter and about
-// 10 g each; the paper gives no per-part figures, these are our estimates):
-//  * overall length 46 mm: two micro servos (about 23 x 12 x 20 mm each, the
-//    smallest hobby class) placed crosswise, plus the docking rings.
-//  * connectors: cylinders of radius 12.5 mm (the module's 25 mm diameter; the
-//    docking rings are its widest part), 5 mm thick (a ring with the docking
-//    pins and the bus/sync connector), 1.5 g each (a 25 mm disc of PCB and
-//    plastic; a solid ABS disc would be 2.6 g, the ring is mostly hollow).
-//  * capsule: radius 11.5 mm (the shell sits just inside the rings, so a
-//    straight module rests on its rings), overall length 36 mm (straight part
-//    13 mm), 7 g: two micro servos of about 2.5 g each plus the PCB with the
-//    microcontroller and the shell (about 2 g). Total 10 g.
-//  * servo axes at the centres of the capsule's end caps (x = -16.5 and -29.5
-//    mm): the capsule turns about its cap centres, so it never sweeps into its
-//    own rings, as with the real servo horns.
-ModuleDef rotation_def() {
-  ModuleDef d;
-  d.type = "rotation";
-  d.description =
-      "rotation module (paper 3.3.1): capsule + two cylinder connectors, pitch then yaw servo, "
-      "+-90 deg, 25 mm diameter, 46 mm long, 10 g";
-  const double ring_r = 0.0125, ring_len = 0.005, ring_m = 0.0015;
-  const double cap_r = 0.0115, cap_straight = 0.013, cap_m = 0.007;
-  const double cap_front = -ring_len;                                     // -5 mm
-  const double cap_back = cap_front - (cap_straight + 2.0 * cap_r);       // -41 mm
-  const double back_face = cap_back - ring_len;                           // -46 mm
-  const double pitch_x = cap_front - cap_r;                               // -16.5 mm
-  const double yaw_x = cap_back + cap_r;                                  // -29.5 mm
-
-  d.bodies.push_back(make_body("front", Shape::Cylinder, ring_r, ring_len, ring_m, -ring_len / 2));
-  d.bodies.push_back(make_body("body", Shape::Capsule, cap_r, cap_straight, cap_m,
-                               (cap_front + cap_back) / 2));
-  d.bodies.push_back(
-      make_body("back", Shape::Cylinder, ring_r, ring_len, ring_m, back_face + ring_len / 2));
-
-  JointDef pitch;
-  pitch.name = "pitch";
-  pitch.type = JointType::Hinge;
-  pitch.parent = 0;
-  pitch.child = 1;
-  pitch.anchor_m = Eigen::Vector3d(pitch_x, 0, 0);
-  pitch.axis = Eigen::Vector3d::UnitY();   // bends in the vertical plane
-  pitch.lo = -kPi / 2;
-  pitch.hi = kPi / 2;
-  d.joints.push_back(pitch);
-
-  JointDef yaw = pitch;
-  yaw.name = "yaw";
-  yaw.parent = 1;
-  yaw.child = 2;
-  yaw.anchor_m = Eigen::Vector3d(yaw_x, 0, 0);
-  yaw.axis = Eigen::Vector3d::UnitZ();     // bends in the ground plane
-  d.joints.push_back(yaw);
-  // signs (hinge angle = child relative to parent about the axis): pitch > 0
-  // lifts the rear of the module, yaw > 0 swings its rear to the right (-y)
-
-  ActuatorDef s0;
-  s0.name = "pitch_servo";
-  s0.type = ActuatorType::Servo;
-  s0.joint = 0;
-  d.actuators.push_back(s0);
-  ActuatorDef s1 = s0;
-  s1.name = "yaw_servo";
-  s1.joint = 1;
-  d.actuators.push_back(s1);
-
-  SensorDef c0;
-  c0.name = "pitch_current";
-  c0.type = SensorType::MotorCurrent;
-  c0.actuator = 0;
-  c0.channel = 0;
-  d.sensors.push_back(c0);
-  SensorDef c1 = c0;
-  c1.name = "yaw_current";
-  c1.actuator = 1;
-  c1.channel = 1;
-  d.sensors.push_back(c1);
-
-  d.front.body = 0;
-  d.front.frame.position = Eigen::Vector3d::Zero();
-  d.back.body = 2;
-  d.back.frame.position = Eigen::Vector3d(back_face, 0, 0);
-  return d;
-}
-
-// Passive module: one rigid body the size of a rotation module: a capsule of
-// radius 12 mm (about the 25 mm diameter) and 46 mm overall (the rotation
-// module's length, so chains keep their spacing), 10 g (the same class of
-// module: shell, PCB, connectors, no servos but ballast-free). Both docking
-// faces are on the capsule's tips.
-ModuleDef passive_def() {
-  ModuleDef d;
-  d.type = "passive";
-  d.description = "passive module: one capsule, 24 mm diameter, 46 mm long, 10 g";
-  const double r = 0.012, overall = 0.046, mass = 0.010;
-  d.bodies.push_back(make_body("body", Shape::Capsule, r, overall - 2 * r, mass, -overall / 2));
-  d.front.body = 0;
-  d.back.body = 0;
-  d.back.frame.position = Eigen::Vector3d(-overall, 0, 0);
-  return d;
-}
-
-struct Builtin {
-  const char* name;
-  ModuleDef (*make)();
-};
-const Builtin kBuiltins[] = {
-    {"rotation", rotation_def},
-    {"passive", passive_def},
-};
 
 [[noreturn]] void invalid(const ModuleDef& d, const std::string& what) {
   throw std::invalid_argument("module type '" + d.type + "': " + what);
@@ -170,17 +39,32 @@ const char* shape_name(Shape s) {
 
 std::vector<std::string> builtin_module_names() {
   std::vector<std::string> out;
-  for (const auto& b : kBuiltins) out.emplace_back(b.name);
+  for (const BuiltinModuleFile& f : builtin_module_files()) out.push_back(f.name);
   return out;
 }
 
 ModuleDef builtin_module_def(const std::string& name) {
-  for (const auto& b : kBuiltins)
-    if (name == b.name) return b.make();
+  // parsed once per type; a shipped file that does not parse throws here
+  // (with its file:line:column) every time it is asked for
+  static std::mutex mutex;
+  static std::map<std::string, ModuleDef> cache;
+  for (const BuiltinModuleFile& f : builtin_module_files()) {
+    if (name != f.name) continue;
+    std::lock_guard<std::mutex> lock(mutex);
+    auto it = cache.find(name);
+    if (it == cache.end()) it = cache.emplace(name, load_module_text(f.text, f.path)).first;
+    return it->second;
+  }
   std::ostringstream msg;
   msg << "unknown module type '" << name << "'; known types:";
-  for (const auto& b : kBuiltins) msg << ' ' << b.name;
+  for (const BuiltinModuleFile& f : builtin_module_files()) msg << ' ' << f.name;
   throw std::invalid_argument(msg.str());
+}
+
+ModuleDef find_module_def(const std::vector<ModuleDef>& types, const std::string& name) {
+  const auto it = std::find_if(types.begin(), types.end(),
+                               [&](const ModuleDef& d) { return d.type == name; });
+  return it != types.end() ? *it : builtin_module_def(name);
 }
 
 Eigen::Matrix3d body_inertia_kg_m2(const BodyDef& b) {
@@ -226,7 +110,7 @@ double module_mass_kg(const ModuleDef& def) {
 std::vector<int> driven_servo_actuators(const ModuleDef& def) {
   std::vector<int> out;
   for (int a = 0; a < static_cast<int>(def.actuators.size()); ++a)
-    if (def.actuators[a].type == ActuatorType::Servo && def.actuators[a].follows < 0)
+    if (def.actuators[a].follows < 0)
       out.push_back(a);
   return out;
 }
@@ -273,6 +157,10 @@ void validate_module_def(const ModuleDef& d) {
     if (j.type == JointType::Hinge && ((std::isfinite(j.lo) && j.lo < -kPi) ||
                                        (std::isfinite(j.hi) && j.hi > kPi)))
       invalid(d, "joint '" + j.name + "': hinge limits must be within [-pi, pi]");
+    if (!(j.friction_nm_s_rad >= 0) || !std::isfinite(j.friction_nm_s_rad))
+      invalid(d, "joint '" + j.name + "': friction must be >= 0");
+    if (j.friction_nm_s_rad > 0 && j.type != JointType::Hinge)
+      invalid(d, "joint '" + j.name + "': friction is for hinges only");
   }
   for (int a = 0; a < na; ++a) {
     const auto& act = d.actuators[a];
@@ -288,18 +176,48 @@ void validate_module_def(const ModuleDef& d) {
       case ActuatorType::LinearServo:
         if (!joint_ok || d.joints[act.joint].type != JointType::Slider)
           invalid(d, "actuator '" + act.name + "': a linear servo needs a slider joint");
+        if (!(act.l0_m > 0) || !std::isfinite(act.l0_m))
+          invalid(d, "actuator '" + act.name + "': l0_m must be > 0");
         break;
       case ActuatorType::ScrewDrive:
         if (!body_ok(act.body)) invalid(d, "actuator '" + act.name + "': bad body");
+        if (!(act.direction.norm() > 1e-9 && finite(act.direction)))
+          invalid(d, "actuator '" + act.name + "': zero direction");
         break;
     }
+    if (act.type != ActuatorType::Servo) {
+      if (act.follows >= 0)
+        invalid(d, "actuator '" + act.name + "': only servos can follow another servo");
+      if (!(act.fmax_n > 0) || !std::isfinite(act.fmax_n))
+        invalid(d, "actuator '" + act.name + "': fmax_n must be > 0");
+      if (!(act.v_free_m_s >= 0) || !std::isfinite(act.v_free_m_s))
+        invalid(d, "actuator '" + act.name + "': v_free_m_s must be >= 0");
+      if (!(act.stall_current_a >= 0) || !std::isfinite(act.stall_current_a))
+        invalid(d, "actuator '" + act.name + "': stall_current_a must be >= 0");
+    }
   }
+  // each ADC channel, input bit and counter is wired to one sensor
+  std::map<std::pair<int, int>, std::string> wired;  // (kind, channel) -> sensor
+  auto wire = [&](const SensorDef& s, int kind, int channel) {
+    const auto [it, fresh] = wired.emplace(std::make_pair(kind, channel), s.name);
+    static const char* kKind[] = {"ADC channel", "digital input bit", "counter"};
+    if (!fresh)
+      invalid(d, "sensor '" + s.name + "': " + kKind[kind] + " " + std::to_string(channel) +
+                     " is already used by sensor '" + it->second + "'");
+  };
   for (const auto& s : d.sensors) {
     switch (s.type) {
+      case SensorType::MotorCurrent: wire(s, 0, s.channel); break;
+      case SensorType::Touch: wire(s, 1, s.channel); break;
+      case SensorType::Accelerometer:
+        for (int k = 0; k < 3; ++k) wire(s, 0, s.channel + k);
+        break;
+      case SensorType::WheelEncoder: wire(s, 2, s.channel); break;
+    }
+    switch (s.type) {
       case SensorType::MotorCurrent:
-        if (s.actuator < 0 || s.actuator >= na ||
-            d.actuators[s.actuator].type != ActuatorType::Servo)
-          invalid(d, "sensor '" + s.name + "': needs a servo actuator");
+        if (s.actuator < 0 || s.actuator >= na)
+          invalid(d, "sensor '" + s.name + "': needs an actuator");
         if (s.channel < 0 || s.channel >= 8)
           invalid(d, "sensor '" + s.name + "': ADC channel must be 0..7");
         break;
@@ -310,11 +228,24 @@ void validate_module_def(const ModuleDef& d) {
         break;
       case SensorType::Accelerometer:
         if (!body_ok(s.body)) invalid(d, "sensor '" + s.name + "': bad body");
+        if (s.channel < 0 || s.channel > 5)
+          invalid(d, "sensor '" + s.name + "': first ADC channel must be 0..5 (it uses 3)");
+        if (!(s.range_g > 0) || !std::isfinite(s.range_g))
+          invalid(d, "sensor '" + s.name + "': range_g must be > 0");
+        if (!(s.noise_g >= 0) || !std::isfinite(s.noise_g))
+          invalid(d, "sensor '" + s.name + "': noise_g must be >= 0");
+        if (!(s.bandwidth_hz >= 0) || !std::isfinite(s.bandwidth_hz))
+          invalid(d, "sensor '" + s.name + "': bandwidth_hz must be >= 0");
+        if (!s.orientation.coeffs().allFinite() || std::fabs(s.orientation.norm() - 1.0) > 1e-6)
+          invalid(d, "sensor '" + s.name + "': orientation must be a unit quaternion");
         break;
       case SensorType::WheelEncoder:
-        if (s.joint < 0 || s.joint >= nj) invalid(d, "sensor '" + s.name + "': bad joint");
+        if (s.joint < 0 || s.joint >= nj || d.joints[s.joint].type != JointType::Hinge)
+          invalid(d, "sensor '" + s.name + "': a wheel encoder needs a hinge joint");
         if (s.channel < 0 || s.channel >= 4)
           invalid(d, "sensor '" + s.name + "': counter must be 0..3");
+        if (s.counts_per_rev < 1)
+          invalid(d, "sensor '" + s.name + "': counts_per_rev must be >= 1");
         break;
     }
   }

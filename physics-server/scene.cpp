@@ -3,9 +3,13 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
+
+#include "scene_environment.h"
+#include "scene_modules.h"
 
 namespace chainsim {
 namespace {
@@ -102,19 +106,6 @@ std::map<std::string, int32_t> get_params(const Ctx& c, const YAML::Node& map,
   return out;
 }
 
-Material get_material(const Ctx& c, const YAML::Node& map, const std::string& path) {
-  Material m;
-  const YAML::Node n = map["material"];
-  if (!n) return m;
-  const std::string p = path + ".material";
-  check_keys(c, n, p, {"mu", "bounce", "soft_erp", "soft_cfm"});
-  m.mu = get_double(c, n, "mu", m.mu, 0.0, 100.0, p);
-  m.bounce = get_double(c, n, "bounce", m.bounce, 0.0, 1.0, p);
-  m.soft_erp = get_double(c, n, "soft_erp", m.soft_erp, 0.0, 1.0, p);
-  m.soft_cfm = get_double(c, n, "soft_cfm", m.soft_cfm, 0.0, 1.0, p);
-  return m;
-}
-
 void load_chain(const Ctx& c, const YAML::Node& root, Scene* s) {
   const YAML::Node n = root["chain"];
   if (!n) fail(c, root, "missing key 'chain' (a string such as \"RRRRRRRR\" or a list of modules)");
@@ -178,8 +169,8 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
   }
   if (!root || !root.IsMap()) throw SceneError(name + ": a scene must be a YAML mapping");
   check_keys(c, root, "scene",
-             {"name", "duration_s", "seed", "physics", "environment", "chain", "placement",
-              "central", "output"});
+             {"name", "duration_s", "seed", "physics", "environment", "contacts", "module_types",
+              "chain", "placement", "central", "output"});
 
   Scene s;
   s.source = name;
@@ -198,18 +189,17 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
                      ") must be a multiple of 'physics.dt_us' (" + std::to_string(s.world.dt_us) + ")");
   }
 
-  if (const YAML::Node e = root["environment"]) {
-    check_keys(c, e, "environment", {"type", "material"});
-    const std::string type = get_string(c, e, "type", "plane", "environment");
-    if (type != "plane")
-      fail(c, e["type"], "'environment.type' '" + type + "' is not known (known: plane)");
-    s.world.ground = get_material(c, e, "environment");
-  }
+  // environment and contacts: scene_environment.cpp; mesh files relative to the scene's directory
+  const std::string base_dir =
+      name.empty() || name[0] == '<' ? "" : std::filesystem::path(name).parent_path().string();
+  load_scene_environment(name, base_dir, root["environment"], root["contacts"], &s.world);
 
+  load_scene_module_types(name, base_dir, root["module_types"], &s.world);  // scene_modules.cpp
   load_chain(c, root, &s);
+  check_scene_chain_types(name, root["chain"], s);
 
   if (const YAML::Node p = root["placement"]) {
-    check_keys(c, p, "placement", {"position_m", "heading_deg"});
+    check_keys(c, p, "placement", {"position_m", "heading_deg", "at", "inset_m"});
     if (const YAML::Node pos = p["position_m"]) {
       if (!pos.IsSequence() || pos.size() != 3)
         fail(c, pos, "'placement.position_m' must be a list of 3 numbers [x, y, z]");
@@ -222,6 +212,7 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
       }
     }
     s.world.heading_rad = get_double(c, p, "heading_deg", 0.0, -360.0, 360.0, "placement") * M_PI / 180.0;
+    load_scene_placement_at(name, p, &s.world);  // at: pipe_entry
   }
 
   s.central = {"central", "fw-central", {}};

@@ -1,5 +1,6 @@
 #include "scene_json.h"
 
+#include "environment_json.h"
 #include "module_library.h"
 
 namespace chainsim {
@@ -18,7 +19,7 @@ const char* module_color(const std::string& type) {
 nlohmann::json scene_json(const Scene& scene) {
   nlohmann::json modules = nlohmann::json::array();
   for (size_t i = 0; i < scene.modules.size(); ++i) {
-    const ModuleDef def = builtin_module_def(scene.modules[i].type);
+    const ModuleDef def = find_module_def(scene.world.module_types, scene.modules[i].type);
     nlohmann::json bodies = nlohmann::json::array();
     for (const BodyDef& b : def.bodies) {
       nlohmann::json j = {{"name", b.name}, {"shape", shape_name(b.shape)}, {"mass_kg", b.mass_kg}};
@@ -38,7 +39,6 @@ nlohmann::json scene_json(const Scene& scene) {
                        {"bodies", bodies},
                        {"servos", servos}});
   }
-  const Material& g = scene.world.ground;
   return {{"scene", scene.name},
           {"source", scene.source},
           {"seed", scene.seed},
@@ -49,8 +49,7 @@ nlohmann::json scene_json(const Scene& scene) {
           {"conventions",
            "SI units; z up; trace quaternions are qw,qx,qy,qz (world frame); capsule and cylinder axes are the "
            "body's local z; a capsule's length_m is its straight part"},
-          {"environment",
-           {{"type", "plane"}, {"material", {{"mu", g.mu}, {"bounce", g.bounce}}}}},
+          {"environment", environment_json(scene.world)},  // format: environment_json.cpp
           {"modules", modules},
           {"central", {{"index", scene.modules.size()}, {"firmware", scene.central.firmware}}}};
 }

@@ -29,17 +29,32 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
   StepLaw law;
   // rotor inertia, implicit on the joint rate: -J (w' - w)/h
   const double jh = p_.j / h;
-  // step-average electromagnetic torque = t0 - c_emf w'
-  double t0, c_emf;
+  // step-average current = i0 - ci w' (affine in the end-of-step rate w')
+  double i0, ci;
   if (drive_) {
     ea_ = std::clamp(p_.kp * (setpoint_ - theta), -p_.supply_v, p_.supply_v);
-    t0 = p_.kt * ((1.0 - phi_) * ea_ / p_.r + phi_ * i_);
-    c_emf = p_.kt * p_.km * (1.0 - phi_) / p_.r;
+    i0 = (1.0 - phi_) * ea_ / p_.r + phi_ * i_;
+    ci = p_.km * (1.0 - phi_) / p_.r;
   } else {
     ea_ = 0.0;
-    t0 = p_.kt * phi_ * i_;   // free-wheeling current, no back-EMF path
-    c_emf = 0.0;
+    i0 = phi_ * i_;   // free-wheeling current, no back-EMF path
+    ci = 0.0;
   }
+  if (p_.i_threshold_a > 0.0) {
+    // static friction: torque Kt dz(i_avg); the branch of dz from the
+    // prediction w' = w, then affine (implicit) within it
+    const double i_pred = i0 - ci * w;
+    if (i_pred > p_.i_threshold_a) {
+      i0 -= p_.i_threshold_a;
+    } else if (i_pred < -p_.i_threshold_a) {
+      i0 += p_.i_threshold_a;
+    } else {
+      i0 = 0.0;
+      ci = 0.0;
+    }
+  }
+  // step-average electromagnetic torque = t0 - c_emf w'
+  const double t0 = p_.kt * i0, c_emf = p_.kt * ci;
   law.damping = c_emf + p_.b + jh;
   law.target_rate = (t0 + jh * w) / law.damping;
   return law;
@@ -51,6 +66,14 @@ void ServoModel::end_step(double w_next) {
   i_ = i_inf + (i_ - i_inf) * e_;
   // RC filter of |i|, exact for the step-average |i| held over the step
   i_f_ = std::fabs(i_mean_) + (i_f_ - std::fabs(i_mean_)) * ef_;
+}
+
+double ServoModel::dead_zone(double i) const {
+  const double th = p_.i_threshold_a;
+  if (!(th > 0.0)) return i;
+  if (i > th) return i - th;
+  if (i < -th) return i + th;
+  return 0.0;
 }
 
 uint16_t ServoModel::adc_counts() const {

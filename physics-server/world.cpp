@@ -44,7 +44,9 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "environment_geoms.h"
 #include "module_library.h"
+#include "sensors.h"
 
 namespace chainsim {
 
@@ -88,14 +90,27 @@ struct World::Impl {
     std::string name;
     bool touched = false;      // had a contact in the last step
   };
+  // a firmware-driven actuator: rotary servo, linear servo or screw drive
   struct Servo {
+    ServoKind kind = ServoKind::Rotary;
     int module = -1;
-    dJointID hinge = nullptr;
-    dJointID motor = nullptr;  // one-axis angular motor realising the servo torque
+    dJointID hinge = nullptr;  // Rotary: the hinge; Linear: the slider
+    // Rotary: one-axis angular motor realising the servo torque; Linear, Screw:
+    // one-axis linear motor realising the force law's implicit part
+    dJointID motor = nullptr;
     ServoModel model;
-    double lo = 0, hi = 0;     // joint range, rad
+    double lo = 0, hi = 0;     // set-point range: rad, m or -1..1
     bool enabled = true;
     int follows = -1;          // global servo index whose set-point this one copies
+    // Linear, Screw (force laws in module_library.h)
+    dBodyID body = nullptr;    // Screw: the body pushed
+    Eigen::Vector3d dir = Eigen::Vector3d::UnitX();  // Screw: drive axis, body frame, unit
+    double fmax = 0, l0 = 0, v_free = 0, stall_a = 0;
+    double cmd = 0;            // set-point: m (Linear) or -1..1 (Screw)
+    bool on = false;           // driven during the last step
+    double law_damping = 0, law_rate = 0, law_force = 0;  // this step: F = law_force + D (v* - v')
+    double force = 0;          // force of the last step, N
+    double i_motor = 0, i_f = 0;   // motor current (signed), its RC-filtered magnitude
   };
   struct Module {
     std::string type;
@@ -113,16 +128,19 @@ struct World::Impl {
   WorldConfig cfg;
   dWorldID world = nullptr;
   dSpaceID space = nullptr;
-  dGeomID ground = nullptr;
+  std::unique_ptr<EnvironmentGeoms> env;   // destroyed after the space (its triangle data)
+  std::vector<Material> env_materials;      // environment surface index -> contact with a module
   dJointGroupID contact_group = nullptr;
   unsigned long rand_seed = 0;
   int64_t time_us = 0;
   double h = 0;
+  double filter_e = 0;   // e^(-h/tau_f) of the linear servo / screw drive current filter
   int contact_count = 0;
 
   std::vector<Body> bodies;
   std::vector<Servo> servos;
   std::vector<Module> modules;
+  Sensors sensors;   // accelerometers, wheel encoders, joint friction (sensors.h)
   dContactGeom contact_buf[kMaxContactsPerPair];
 
   static void near_callback(void* data, dGeomID a, dGeomID b) {
@@ -132,9 +150,12 @@ struct World::Impl {
   void collide_pair(dGeomID a, dGeomID b) {
     const intptr_t ia = reinterpret_cast<intptr_t>(dGeomGetData(a));
     const intptr_t ib = reinterpret_cast<intptr_t>(dGeomGetData(b));
-    if (ia == 0 && ib == 0) return;  // environment vs environment
-    const Material* mat = &cfg.ground;
-    if (ia != 0 && ib != 0) {
+    // > 0: 1 + body index; <= 0: an environment geom (EnvironmentGeoms::surface_tag)
+    if (ia <= 0 && ib <= 0) return;  // environment vs environment
+    const intptr_t env_tag = ia <= 0 ? ia : ib;
+    const Material* mat = env_tag < 0 ? &env_materials[EnvironmentGeoms::surface_index(env_tag)]
+                                      : &cfg.ground;
+    if (ia > 0 && ib > 0) {
       const Body& ba = bodies[ia - 1];
       const Body& bb = bodies[ib - 1];
       if (ba.module == bb.module) return;                              // no self-collision
@@ -143,8 +164,8 @@ struct World::Impl {
     }
     const int n = dCollide(a, b, kMaxContactsPerPair, contact_buf, sizeof(dContactGeom));
     if (n <= 0) return;
-    if (ia) bodies[ia - 1].touched = true;
-    if (ib) bodies[ib - 1].touched = true;
+    if (ia > 0) bodies[ia - 1].touched = true;
+    if (ib > 0) bodies[ib - 1].touched = true;
     for (int k = 0; k < n; ++k) {
       dContact c;
       c.geom = contact_buf[k];
@@ -172,6 +193,12 @@ struct World::Impl {
 
   void build();
   void add_module(int index, const ModuleDef& def, const Eigen::Isometry3d& frame);
+  void add_force_actuator(int index, Module& md, const ModuleDef& def, const ActuatorDef& ad,
+                          const Eigen::Isometry3d& frame, const std::vector<dJointID>& joints);
+  void begin_force_actuator(Servo& s);
+  void end_force_actuator(Servo& s);
+  uint16_t adc_counts(const Servo& s) const;
+  double actuator_rate(const Servo& s) const;
 
   const Module& mod(int m) const {
     if (m < 0 || m >= static_cast<int>(modules.size()))
@@ -273,9 +300,11 @@ void World::Impl::add_module(int index, const ModuleDef& def, const Eigen::Isome
   std::vector<int> act_servo(def.actuators.size(), -1);
   for (size_t a = 0; a < def.actuators.size(); ++a) {
     const ActuatorDef& ad = def.actuators[a];
-    if (ad.type != ActuatorType::Servo)
-      throw std::invalid_argument("module type '" + def.type + "', actuator '" + ad.name +
-                                  "': linear servo and screw drive are not implemented yet");
+    if (ad.type != ActuatorType::Servo) {
+      add_force_actuator(index, md, def, ad, frame, joints);
+      act_servo[a] = static_cast<int>(servos.size()) - 1;
+      continue;
+    }
     const JointDef& jd = def.joints[ad.joint];
     Servo s;
     s.module = index;
@@ -311,10 +340,12 @@ void World::Impl::add_module(int index, const ModuleDef& def, const Eigen::Isome
         break;
       case SensorType::Accelerometer:
       case SensorType::WheelEncoder:
-        throw std::invalid_argument("module type '" + def.type + "', sensor '" + sd.name +
-                                    "': accelerometer and wheel encoder are not implemented yet");
+        break;  // sensors.add_module
     }
   }
+  std::vector<dBodyID> body_ids;
+  for (int b = 0; b < md.nbody; ++b) body_ids.push_back(bodies[md.body0 + b].id);
+  sensors.add_module(index, def, body_ids, joints, frame.linear());
 
   md.front_body = md.body0 + def.front.body;
   md.back_body = md.body0 + def.back.body;
@@ -323,9 +354,133 @@ void World::Impl::add_module(int index, const ModuleDef& def, const Eigen::Isome
   modules.push_back(std::move(md));
 }
 
+// Linear servo and screw drive (force laws in module_library.h). Realised
+// like the rotary servo: the part of the force that depends on the end-of-step
+// rate v' is a one-axis linear motor row with dParamVel = v*, dParamCFM = 1/D,
+// dParamFMax = fmax, i.e. F = clamp(D (v* - v'), -fmax, fmax), solved
+// implicitly by ODE with the whole system:
+//  * the back-EMF term fmax v'/v_free: D = fmax / v_free;
+//  * the linear servo's proportional term inside its band (|u| < 1) is taken
+//    at the end-of-step position pos + h v' (backward Euler):
+//    fmax (ref - pos - h v')/l0 adds D = fmax h / l0 (stable for any stiffness;
+//    its numerical damping, fmax h / l0, is what keeps the pure paper law
+//    with v_free = 0 from ringing forever).
+// With no v'-dependent part at all (saturated or a screw drive without
+// v_free) the force is a plain external force. The linear motor is a separate
+// joint (LMotor) rather than the slider's built-in motor, so that at a slider
+// stop the law still holds (ODE replaces a powered joint's motor by its full
+// fmax there).
+void World::Impl::add_force_actuator(int index, Module& md, const ModuleDef& def,
+                                     const ActuatorDef& ad, const Eigen::Isometry3d& frame,
+                                     const std::vector<dJointID>& joints) {
+  Servo s;
+  s.module = index;
+  s.fmax = ad.fmax_n;
+  s.l0 = ad.l0_m;
+  s.v_free = ad.v_free_m_s;
+  s.stall_a = ad.stall_current_a > 0 ? ad.stall_current_a : cfg.servo.supply_v / cfg.servo.r;
+  s.motor = dJointCreateLMotor(world, nullptr);
+  dJointSetLMotorNumAxes(s.motor, 1);
+  if (ad.type == ActuatorType::LinearServo) {
+    const JointDef& jd = def.joints[ad.joint];
+    s.kind = ServoKind::Linear;
+    s.hinge = joints[ad.joint];
+    s.lo = jd.lo;   // may be infinite
+    s.hi = jd.hi;
+    s.cmd = std::clamp(0.0, s.lo, s.hi);
+    dJointAttach(s.motor, bodies[md.body0 + jd.child].id, bodies[md.body0 + jd.parent].id);
+    const Eigen::Vector3d axis = frame.linear() * jd.axis.normalized();
+    dJointSetLMotorAxis(s.motor, 0, 2, axis.x(), axis.y(), axis.z());  // fixed in the parent
+  } else {
+    s.kind = ServoKind::Screw;
+    s.body = bodies[md.body0 + ad.body].id;
+    s.lo = -1.0;
+    s.hi = 1.0;
+    s.dir = ad.direction.normalized();
+    dVector3 axis;
+    dBodyVectorToWorld(s.body, s.dir.x(), s.dir.y(), s.dir.z(), axis);
+    dJointAttach(s.motor, s.body, nullptr);
+    dJointSetLMotorAxis(s.motor, 0, 1, axis[0], axis[1], axis[2]);  // fixed in the body
+  }
+  dJointSetLMotorParam(s.motor, dParamFMax, 0.0);
+  md.all.push_back(static_cast<int>(servos.size()));
+  servos.push_back(std::move(s));
+}
+
+// rate along the actuator's axis as its motor row measures it: the slider rate
+// (relative velocity of the two bodies along the axis), or the screw-driven
+// body's velocity along its drive axis; m/s
+double World::Impl::actuator_rate(const Servo& s) const {
+  if (s.kind == ServoKind::Linear) return dJointGetSliderPositionRate(s.hinge);
+  dVector3 ax;  // (dJointGetLMotorAxis would give the body-frame axis)
+  dBodyVectorToWorld(s.body, s.dir.x(), s.dir.y(), s.dir.z(), ax);
+  const dReal* v = dBodyGetLinearVel(s.body);
+  return ax[0] * v[0] + ax[1] * v[1] + ax[2] * v[2];
+}
+
+void World::Impl::begin_force_actuator(Servo& s) {
+  s.on = modules[s.module].powered && s.enabled;
+  s.law_damping = s.law_rate = s.law_force = 0.0;
+  if (s.on) {
+    double d = s.v_free > 0 ? s.fmax / s.v_free : 0.0;  // back-EMF
+    double f0;                                          // the part known now
+    if (s.kind == ServoKind::Linear) {
+      const double u = (s.cmd - dJointGetSliderPosition(s.hinge)) / s.l0;
+      if (std::fabs(u) < 1.0) {
+        f0 = s.fmax * u;
+        d += s.fmax * h / s.l0;
+      } else {
+        f0 = u > 0 ? s.fmax : -s.fmax;
+      }
+    } else {
+      f0 = s.fmax * s.cmd;
+    }
+    if (d > 0) {
+      s.law_damping = d;
+      s.law_rate = f0 / d;
+    } else {
+      s.law_force = f0;
+    }
+  }
+  if (s.law_damping > 0) {
+    dJointSetLMotorParam(s.motor, dParamVel, s.law_rate);
+    dJointSetLMotorParam(s.motor, dParamCFM, 1.0 / s.law_damping);
+    dJointSetLMotorParam(s.motor, dParamFMax, s.fmax);
+    return;
+  }
+  dJointSetLMotorParam(s.motor, dParamFMax, 0.0);
+  if (s.law_force == 0.0) return;
+  if (s.kind == ServoKind::Linear) {
+    dJointAddSliderForce(s.hinge, s.law_force);
+  } else {
+    dVector3 ax;
+    dBodyVectorToWorld(s.body, s.dir.x(), s.dir.y(), s.dir.z(), ax);
+    dBodyAddForce(s.body, s.law_force * ax[0], s.law_force * ax[1], s.law_force * ax[2]);
+  }
+}
+
+void World::Impl::end_force_actuator(Servo& s) {
+  s.force = s.law_damping > 0
+                ? std::clamp(s.law_damping * (s.law_rate - actuator_rate(s)), -s.fmax, s.fmax)
+                : s.law_force;
+  s.i_motor = s.on ? s.force / s.fmax * s.stall_a : 0.0;
+  // RC filter of |i|, exact for |i| held over the step (as ServoModel)
+  const double a = std::fabs(s.i_motor);
+  s.i_f = a + (s.i_f - a) * filter_e;
+}
+
+uint16_t World::Impl::adc_counts(const Servo& s) const {
+  if (s.kind == ServoKind::Rotary) return s.model.adc_counts();
+  const double fs = cfg.servo.adc_full_scale_a;
+  if (!(fs > 0.0)) return 0;
+  const double c = std::floor(s.i_f / fs * 1023.0 + 0.5);
+  return static_cast<uint16_t>(std::clamp(c, 0.0, 1023.0));
+}
+
 void World::Impl::build() {
   if (cfg.dt_us <= 0) throw std::invalid_argument("dt_us must be > 0");
   h = static_cast<double>(cfg.dt_us) * 1e-6;
+  filter_e = cfg.servo.current_filter_tau_s > 0 ? std::exp(-h / cfg.servo.current_filter_tau_s) : 0.0;
   ode_init_once();
   world = dWorldCreate();
   dWorldSetGravity(world, 0, 0, -cfg.gravity_m_s2);
@@ -335,20 +490,30 @@ void World::Impl::build() {
   dWorldSetAutoDisableFlag(world, 0);
   dWorldSetContactSurfaceLayer(world, 1e-4);
   space = dSimpleSpaceCreate(nullptr);
-  ground = dCreatePlane(space, 0, 0, 1, 0);
-  dGeomSetData(ground, nullptr);
+  env = std::make_unique<EnvironmentGeoms>(cfg.environment, space);
+  for (const std::string& surface : env->surfaces())
+    env_materials.push_back(
+        contact_material(cfg.environment, surface, module_surface_name(), cfg.ground));
+  cfg.module_contact = contact_material(cfg.environment, module_surface_name(),
+                                        module_surface_name(), cfg.module_contact);
   contact_group = dJointGroupCreate(0);
   rand_seed = static_cast<unsigned long>(cfg.seed);
+  sensors.init(world, cfg.seed, cfg.gravity_m_s2);
 
   std::vector<ModuleDef> defs;
   defs.reserve(cfg.chain.size());
   for (const std::string& name : cfg.chain) {
-    defs.push_back(builtin_module_def(name));
+    const auto custom = std::find_if(cfg.module_types.begin(), cfg.module_types.end(),
+                                     [&](const ModuleDef& d) { return d.type == name; });
+    defs.push_back(custom != cfg.module_types.end() ? *custom : builtin_module_def(name));
     validate_module_def(defs.back());
   }
-  // head's front face at head_position, chain along +x rotated by heading about z
+  // head's front face at head_position, chain along +x rotated by heading
+  // about z, or as head_orientation says
   Eigen::Isometry3d face = Eigen::Isometry3d::Identity();
-  face.linear() = Eigen::AngleAxisd(cfg.heading_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  face.linear() = cfg.head_orientation
+                      ? cfg.head_orientation->normalized().toRotationMatrix()
+                      : Eigen::AngleAxisd(cfg.heading_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   face.translation() = cfg.head_position;
   for (size_t k = 0; k < defs.size(); ++k) {
     const Eigen::Isometry3d frame = face * to_iso(defs[k].front.frame).inverse();
@@ -401,7 +566,34 @@ int World::servo_count(int module) const {
 void World::set_servo_setpoint(int module, int servo, double rad) {
   Impl::Servo& s = impl_->servos[impl_->servo_index(module, servo)];
   if (std::isnan(rad)) return;
-  s.model.set_setpoint(std::clamp(rad, s.lo, s.hi));
+  if (s.kind == ServoKind::Rotary)
+    s.model.set_setpoint(std::clamp(rad, s.lo, s.hi));
+  else
+    s.cmd = std::clamp(rad, s.lo, s.hi);
+}
+
+World::ServoKind World::servo_kind(int module, int servo) const {
+  return impl_->servos[impl_->servo_index(module, servo)].kind;
+}
+
+double World::servo_from_wire(ServoKind kind, int32_t wire) {
+  switch (kind) {
+    case ServoKind::Rotary: return wire * 1e-3 * kPi / 180.0;  // millidegrees
+    case ServoKind::Linear: return wire * 1e-6;                // micrometres
+    case ServoKind::Screw: return wire * 1e-3;                 // per mille
+  }
+  return 0.0;
+}
+
+int32_t World::servo_to_wire(ServoKind kind, double value) {
+  double w = 0;
+  switch (kind) {
+    case ServoKind::Rotary: w = value * 180.0 / kPi * 1e3; break;
+    case ServoKind::Linear: w = value * 1e6; break;
+    case ServoKind::Screw: w = value * 1e3; break;
+  }
+  if (!std::isfinite(w)) return 0;
+  return static_cast<int32_t>(std::lround(std::clamp(w, -2147483647.0, 2147483647.0)));
 }
 
 void World::set_servo_enabled(int module, int servo, bool enabled) {
@@ -418,6 +610,10 @@ void World::step() {
   dAllocateODEDataForThread(dAllocateMaskAll);  // no-op once done for this thread
   // servo torque laws for this step (followers copy their master's set-point)
   for (Impl::Servo& s : w.servos) {
+    if (s.kind != ServoKind::Rotary) {
+      w.begin_force_actuator(s);
+      continue;
+    }
     if (s.follows >= 0) s.model.set_setpoint(w.servos[s.follows].model.setpoint());
     const Impl::Module& md = w.modules[s.module];
     const bool master_enabled = s.follows >= 0 ? w.servos[s.follows].enabled : s.enabled;
@@ -434,7 +630,13 @@ void World::step() {
   dWorldQuickStep(w.world, w.h);
   w.rand_seed = dRandGetSeed();
   dJointGroupEmpty(w.contact_group);
-  for (Impl::Servo& s : w.servos) s.model.end_step(dJointGetHingeAngleRate(s.hinge));
+  for (Impl::Servo& s : w.servos) {
+    if (s.kind == ServoKind::Rotary)
+      s.model.end_step(dJointGetHingeAngleRate(s.hinge));
+    else
+      w.end_force_actuator(s);
+  }
+  w.sensors.step_end(w.h);
   w.time_us += w.cfg.dt_us;
 }
 
@@ -447,11 +649,18 @@ void World::sample(int module, ModuleSample* out) const {
   out->n_servos = static_cast<int>(md.driven.size());
   out->n_adc = md.n_adc;
   out->n_counters = 0;
+  impl_->sensors.sample(module, md.powered, impl_->time_us, out);  // accelerometers, encoders
   if (!md.powered) return;
-  for (int s = 0; s < out->n_servos; ++s)
-    out->servo_angle_rad[s] = dJointGetHingeAngle(impl_->servos[md.driven[s]].hinge);
+  for (int s = 0; s < out->n_servos; ++s) {
+    const Impl::Servo& sv = impl_->servos[md.driven[s]];
+    switch (sv.kind) {
+      case ServoKind::Rotary: out->servo_angle_rad[s] = dJointGetHingeAngle(sv.hinge); break;
+      case ServoKind::Linear: out->servo_angle_rad[s] = dJointGetSliderPosition(sv.hinge); break;
+      case ServoKind::Screw: out->servo_angle_rad[s] = sv.cmd; break;
+    }
+  }
   for (int c = 0; c < md.n_adc; ++c)
-    if (md.adc_servo[c] >= 0) out->adc[c] = impl_->servos[md.adc_servo[c]].model.adc_counts();
+    if (md.adc_servo[c] >= 0) out->adc[c] = impl_->adc_counts(impl_->servos[md.adc_servo[c]]);
   for (const auto& [body, bit] : md.touch)
     if (impl_->bodies[body].touched) out->digital_in |= static_cast<uint16_t>(1u << bit);
 }
@@ -461,8 +670,14 @@ double World::module_supply_current_a(int module) const {
   if (!md.powered) return 0.0;
   double sum = 0;
   // a servo without drive free-wheels: its decaying current is not drawn from the supply
-  for (int s : md.all)
-    if (impl_->servos[s].model.enabled()) sum += std::fabs(impl_->servos[s].model.current_a());
+  for (int s : md.all) {
+    const Impl::Servo& sv = impl_->servos[s];
+    if (sv.kind == ServoKind::Rotary) {
+      if (sv.model.enabled()) sum += std::fabs(sv.model.current_a());
+    } else if (sv.on) {  // linear servo, screw drive: the motor current (module_library.h)
+      sum += std::fabs(sv.i_motor);
+    }
+  }
   return sum;
 }
 
@@ -503,22 +718,45 @@ World::BodyState World::body_state(int module, int body) const {
 }
 
 double World::servo_angle_rad(int module, int servo) const {
-  return dJointGetHingeAngle(impl_->servos[impl_->servo_index(module, servo)].hinge);
+  const Impl::Servo& s = impl_->servos[impl_->servo_index(module, servo)];
+  switch (s.kind) {
+    case ServoKind::Rotary: return dJointGetHingeAngle(s.hinge);
+    case ServoKind::Linear: return dJointGetSliderPosition(s.hinge);
+    case ServoKind::Screw: return impl_->actuator_rate(s);
+  }
+  return 0.0;
 }
 double World::servo_setpoint_rad(int module, int servo) const {
-  return impl_->servos[impl_->servo_index(module, servo)].model.setpoint();
+  const Impl::Servo& s = impl_->servos[impl_->servo_index(module, servo)];
+  return s.kind == ServoKind::Rotary ? s.model.setpoint() : s.cmd;
 }
 double World::servo_current_a(int module, int servo) const {
-  return impl_->servos[impl_->servo_index(module, servo)].model.current_a();
+  const Impl::Servo& s = impl_->servos[impl_->servo_index(module, servo)];
+  return s.kind == ServoKind::Rotary ? s.model.current_a() : s.i_motor;
 }
 double World::servo_filtered_current_a(int module, int servo) const {
-  return impl_->servos[impl_->servo_index(module, servo)].model.filtered_current_a();
+  const Impl::Servo& s = impl_->servos[impl_->servo_index(module, servo)];
+  return s.kind == ServoKind::Rotary ? s.model.filtered_current_a() : s.i_f;
+}
+double World::servo_effort(int module, int servo) const {
+  const Impl::Servo& s = impl_->servos[impl_->servo_index(module, servo)];
+  return s.kind == ServoKind::Rotary ? s.model.motor_torque_nm() : s.force;
 }
 
 void World::pin_body(int module, int body) {
   dJointID j = dJointCreateFixed(impl_->world, nullptr);
   dJointAttach(j, impl_->bodies[impl_->body_index(module, body)].id, nullptr);
   dJointSetFixed(j);
+}
+
+void World::add_body_torque(int module, int body, const Eigen::Vector3d& torque_nm) {
+  dBodyAddTorque(impl_->bodies[impl_->body_index(module, body)].id, torque_nm.x(), torque_nm.y(),
+                 torque_nm.z());
+}
+
+void World::add_body_force(int module, int body, const Eigen::Vector3d& force_n) {
+  dBodyAddForce(impl_->bodies[impl_->body_index(module, body)].id, force_n.x(), force_n.y(),
+                force_n.z());
 }
 
 double World::max_docking_error_m() const {
@@ -547,7 +785,12 @@ std::string World::trace_header() const {
       for (const char* c : kBodyCols) out += "," + pre + impl_->bodies[md.body0 + b].name + "." + c;
     for (size_t s = 0; s < md.driven.size(); ++s) {
       const std::string sp = pre + "s" + std::to_string(s) + ".";
-      out += "," + sp + "setpoint_deg," + sp + "angle_deg," + sp + "current_a";
+      switch (impl_->servos[md.driven[s]].kind) {
+        case ServoKind::Rotary: out += "," + sp + "setpoint_deg," + sp + "angle_deg"; break;
+        case ServoKind::Linear: out += "," + sp + "setpoint_mm," + sp + "position_mm"; break;
+        case ServoKind::Screw: out += "," + sp + "command," + sp + "speed_mm_s"; break;
+      }
+      out += "," + sp + "current_a";
     }
     out += "," + pre + "supply_a";
   }
@@ -573,8 +816,20 @@ void World::append_trace_row(std::string* out) const {
     }
     for (int s : md.driven) {
       const Impl::Servo& sv = impl_->servos[s];
-      std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.5f", sv.model.setpoint() * kDeg,
-                    dJointGetHingeAngle(sv.hinge) * kDeg, sv.model.current_a());
+      switch (sv.kind) {
+        case ServoKind::Rotary:
+          std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.5f", sv.model.setpoint() * kDeg,
+                        dJointGetHingeAngle(sv.hinge) * kDeg, sv.model.current_a());
+          break;
+        case ServoKind::Linear:
+          std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.5f", sv.cmd * 1e3,
+                        dJointGetSliderPosition(sv.hinge) * 1e3, sv.i_motor);
+          break;
+        case ServoKind::Screw:
+          std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.5f", sv.cmd, impl_->actuator_rate(sv) * 1e3,
+                        sv.i_motor);
+          break;
+      }
       *out += buf;
     }
     std::snprintf(buf, sizeof buf, ",%.5f", module_supply_current_a(static_cast<int>(m)));

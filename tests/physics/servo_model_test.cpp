@@ -27,7 +27,10 @@ Traj reference(const ServoParams& p, double load_inertia, double theta0, double 
   auto deriv = [&](double th_, double w_, double i_, double* dth, double* dw, double* di) {
     const double ea = std::clamp(p.kp * (setpoint - th_), -p.supply_v, p.supply_v);
     *dth = w_;
-    *dw = (p.kt * i_ - p.b * w_) / inertia;
+    // static-friction dead zone (ServoParams::i_threshold_a; 0 = off)
+    const double th = p.i_threshold_a;
+    const double i_eff = i_ > th ? i_ - th : (i_ < -th ? i_ + th : 0.0);
+    *dw = (p.kt * i_eff - p.b * w_) / inertia;
     *di = (ea - p.r * i_ - p.km * w_) / p.l;
   };
   const double h = 1e-6;
@@ -135,6 +138,39 @@ TEST(ServoModel, StableWithoutLoadAndWithHeavyLoad) {
   const double err = max_abs_diff(ref.theta, d.theta);
   std::printf("heavy load: max angle error %.3f deg over 3 s\n", err / kDeg);
   EXPECT_LT(err, 1.0 * kDeg);
+}
+
+// the paper's static-friction threshold: no torque while |i| <= I_th
+TEST(ServoModel, CurrentThresholdDeadZone) {
+  ServoParams p;
+  p.i_threshold_a = 0.05;
+  // a 2 degree error drives Kp 2deg / R = 0.035 A < 0.05 A: the current flows
+  // (and is measured) but the motor does not move
+  const Traj small = discrete(p, kLoad, 0.0, 2 * kDeg, 0.2, 0.0005, 0.0005);
+  for (double th : small.theta) ASSERT_EQ(th, 0.0);
+  EXPECT_NEAR(small.current.back(), p.kp * 2 * kDeg / p.r, 1e-6);
+  // the 90 degree move: the discrete model follows the continuous one with
+  // the dead zone, stops within the band I_th R / Kp of the set-point and
+  // stays there
+  const double th0 = -60 * kDeg, sp = 30 * kDeg, band = p.i_threshold_a * p.r / p.kp;
+  const Traj ref = reference(p, kLoad, th0, sp, 0.3, 0.002);
+  const Traj d = discrete(p, kLoad, th0, sp, 0.3, 0.0005, 0.002);
+  const double err = max_abs_diff(ref.theta, d.theta);
+  std::printf("threshold 0.05 A: max angle error %.3f deg, final %.3f deg (ref %.3f, band %.2f)\n",
+              err / kDeg, d.theta.back() / kDeg, ref.theta.back() / kDeg, band / kDeg);
+  EXPECT_LT(err, 2.0 * kDeg);
+  EXPECT_LE(std::fabs(d.theta.back() - sp), band + 0.01 * kDeg);
+  EXPECT_GT(std::fabs(d.theta.back() - sp), 0.1 * kDeg);   // the dead zone shows
+  const size_t from = d.theta.size() * 2 / 3;
+  for (size_t k = from; k < d.theta.size(); ++k) EXPECT_NEAR(d.theta[k], d.theta.back(), 1e-4 * kDeg);
+  // the torque reported is Kt dz(i)
+  ServoModel s(p);
+  s.set_setpoint(1.0);
+  for (int k = 0; k < 200; ++k) {
+    s.begin_step(0.0, 0.0, 0.0005);
+    s.end_step(0.0);
+  }
+  EXPECT_NEAR(s.motor_torque_nm(), p.kt * (p.supply_v / p.r - p.i_threshold_a), 1e-9);
 }
 
 TEST(ServoModel, StallCurrentAndAdcScale) {

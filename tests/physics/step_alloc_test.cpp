@@ -71,5 +71,54 @@ TEST(World, StepDoesNotAllocate) {
 #endif
 }
 
+// the same in the other environments: a chain of three rotation modules
+// crawling down a pipe with an elbow (analytic and mesh colliders) and on
+// the terrain (the trimesh colliders' caches are sized when the environment
+// is built: EnvironmentGeoms::warm_up)
+TEST(World, StepDoesNotAllocateInPipesAndOnTerrain) {
+#ifndef CHAINSIM_COUNT_MALLOC
+  GTEST_SKIP() << "needs glibc malloc interposition";
+#else
+  const double deg = 3.14159265358979323846 / 180.0;
+  for (int env = 0; env < 3; ++env) {
+    WorldConfig c;
+    c.chain.assign(3, "rotation");
+    c.environment.ground_plane = false;
+    if (env < 2) {
+      c.environment.type = EnvironmentType::Pipe;
+      PipeSegment a, b, d;
+      a.length_m = 0.2;
+      a.slope_deg = -20;
+      b.type = PipeSegment::Type::Elbow;
+      b.bend_radius_m = 0.06;
+      b.direction_deg = 90;
+      d.length_m = 0.3;
+      c.environment.pipe.segments = {a, b, d};
+      c.environment.pipe.inner_diameter_m = 0.04;
+      c.environment.pipe.collider = env == 0 ? PipeCollider::Analytic : PipeCollider::Mesh;
+      c.head_position = Eigen::Vector3d(0.18 * std::cos(20 * deg), 0, -0.18 * std::sin(20 * deg));
+      c.head_orientation = Eigen::Quaterniond(Eigen::AngleAxisd(20 * deg, Eigen::Vector3d::UnitY()));
+    } else {
+      c.environment.type = EnvironmentType::Terrain;
+      c.head_position = Eigen::Vector3d(0.1, 0, 0.04);
+    }
+    World w(c);
+    long total = 0;
+    for (int k = 0; k < 6000; ++k) {  // 3 s
+      if (k % 20 == 0) {
+        const double t = w.time_us() * 1e-6;
+        for (int m = 0; m < 3; ++m) w.set_servo_setpoint(m, 0, 30 * deg * std::sin(14 * t + m * 1.36));
+      }
+      g_allocations = 0;
+      g_counting = k >= 1;  // the first step sets up ODE's stepping context
+      w.step();
+      g_counting = false;
+      total += g_allocations;
+    }
+    EXPECT_EQ(total, 0) << (env == 0 ? "analytic pipe" : env == 1 ? "mesh pipe" : "terrain");
+  }
+#endif
+}
+
 }  // namespace
 }  // namespace chainsim

@@ -132,6 +132,76 @@ TEST(World, ServoStepConvergesWithTheStepSize) {
   EXPECT_LT(e2, e1);
 }
 
+// the paper's Fig. 4 move at the physics step (500 us) and at a tenth of it:
+// the angle agrees within 1% of the 90 degree range at every 0.5 ms sample
+TEST(World, ServoStepAt500usAgreesWith50usWithinOnePercent) {
+  const StepRecord a = servo_step(500), f = servo_step(50);
+  ASSERT_EQ(f.t.size(), 10 * a.t.size());
+  double worst = 0, t_worst = 0;
+  for (size_t k = 0; k < a.t.size(); ++k) {
+    const double d = std::fabs(a.angle[k] - f.angle[10 * k + 9]);
+    if (d > worst) {
+      worst = d;
+      t_worst = a.t[k];
+    }
+  }
+  std::printf("500 us vs 50 us: max angle difference %.3f deg (%.2f%% of 90 deg) at %.1f ms\n",
+              worst, worst / 90 * 100, t_worst * 1e3);
+  EXPECT_LT(worst, 0.01 * 90);
+}
+
+// a constant external torque on the arm (no gravity): the proportional servo
+// settles at the set-point + tau R / (Kt Kp), and then neither oscillates nor
+// drifts. With an exact solve (200 QuickStep iterations) it sits still; with
+// the robot's 30 iterations the unconverged solver adds noise proportional
+// to the load (see world.cpp's solver notes): measured, for a third of the
+// stall torque, 1.6 degrees peak to peak and a +0.43 degree bias.
+TEST(World, ServoHoldsAConstantExternalTorqueLoad) {
+  for (int iterations : {200, 30}) {
+    WorldConfig c = chain_config(1, 0.3);
+    c.gravity_m_s2 = 0;
+    c.solver_iterations = iterations;
+    World w(c);
+    w.pin_body(0, 0);
+    w.set_servo_setpoint(0, 0, 20 * kDeg);
+    const double tau = 0.02;  // N m, a third of the stall torque (0.058 N m)
+    // the module lies along x, the pitch axis is y; the torque acts on the
+    // capsule (the pitch joint's child), + about the axis
+    const Eigen::Vector3d load(0, tau, 0);
+    for (int k = 0; k < 2000; ++k) {  // 1 s to settle
+      w.add_body_torque(0, 1, load);
+      w.step();
+    }
+    const int n = 4000;  // then 2 s observed
+    double lo = 1e9, hi = -1e9, first = 0, second = 0, current = 0;
+    for (int k = 0; k < n; ++k) {
+      w.add_body_torque(0, 1, load);
+      w.step();
+      const double a = w.servo_angle_rad(0, 0) / kDeg;
+      lo = std::min(lo, a);
+      hi = std::max(hi, a);
+      (k < n / 2 ? first : second) += a / (n / 2);
+      current += w.servo_current_a(0, 0) / n;
+    }
+    const ServoParams p;
+    const double expect = 20 + tau * p.r / (p.kt * p.kp) / kDeg;
+    std::printf("%d iterations, holding %.3f N m: mean %.4f deg (expected %.4f), spread %.4f deg, "
+                "drift %.4f deg/s, mean current %.4f A (expected %.4f)\n",
+                iterations, tau, second, expect, hi - lo, second - first, current, -tau / p.kt);
+    if (iterations == 200) {
+      EXPECT_NEAR(second, expect, 0.01);
+      EXPECT_LT(hi - lo, 0.01);                      // no oscillation
+      EXPECT_LT(std::fabs(second - first), 0.001);   // no drift
+      EXPECT_NEAR(current, -tau / p.kt, 1e-4);
+    } else {
+      EXPECT_NEAR(second, expect, 0.8);
+      EXPECT_LT(hi - lo, 2.5);
+      EXPECT_LT(std::fabs(second - first), 0.1);
+      EXPECT_NEAR(current, -tau / p.kt, 0.01);
+    }
+  }
+}
+
 TEST(World, ServoHolds45DegreesAgainstGravity) {
   World w(chain_config(1, 0.3));
   w.pin_body(0, 0);  // front connector fixed, the rest is a cantilever
