@@ -93,6 +93,7 @@ class Server : public BarrierSink {
     for (auto& e : ep_) names.push_back(e->type);
     out_ = std::make_unique<RunOutput>(opt.out_dir, names);
     energy_j_.assign(n_modules_, 0.0);
+    touch_.assign(n_modules_, 0);
   }
 
   RunResult run();
@@ -154,6 +155,19 @@ class Server : public BarrierSink {
   bool fault(Endpoint& e, const std::string& what);
   std::string describe_end(Endpoint& e, const std::string& what);
   void shutdown_all();
+  // bus-log lines for changes of each module's touch input (digital input 0)
+  void log_touch_edges() {
+    for (int m = 0; m < n_modules_; ++m) {
+      ModuleSample s;
+      world_.sample(m, &s);
+      const uint8_t level = s.digital_in & 1u;
+      if (level == touch_[m]) continue;
+      touch_[m] = level;
+      char line[64];
+      std::snprintf(line, sizeof line, "touch endpoint=%d level=%u", m, level);
+      bus_event(now_us_, line);
+    }
+  }
   nlohmann::json summary(const RunResult& r, double wall_s);
   void say(const std::string& s) const {
     if (!opt_.quiet) std::fprintf(stderr, "chainsim: %s\n", s.c_str());
@@ -173,6 +187,7 @@ class Server : public BarrierSink {
   std::unique_ptr<Barrier> barrier_;
   std::unique_ptr<RunOutput> out_;
   std::vector<double> energy_j_;
+  std::vector<uint8_t> touch_;  // last logged touch level per module
   int64_t now_us_ = 0;
   std::string stop_message_;
   int stop_code_ = kExitOk;
@@ -464,6 +479,7 @@ RunResult Server::run() {
       trace_clock.maybe_write(world_, &row, write_row);
     }
     now_us_ += scene_.tick_us;
+    log_touch_edges();
     io_.poll();
     if (interrupted_) {
       ok = false;

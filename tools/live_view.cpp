@@ -321,7 +321,12 @@ void LiveView::wait_until_seen(double grace_s) {
 }
 
 void LiveView::started(const nlohmann::json& scene, const std::string& trace_header) {
-  std::string m = nlohmann::json{{"type", "started"}, {"scene", scene}, {"header", trace_header}}.dump();
+  // the environment's mesh files travel with the scene, as in a replay page
+  std::string m = nlohmann::json{{"type", "started"},
+                                 {"scene", scene},
+                                 {"header", trace_header},
+                                 {"files", environment_files(scene, "", nullptr)}}
+                      .dump();
   std::lock_guard<std::mutex> l(impl_->in_mu);
   impl_->in_started = std::move(m);
 }

@@ -146,7 +146,9 @@ std::string find_chromium() {
 int cmd_view(const ViewArgs& a) {
   std::string page;
   try {
-    const nlohmann::json boot = replay_boot(a.run_dir);
+    std::vector<std::string> warnings;
+    const nlohmann::json boot = replay_boot(a.run_dir, &warnings);
+    for (const std::string& w : warnings) std::fprintf(stderr, "chainsim: warning: %s\n", w.c_str());
     page = viewer_page(boot, "chainsim: " + boot["scene"].value("scene", std::string("run")));
   } catch (const ViewerError& e) {
     std::fprintf(stderr, "chainsim: %s\n", e.what());

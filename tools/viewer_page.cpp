@@ -65,7 +65,101 @@ std::string html_text(const std::string& s) {
   return out;
 }
 
+std::string base64(const std::string& in) {
+  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((in.size() + 2) / 3 * 4);
+  size_t i = 0;
+  for (; i + 2 < in.size(); i += 3) {
+    const unsigned v = static_cast<unsigned char>(in[i]) << 16 | static_cast<unsigned char>(in[i + 1]) << 8 |
+                       static_cast<unsigned char>(in[i + 2]);
+    out += k[v >> 18];
+    out += k[(v >> 12) & 63];
+    out += k[(v >> 6) & 63];
+    out += k[v & 63];
+  }
+  if (i < in.size()) {
+    const bool two = i + 1 < in.size();
+    const unsigned v = static_cast<unsigned char>(in[i]) << 16 | (two ? static_cast<unsigned char>(in[i + 1]) << 8 : 0);
+    out += k[v >> 18];
+    out += k[(v >> 12) & 63];
+    out += two ? k[(v >> 6) & 63] : '=';
+    out += '=';
+  }
+  return out;
+}
+
+bool is_file(const fs::path& p) {
+  std::error_code ec;
+  return !p.empty() && fs::is_regular_file(p, ec);
+}
+
+// one mesh file (and, for .gltf, what it refers to) as the page wants it
+nlohmann::json mesh_entry(const nlohmann::json& mesh, const nlohmann::json& scene, const std::string& run_dir,
+                          std::vector<std::string>* warnings) {
+  const std::string file = mesh.value("file", std::string());
+  const std::string given = mesh.value("file_as_given", file);
+  std::vector<fs::path> tries = {file};
+  if (!given.empty() && fs::path(given).is_relative()) {
+    const std::string source = scene.value("source", std::string());
+    if (!source.empty()) tries.push_back(fs::path(source).parent_path() / given);
+    tries.push_back(fs::path(run_dir) / given);
+  }
+  for (const fs::path& p : tries) {
+    if (!is_file(p)) continue;
+    const std::string bytes = read_text(p);
+    nlohmann::json e = {{"base64", base64(bytes)}, {"bytes", bytes.size()}};
+    std::string ext = p.extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".gltf") {
+      nlohmann::json extra = nlohmann::json::object();
+      try {
+        const nlohmann::json g = nlohmann::json::parse(bytes);
+        for (const char* key : {"buffers", "images"})
+          for (const auto& b : g.value(key, nlohmann::json::array())) {
+            const std::string uri = b.value("uri", std::string());
+            if (uri.empty() || uri.rfind("data:", 0) == 0) continue;
+            const fs::path q = p.parent_path() / uri;
+            if (is_file(q)) extra[uri] = base64(read_text(q));
+            else if (warnings) warnings->push_back("the mesh " + p.string() + " refers to " + q.string() + ", which is not there");
+          }
+      } catch (const nlohmann::json::exception&) {
+        // not JSON: the page's loader says what is wrong with it
+      }
+      e["extra"] = extra;
+    }
+    return e;
+  }
+  const std::string err = "the mesh file " + given + " is not there (looked for " + [&] {
+    std::string s;
+    for (const fs::path& p : tries) s += (s.empty() ? "" : ", ") + p.string();
+    return s;
+  }() + ")";
+  if (warnings) warnings->push_back(err + ": the page is written without it");
+  return {{"error", err}};
+}
+
+void collect_meshes(const nlohmann::json& env, const nlohmann::json& scene, const std::string& run_dir,
+                    std::vector<std::string>* warnings, nlohmann::json* out) {
+  if (!env.is_object()) return;
+  const std::string type = env.value("type", std::string());
+  if (type == "mesh" && env.contains("mesh") && env["mesh"].is_object()) {
+    const std::string file = env["mesh"].value("file", std::string());
+    if (!out->contains(file)) (*out)[file] = mesh_entry(env["mesh"], scene, run_dir, warnings);
+  } else if (type == "group") {
+    for (const auto& p : env.value("parts", nlohmann::json::array())) collect_meshes(p, scene, run_dir, warnings, out);
+  }
+}
+
 }  // namespace
+
+nlohmann::json environment_files(const nlohmann::json& scene, const std::string& run_dir,
+                                 std::vector<std::string>* warnings) {
+  nlohmann::json out = nlohmann::json::object();
+  if (scene.is_object() && scene.contains("environment"))
+    collect_meshes(scene["environment"], scene, run_dir, warnings, &out);
+  return out;
+}
 
 std::string viewer_assets_dir() {
   if (const char* d = std::getenv("CHAINSIM_VIEWER_DIR"); d && *d) return d;
@@ -92,7 +186,7 @@ std::string viewer_page(const nlohmann::json& boot, const std::string& title) {
   return page;
 }
 
-nlohmann::json replay_boot(const std::string& run_dir) {
+nlohmann::json replay_boot(const std::string& run_dir, std::vector<std::string>* warnings) {
   const fs::path d = run_dir;
   for (const char* f : {"scene.json", "trace.csv"})
     if (!fs::exists(d / f))
@@ -108,6 +202,7 @@ nlohmann::json replay_boot(const std::string& run_dir) {
   }
   boot["trace"] = read_text(d / "trace.csv");
   boot["bus"] = read_text(d / "bus.log", false);
+  boot["mesh_files"] = environment_files(boot["scene"], run_dir, warnings);
   return boot;
 }
 

@@ -6,6 +6,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -24,8 +25,21 @@ std::string viewer_assets_dir();
 // Throws ViewerError when the bundle is missing.
 std::string viewer_page(const nlohmann::json& boot, const std::string& title);
 
-// the boot data of a run directory (scene.json, trace.csv, bus.log, summary.json);
-// throws ViewerError naming what is missing
-nlohmann::json replay_boot(const std::string& run_dir);
+// the boot data of a run directory (scene.json, trace.csv, bus.log, summary.json,
+// and "mesh_files": environment_files() of the scene); throws ViewerError naming
+// what is missing. A mesh file that is not there is not an error: `warnings`
+// (when given) gets a line naming it, and the page says it is not drawn.
+nlohmann::json replay_boot(const std::string& run_dir, std::vector<std::string>* warnings = nullptr);
+
+// the mesh files of a scene.json's environment (type "mesh", also inside
+// "group" parts), for the page to parse with three.js's loaders:
+//   {"<mesh.file as in scene.json>": {"base64": "...", "bytes": N,
+//                                     "extra": {"<uri>": "<base64>", ...}}}
+// ("extra": the external buffers and images a .gltf refers to). A file is
+// looked for at mesh.file, then at mesh.file_as_given relative to the scene
+// file's directory (scene.json "source") and to run_dir; one that is not found
+// gets {"error": "..."} and a line in warnings.
+nlohmann::json environment_files(const nlohmann::json& scene, const std::string& run_dir,
+                                 std::vector<std::string>* warnings);
 
 }  // namespace chainsim

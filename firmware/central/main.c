@@ -4,8 +4,10 @@
  *    general call; the module holding the baton (Sin high, no address) takes
  *    it, answers with its type and raises its Sout. Done when our Sin (driven
  *    by the last module's Sout) goes high. Logs "chain: RRRR (4 modules)".
- * 2. Reads the gait parameters, sends SET_GAIT to every rotation module and
- *    START by general call at start_ms; STOP at stop_ms.
+ * 2. Reads the gait parameters, sends SET_GAIT to the modules the gait moves
+ *    (gaits 1-7: rotation; 8 inchworm: support and extension, each with its
+ *    index; 9 helicoidal drive: helicoidal) and START by general call at
+ *    start_ms; STOP at stop_ms.
  * 3. Sleeps on I2C, logging replies (and polling the sensors every poll_ms
  *    if that parameter is set).
  * See docs/firmware.md.
@@ -90,6 +92,10 @@ static void log_reply(const uint8_t *buf, uint8_t len)
         sb_int(&sb, buf[4]);
         sb_str(&sb, " flags=");
         sb_hex8(&sb, buf[5]);
+    } else if (buf[0] == CC_TOUCH && len == CC_TOUCH_LEN) {
+        sb_str(&sb, "touch ");
+        sb_hex8(&sb, buf[1]);
+        sb_str(&sb, buf[2] ? ": contact" : ": released");
     } else if (buf[0] == CC_ENUM_REPLY || buf[0] == CC_ENUM_OFFER) {
         return; /* late discovery traffic */
     } else {
@@ -219,6 +225,51 @@ static void send_gait(uint8_t gait, int16_t amp, int16_t omega, int16_t phase, u
             send_frame((uint8_t)(CHAIN_FIRST_MODULE_ADDR + i), f, CC_SET_GAIT_LEN);
 }
 
+/* gait 9: the screw command (per mille) to every helicoidal module */
+static void send_helicoidal(int16_t drive_pm)
+{
+    uint8_t f[CC_SET_GAIT_LEN];
+    uint8_t i;
+
+    for (i = 0; i < CC_SET_GAIT_LEN; i++)
+        f[i] = 0;
+    f[0] = CC_SET_GAIT;
+    f[CC_GAIT_OFF_GAIT] = GAIT_HELICOIDAL;
+    cc_put_i16(f + CC_GAIT_OFF_DRIVE, drive_pm);
+    for (i = 0; i < n_modules; i++)
+        if (module_type[i] == MT_HELICOIDAL)
+            send_frame((uint8_t)(CHAIN_FIRST_MODULE_ADDR + i), f, CC_SET_GAIT_LEN);
+}
+
+/* gait 8: every support and extension gets the schedule and its index
+ * (supports and extensions counted separately, head first) */
+static void send_inchworm(int16_t grip, int16_t step, int16_t stroke)
+{
+    uint8_t f[CC_SET_GAIT_LEN];
+    uint8_t i, n_sup = 0, k_sup = 0, k_ext = 0;
+
+    for (i = 0; i < n_modules; i++)
+        if (module_type[i] == MT_SUPPORT)
+            n_sup++;
+    for (i = 0; i < CC_SET_GAIT_LEN; i++)
+        f[i] = 0;
+    f[0] = CC_SET_GAIT;
+    f[CC_GAIT_OFF_GAIT] = GAIT_INCHWORM;
+    cc_put_i16(f + CC_GAIT_OFF_GRIP, grip);
+    cc_put_i16(f + CC_GAIT_OFF_STEP, step);
+    f[CC_GAIT_OFF_NSUP] = n_sup;
+    cc_put_i16(f + CC_GAIT_OFF_STROKE, stroke);
+    for (i = 0; i < n_modules; i++) {
+        if (module_type[i] == MT_SUPPORT)
+            cc_put_i16(f + CC_GAIT_OFF_INDEX, (int16_t)k_sup++);
+        else if (module_type[i] == MT_EXTENSION)
+            cc_put_i16(f + CC_GAIT_OFF_INDEX, (int16_t)k_ext++);
+        else
+            continue;
+        send_frame((uint8_t)(CHAIN_FIRST_MODULE_ADDR + i), f, CC_SET_GAIT_LEN);
+    }
+}
+
 static void drain_replies(void)
 {
     uint8_t len, to;
@@ -245,6 +296,7 @@ int main(void)
 {
     uint8_t gait, axis, started = 0, stopped = 0, i;
     int16_t amp, omega, phase, posture, amp2, shift, bias;
+    int16_t drive_pm, step, grip, stroke;
     uint32_t start_ms, stop_ms, poll_ms, next_poll = 0;
 
     hal_init();
@@ -262,6 +314,11 @@ int main(void)
     shift = (int16_t)param_clamped("shift_mrad", gait == GAIT_ROLL ? ROLL_SHIFT_MRAD : 0,
                                    -32767, 32767);
     bias = (int16_t)param_clamped("bias_cdeg", BIAS_DEFAULT_CDEG, 0, 9000);
+    /* gait 9 (helicoidal drive) and gait 8 (inchworm) */
+    drive_pm = (int16_t)param_clamped("drive_permille", 1000, -1000, 1000);
+    step = (int16_t)param_clamped("step_ms", 1000, 40, 30000);
+    grip = (int16_t)param_clamped("grip_cdeg", 9000, 0, 9000);
+    stroke = (int16_t)param_clamped("stroke_um", 15000, 0, 15000);
     start_ms = (uint32_t)param_clamped("start_ms", 0, 0, 0x7FFFFFFFL);
     stop_ms = (uint32_t)param_clamped("stop_ms", 0, 0, 0x7FFFFFFFL);
     poll_ms = (uint32_t)param_clamped("poll_ms", 0, 0, 60000L);
@@ -280,7 +337,18 @@ int main(void)
     sb_str(&sb, " posture_cdeg=");
     sb_int(&sb, posture);
     log_line(sb.buf);
-    if (gait >= GAIT_TURN_LEFT) {
+    if (gait == GAIT_HELICOIDAL) {
+        log_int("gait: drive_permille=", (uint32_t)(int32_t)drive_pm);
+    } else if (gait == GAIT_INCHWORM) {
+        sb_reset(&sb);
+        sb_str(&sb, "gait: step_ms=");
+        sb_int(&sb, step);
+        sb_str(&sb, " grip_cdeg=");
+        sb_int(&sb, grip);
+        sb_str(&sb, " stroke_um=");
+        sb_int(&sb, stroke);
+        log_line(sb.buf);
+    } else if (gait >= GAIT_TURN_LEFT) {
         sb_reset(&sb);
         sb_str(&sb, "gait: amp2_cdeg=");
         sb_int(&sb, amp2);
@@ -293,7 +361,12 @@ int main(void)
 
     sleep_until(start_ms);
     if (gait != GAIT_NONE && n_modules != 0) {
-        send_gait(gait, amp, omega, phase, axis, posture, amp2, shift, bias);
+        if (gait == GAIT_HELICOIDAL)
+            send_helicoidal(drive_pm);
+        else if (gait == GAIT_INCHWORM)
+            send_inchworm(grip, step, stroke);
+        else
+            send_gait(gait, amp, omega, phase, axis, posture, amp2, shift, bias);
         send_code(HAL_I2C_GENERAL_CALL, CC_START); /* same tick for every module */
         started = 1;
         log_int("start at ms ", hal_millis());

@@ -18,6 +18,10 @@
  *  0x21  SENSORS         M -> C     0x10     3+2n   code, addr, n, n x angle_cdeg i16
  *  0x22  STATUS          C -> M     module   1      code
  *  0x23  STATUS_REPLY    M -> C     0x10     6      code, addr, type, state, gait, flags
+ *  0x24  TOUCH           M -> C     0x10     3      code, addr, contact (touch module, on change)
+ *
+ * SET_GAIT of gaits 8 and 9 reuses the frame's fields (CC_GAIT_OFF_DRIVE ..
+ * CC_GAIT_OFF_STROKE below).
  *
  * Modules ignore codes they do not know and frames of the wrong length
  * (STATUS_REPLY then shows CC_FLAG_BAD_FRAME).
@@ -42,6 +46,7 @@
 #define CC_SENSORS 0x21u
 #define CC_STATUS 0x22u
 #define CC_STATUS_REPLY 0x23u
+#define CC_TOUCH 0x24u
 
 /* frame lengths */
 #define CC_ENUM_OFFER_LEN 2u
@@ -53,6 +58,7 @@
 #define CC_SENSORS_LEN(n) (3u + 2u * (n))
 #define CC_STATUS_LEN 1u
 #define CC_STATUS_REPLY_LEN 6u
+#define CC_TOUCH_LEN 3u
 
 /* SET_GAIT byte offsets */
 #define CC_GAIT_OFF_GAIT 1u
@@ -70,6 +76,18 @@
 #define CC_GAIT_OFF_AMP2 11u  /* i16 amplitude of the yaw wave, centidegrees (0..18000) */
 #define CC_GAIT_OFF_SHIFT 13u /* i16 phase of the yaw wave relative to the pitch wave, mrad */
 #define CC_GAIT_OFF_BIAS 15u  /* i16 yaw offset of a turn, centidegrees (0..9000) */
+
+/* SET_GAIT of gait 9 (helicoidal drive), sent to helicoidal modules */
+#define CC_GAIT_OFF_DRIVE 2u  /* i16 screw command, per mille (-1000..1000, + = forward) */
+/* SET_GAIT of gait 8 (inchworm), sent to support and extension modules, one
+ * frame each: the cycle has n steps (one per support); in step i support i
+ * releases, extension i-1 retracts and extension i extends, then support i
+ * grips again (docs/firmware.md) */
+#define CC_GAIT_OFF_GRIP 2u   /* i16 support arm angle when gripping, cdeg (0..9000) */
+#define CC_GAIT_OFF_STEP 4u   /* i16 duration of one step, ms (>= 40) */
+#define CC_GAIT_OFF_INDEX 6u  /* i16 this module's index among the supports / extensions */
+#define CC_GAIT_OFF_NSUP 8u   /* u8 number of supports n = steps per cycle */
+#define CC_GAIT_OFF_STROKE 9u /* i16 extension stroke, um (0..15000) */
 
 /* module type codes (ENUM_REPLY, STATUS_REPLY) */
 #define MT_ROTATION 1u
@@ -89,8 +107,8 @@
 #define GAIT_ROLL 5u          /* pitch and yaw waves shifted 90 deg, phase step 0 */
 #define GAIT_ROTATE 6u        /* pitch wave of twice the yaw wave's phase step */
 #define GAIT_LATERAL_SHIFT 7u /* pitch and yaw waves of the same phase step, shifted */
-#define GAIT_INCHWORM 8u      /* reserved */
-#define GAIT_HELICOIDAL 9u    /* reserved */
+#define GAIT_INCHWORM 8u      /* supports grip/release, extensions extend/retract */
+#define GAIT_HELICOIDAL 9u    /* helicoidal modules drive their screws */
 
 /* axis (SET_GAIT): which servo of a rotation module moves */
 #define CC_AXIS_PITCH 0u /* servo 0 */
@@ -104,6 +122,7 @@
 #define CC_FLAG_BAD_GAIT 0x01u  /* a gait or axis this module can't do */
 #define CC_FLAG_BAD_FRAME 0x02u /* unknown code or wrong length */
 #define CC_FLAG_SERVO 0x04u     /* setspangle refused a value */
+#define CC_FLAG_TOUCH 0x08u     /* touch module: contact since the last STATUS */
 
 /* little-endian helpers */
 void cc_put_i16(uint8_t *p, int16_t v);

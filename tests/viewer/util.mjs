@@ -97,6 +97,45 @@ export const IS_ROTATION = `(r, g, b) => {
   return s > 0.45 && h > -7 && h < 29;
 }`;
 
+// pixel predicates (r, g, b) => bool of the environments' colours (tools/viewer/src/env_*.js)
+// by hue, lit or in shade: the pipe (and mesh) walls #3fa3b6, the terrain #c8a86b
+// under its grid texture
+const hueSat = `(r, g, b) => {
+  const max = Math.max(r, g, b), min = Math.min(r, g, b);
+  if (max < 30 || max === min) return [0, 0];
+  let h = max === r ? 60 * ((g - b) / (max - min)) : max === g ? 60 * (2 + (b - r) / (max - min)) : 60 * (4 + (r - g) / (max - min));
+  if (h < 0) h += 360;
+  return [h, (max - min) / max];
+}`;
+export const IS_PIPE = `(r, g, b) => { const [h, s] = (${hueSat})(r, g, b); return s > 0.35 && h > 176 && h < 204; }`;
+export const IS_TERRAIN = `(r, g, b) => { const [h, s] = (${hueSat})(r, g, b); return s > 0.3 && h > 31 && h < 48; }`;
+
+// how many pixels of a PNG match each predicate: {name: count}
+export async function pngColours(browser, png, predicates) {
+  const page = await browser.newPage();
+  const counts = await page.evaluate(async ({ data, preds }) => {
+    const img = new Image();
+    img.src = `data:image/png;base64,${data}`;
+    await img.decode();
+    const c = document.createElement('canvas');
+    c.width = img.width;
+    c.height = img.height;
+    const g = c.getContext('2d');
+    g.drawImage(img, 0, 0);
+    const px = g.getImageData(0, 0, c.width, c.height).data;
+    const out = {};
+    for (const [name, src] of Object.entries(preds)) {
+      const is = eval(src);
+      let n = 0;
+      for (let i = 0; i < px.length; i += 4) if (is(px[i], px[i + 1], px[i + 2])) n++;
+      out[name] = n;
+    }
+    return out;
+  }, { data: readFileSync(png).toString('base64'), preds: predicates });
+  await page.close();
+  return counts;
+}
+
 // pixel statistics of a PNG: {width, height, rotation: pixels of the rotation colour}
 // and, with other, {changed: pixels that differ by more than 24 in a channel}
 export async function pngStats(browser, png, other) {

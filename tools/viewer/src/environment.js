@@ -5,9 +5,17 @@
 // the name scene.json gives it ({"type": "plane", ...}). A builder gets the
 // environment object of scene.json and a context, and returns
 //   { object: THREE.Object3D,            // added to the scene
-//     update?(ctx),                      // each frame: ctx.focus is the chain's
-//                                        // centre of mass (THREE.Vector3)
-//     clipping?: THREE.Plane[] }         // cut-away planes for its materials
+//     update?(ctx),                      // before each render: ctx.focus is the
+//                                        // chain's centre of mass, ctx.camera the
+//                                        // camera, ctx.axis the chain's direction
+//                                        // (unit THREE.Vector3s)
+//     setWallMode?(mode),                // 'cut' | 'glass' | 'solid' (the UI toggle)
+//     axisAt?(point),                    // {point, tangent}: the nearest point of
+//                                        // a pipe's axis (the camera turns with it)
+//     ready?: Promise }                  // resolves once drawn (meshes parse async)
+// ctx of the builder: {note(text), files: the mesh files the page embeds}.
+// The builders of pipe, terrain and mesh are in env_*.js (registered by
+// environments.js).
 // To add terrain, pipes (straight cylinders, tori for bends, meshes), or
 // anything else: registerEnvironment('pipe', (env, ctx) => {...}). Hollow
 // solids the chain crawls inside should be drawn see-through so the modules
@@ -36,21 +44,63 @@ export function cutAwayMaterial(plane, color = '#8fa3b8') {
   return new THREE.MeshStandardMaterial({ color, side: THREE.DoubleSide, clippingPlanes: [plane], roughness: 0.8 });
 }
 
+// the walls of hollow solids (pipes, meshes) the chain moves inside, drawn in
+// one of three modes: 'cut' (each part clipped by its own plane, turned
+// towards the camera by the builder's update(), so the near half is open),
+// 'glass' (transparent) or 'solid'. material(plane) gives a material that
+// follows the mode; the builder keeps the plane up to date.
+export const WALL_MODES = ['cut', 'glass', 'solid'];
+export class HollowWalls {
+  constructor(color) {
+    this.color = color;
+    this.mode = 'cut';
+    this.items = [];
+  }
+  material(plane, color = this.color) {
+    const mat = new THREE.MeshStandardMaterial({ color, side: THREE.DoubleSide, roughness: 0.7, metalness: 0 });
+    this.items.push({ mat, plane });
+    this.apply(this.items[this.items.length - 1]);
+    return mat;
+  }
+  apply({ mat, plane }) {
+    const glass = this.mode === 'glass';
+    mat.clippingPlanes = this.mode === 'cut' && plane ? [plane] : null;
+    mat.transparent = glass;
+    mat.opacity = glass ? 0.28 : 1;
+    mat.depthWrite = !glass;
+    mat.needsUpdate = true;
+  }
+  setMode(mode) {
+    this.mode = WALL_MODES.includes(mode) ? mode : 'cut';
+    for (const it of this.items) this.apply(it);
+  }
+}
+
+// plane through point containing the direction `along` (unit), its normal the
+// part of (point - camera) across `along`: what is nearer to the camera than
+// the plane is clipped away (without `along`: the plane faces the camera)
+export function facePlaneAway(plane, point, camera, along) {
+  const n = point.clone().sub(camera.position);
+  if (along) n.addScaledVector(along, -n.dot(along));
+  if (n.lengthSq() < 1e-12) n.set(0, 0, 1);
+  plane.setFromNormalAndCoplanarPoint(n.normalize(), point);
+}
+
 // one metre of ground as a texture: 10 cm cells, a darker line every metre
 // (a texture rather than line objects: lines that pass behind the camera are
 // dropped by some WebGL implementations, e.g. the software one of headless Chromium)
-function gridTexture() {
+export function gridTexture(base = '#dfe3e8', minor = '#c0c7cf', major = '#7d8996') {
   const n = 512, canvas = document.createElement('canvas');
   canvas.width = canvas.height = n;
   const g = canvas.getContext('2d');
-  g.fillStyle = '#dfe3e8';
+  g.fillStyle = base;
   g.fillRect(0, 0, n, n);
-  g.fillStyle = '#c0c7cf';
+  g.fillStyle = minor;
   for (let k = 1; k < 10; k++) {
     g.fillRect(Math.round((k * n) / 10) - 1, 0, 2, n);
     g.fillRect(0, Math.round((k * n) / 10) - 1, n, 2);
   }
-  g.fillStyle = '#7d8996';
+  g.fillStyle = major;
   g.fillRect(0, 0, 3, n);
   g.fillRect(0, 0, n, 3);
   const tex = new THREE.CanvasTexture(canvas);
@@ -87,7 +137,20 @@ registerEnvironment('group', (env, ctx) => {
   const group = new THREE.Group();
   const parts = (env.parts ?? []).map((p) => buildEnvironment(p, ctx));
   for (const p of parts) group.add(p.object);
-  return { object: group, update: (c) => parts.forEach((p) => p.update?.(c)) };
+  return {
+    object: group,
+    update: (c) => parts.forEach((p) => p.update?.(c)),
+    setWallMode: (m) => parts.forEach((p) => p.setWallMode?.(m)),
+    axisAt: (q) => {
+      let best = null;
+      for (const p of parts) {
+        const a = p.axisAt?.(q);
+        if (a && (!best || a.point.distanceToSquared(q) < best.point.distanceToSquared(q))) best = a;
+      }
+      return best;
+    },
+    ready: Promise.all(parts.map((p) => p.ready)),
+  };
 });
 
 // an environment this viewer does not know: nothing drawn, a note shown

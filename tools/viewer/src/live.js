@@ -1,6 +1,7 @@
 // The live view's client: the page served by `chainsim run --live` connects
 // back to the server's WebSocket and receives the run as it happens:
-//   {"type":"started","scene":{...},"header":"t_s,..."}
+//   {"type":"started","scene":{...},"header":"t_s,...","files":{...}}
+//       (files: the environment's mesh files, as "mesh_files" of a replay; optional)
 //   {"type":"rows","csv":"<trace lines>"}        (batched)
 //   {"type":"bus","lines":"<bus.log lines>"}     (batched)
 //   {"type":"gap","rows":N}                      (rows dropped for this page)
@@ -14,7 +15,7 @@ export function connectLive(handlers) {
   ws.onmessage = (ev) => {
     const msg = JSON.parse(ev.data);
     switch (msg.type) {
-      case 'started': handlers.started(msg.scene, msg.header); handlers.status('running'); break;
+      case 'started': handlers.started(msg.scene, msg.header, msg.files); handlers.status('running'); break;
       case 'rows': handlers.rows(msg.csv); break;
       case 'bus': handlers.bus(msg.lines); break;
       case 'gap': handlers.gap?.(msg.rows); break;

@@ -1,7 +1,8 @@
 // chainsim viewer: the page of `chainsim view` (a replay with the run's data
 // inlined) and of `chainsim run --live` (the run streamed over a WebSocket).
 // URL hash options: t=SECONDS (start there), hideui (the 3-D view only, posed
-// at t: used for pictures), play, speed=X, follow=0.
+// at t: used for pictures), play, speed=X, follow=0, walls=cut|glass|solid
+// (how pipe and mesh walls are drawn), zoom=X (the camera X times farther).
 import 'uplot/dist/uPlot.min.css';
 import './style.css';
 import { RunData } from './data.js';
@@ -36,6 +37,8 @@ const scene3d = new Scene3D(ui.view3d, {
   note: (s) => ui.note(s),
 });
 scene3d.follow = hash.get('follow') !== '0';
+const zoom = Math.min(20, Math.max(0.1, Number(hash.get('zoom') ?? 1) || 1));
+scene3d.wallMode = ['cut', 'glass', 'solid'].includes(hash.get('walls')) ? hash.get('walls') : 'cut';
 window.chainsimViewer.scene3d = scene3d;
 const plots = hideui ? null : new Plots(ui.plots, data, view);
 const timeline = hideui ? null : new Timeline(ui.timelinePlot, ui.timelineList, data, view);
@@ -105,8 +108,8 @@ function frame(now) {
 }
 
 // the scene is known: build the 3-D view, the plots, the timeline
-function onScene() {
-  scene3d.build(data.scene);
+function onScene(files) {
+  scene3d.build(data.scene, files ?? {});
   ui.title(`chainsim: ${data.scene.scene}`, `${data.scene.modules?.length ?? 0} modules, environment ${data.scene.environment?.type ?? '?'}`);
   if (plots) { plots.controls(ui.plotBar); plots.rebuild(); }
 }
@@ -124,11 +127,16 @@ function onData(immediate) {
   else if (!refreshTimer) refreshTimer = setTimeout(go, 250);
 }
 
-function firstPose() {
+let posed = false;
+async function firstPose() {
+  if (posed) return;
+  posed = true;
   view.time = Math.max(0, Math.min(view.time, data.duration));
   scene3d.pose(data, view.time);
-  scene3d.resetCamera(scene3d.span());
+  scene3d.resetCamera(scene3d.span() * zoom);
   changed();
+  scene3d.render(true);
+  await scene3d.envReady;  // meshes are parsed asynchronously
   scene3d.render(true);
   state.ready = true;
   document.body.dataset.ready = '1';
@@ -145,7 +153,8 @@ ui.onControl({
   step: (d) => view.seek(view.time + d),
   speed: (s) => (view.speed = s),
   follow: (on) => (scene3d.follow = on),
-  resetCamera: () => scene3d.resetCamera(scene3d.span()),
+  walls: (mode) => scene3d.setWallMode(mode),
+  resetCamera: () => scene3d.resetCamera(scene3d.span() * zoom),
   live: () => { view.liveEdge = true; view.playing = false; },
   home: () => view.seek(0),
   end: () => view.seek(data.duration),
@@ -153,6 +162,7 @@ ui.onControl({
 ui.setPlaying(view.playing);
 ui.setSpeed(view.speed);
 ui.setFollow(scene3d.follow);
+ui.setWalls(scene3d.wallMode);
 
 window.addEventListener('error', (e) => state.errors.push(String(e.message)));
 
@@ -165,7 +175,7 @@ if (boot.mode === 'replay') {
   state.rowsReceived = data.rows;
   state.finished = true;
   ui.status(`replay: ${data.duration.toFixed(2)} s, ${data.rows} frames, ${data.events.length} bus events`);
-  onScene();
+  onScene(boot.mesh_files);
   onData(true);
   firstPose();
 } else if (boot.mode === 'live') {
@@ -173,7 +183,7 @@ if (boot.mode === 'replay') {
   ui.liveMode(true);
   connectLive({
     status: (s) => { state.status = s; ui.status(`live: ${s}`); },
-    started: (scene, header) => { data.setScene(scene, header); onScene(); },
+    started: (scene, header, files) => { data.setScene(scene, header); onScene(files); },
     rows: (csv) => {
       const before = data.rows;
       data.addRows(csv);

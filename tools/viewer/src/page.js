@@ -1,9 +1,10 @@
 // The page's layout and controls: title and status, the 3-D view with the
 // fault banner, the transport bar (play/pause, scrub, speed, follow), the bus
 // timeline and log, and the plots. Keyboard: Space play/pause, Left/Right
-// step 10 ms (Shift: 100 ms), Home/End, +/- speed, F follow, R reset camera,
-// L back to the live edge.
+// step 10 ms (Shift: 100 ms), Home/End, +/- speed, F follow, W walls (pipes
+// and meshes cut away / see-through / solid), R reset camera, L back to the live edge.
 const SPEEDS = [0.1, 0.25, 0.5, 1, 2, 4, 8];
+const WALLS = [['cut', 'walls: cut away'], ['glass', 'walls: see-through'], ['solid', 'walls: solid']];
 
 function el(tag, cls, parent, text) {
   const e = document.createElement(tag);
@@ -27,7 +28,7 @@ export function buildPage(body, { hideui }) {
   const touchEl = el('div', 'cs-touch', view3d);
   const noteEl = el('div', 'cs-note', view3d);
   const help = el('div', 'cs-help', view3d,
-    'drag: orbit, right-drag: pan, wheel: zoom | Space play, \u2190/\u2192 step, F follow, R reset view');
+    'drag: orbit, right-drag: pan, wheel: zoom | Space play, \u2190/\u2192 step, F follow, W walls, R reset view');
 
   const bar = el('div', 'cs-bar', left);
   const playBtn = el('button', 'cs-play', bar, '\u25b6');
@@ -41,6 +42,9 @@ export function buildPage(body, { hideui }) {
   const followBox = el('input', '', followLbl);
   followBox.type = 'checkbox';
   followLbl.append(' follow');
+  const wallsSel = el('select', 'cs-walls', bar);
+  wallsSel.title = 'pipe and mesh walls: the half facing the camera cut away, see-through, or solid (W)';
+  for (const [v, t] of WALLS) wallsSel.add(new Option(t, v));
   const resetBtn = el('button', 'cs-reset', bar, 'reset view');
   const liveBtn = el('button', 'cs-live', bar, 'live');
   liveBtn.hidden = true;
@@ -69,6 +73,7 @@ export function buildPage(body, { hideui }) {
     setPlaying(p) { playBtn.textContent = p ? '\u23f8' : '\u25b6'; },
     setSpeed(s) { speedSel.value = SPEEDS.includes(s) ? s : 1; },
     setFollow(f) { followBox.checked = f; },
+    setWalls(m) { wallsSel.value = m; },
     liveMode(on) { liveBtn.hidden = !on; },
     onControl(h) { handlers = h; },
   };
@@ -80,6 +85,7 @@ export function buildPage(body, { hideui }) {
   slider.oninput = () => handlers.scrub?.(Number(slider.value));
   speedSel.onchange = () => handlers.speed?.(Number(speedSel.value));
   followBox.onchange = () => handlers.follow?.(followBox.checked);
+  wallsSel.onchange = () => handlers.walls?.(wallsSel.value);
   resetBtn.onclick = () => handlers.resetCamera?.();
   liveBtn.onclick = () => handlers.live?.();
   window.addEventListener('keydown', (e) => {
@@ -98,6 +104,9 @@ export function buildPage(body, { hideui }) {
     } else if (k === 'f' || k === 'F') {
       followBox.checked = !followBox.checked;
       handlers.follow?.(followBox.checked);
+    } else if (k === 'w' || k === 'W') {
+      wallsSel.selectedIndex = (wallsSel.selectedIndex + 1) % WALLS.length;
+      handlers.walls?.(wallsSel.value);
     } else if (k === 'r' || k === 'R') handlers.resetCamera?.();
     else if (k === 'l' || k === 'L') handlers.live?.();
     else return;

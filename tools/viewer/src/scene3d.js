@@ -4,6 +4,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 import { buildEnvironment } from './environment.js';
+import './environments.js';
 
 const FAULT_COLOR = new THREE.Color('#ff1a1a');
 const TOUCH_COLOR = new THREE.Color('#2ecc40');
@@ -47,6 +48,9 @@ export class Scene3D {
     sc.left = sc.bottom = -1; sc.right = sc.top = 1; sc.near = 0.1; sc.far = 10;
     this.scene.add(this.sun, this.sun.target);
     this.focus = new THREE.Vector3();
+    this.axis = new THREE.Vector3(1, 0, 0);  // the chain's direction, tail to head
+    this.heading = null;                    // of the pipe at the chain (rad), when in a pipe
+    this.wallMode = 'cut';
     this.modules = [];
     this.env = null;
     this.dirty = true;
@@ -65,10 +69,15 @@ export class Scene3D {
   }
 
   // (re)build the environment and the module meshes from scene.json
-  build(sceneJson) {
+  // (files: the mesh files embedded in the page); envReady resolves once the
+  // environment is drawn
+  build(sceneJson, files = {}) {
     if (this.env) this.scene.remove(this.env.object);
-    this.env = buildEnvironment(sceneJson.environment, { note: this.note });
+    this.env = buildEnvironment(sceneJson.environment, { note: this.note, files });
+    this.env.setWallMode?.(this.wallMode);
     this.scene.add(this.env.object);
+    this.envReady = Promise.resolve(this.env.ready).then(() => (this.dirty = true));
+    this.heading = null;
     for (const m of this.modules) this.scene.remove(m.group);
     this.modules = (sceneJson.modules ?? []).map((m) => {
       const group = new THREE.Group();
@@ -113,15 +122,32 @@ export class Scene3D {
     const r = f < 0.5 ? i : j;
     const c = data.comAt(r);
     const next = new THREE.Vector3(c[0], c[1], c[2]);
+    // the chain's direction: from the last module's first body to the first's
+    const ends = [this.modules[this.modules.length - 1], this.modules[0]].map((m) => m?.bodies[0]?.mesh);
+    if (ends[0] && ends[1] && ends[0] !== ends[1]) {
+      const a = ends[1].position.clone().sub(ends[0].position);
+      if (a.lengthSq() > 1e-10) this.axis.copy(a.normalize());
+    }
     if (this.follow) {
       const d = next.clone().sub(this.focus);
       this.camera.position.add(d);
       this.controls.target.add(d);
+      // in a pipe, the camera turns with the pipe: it keeps its offset in the
+      // pipe's frame (seen from the same side when the pipe bends)
+      const h = this.pipeHeading(next);
+      if (h !== null && this.heading !== null) {
+        let dh = h - this.heading;
+        dh = Math.atan2(Math.sin(dh), Math.cos(dh));
+        const off = this.camera.position.clone().sub(this.controls.target);
+        off.applyAxisAngle(new THREE.Vector3(0, 0, 1), dh);
+        this.camera.position.copy(this.controls.target).add(off);
+        this.camera.lookAt(this.controls.target);
+      }
+      if (h !== null) this.heading = h;
     }
     this.focus.copy(next);
     this.sun.position.set(next.x + 1.5, next.y - 1.0, next.z + 3);
     this.sun.target.position.copy(next);
-    this.env?.update?.({ focus: this.focus, camera: this.camera });
     this.dirty = true;
   }
 
@@ -149,10 +175,17 @@ export class Scene3D {
 
   // a camera that sees the whole chain from behind and above, about
   // `span` metres across
+  // (in a pipe: turned with the pipe's heading there, from behind and to the right)
   resetCamera(span) {
     const d = Math.max(0.2, span) * 0.95;
     this.controls.target.copy(this.focus);
-    this.camera.position.copy(this.focus).add(new THREE.Vector3(-0.55 * d, -0.9 * d, 0.6 * d));
+    const off = new THREE.Vector3(-0.55 * d, -0.9 * d, 0.6 * d);
+    const h = this.pipeHeading(this.focus);
+    if (h !== null) {
+      off.applyAxisAngle(new THREE.Vector3(0, 0, 1), h);
+      this.heading = h;
+    }
+    this.camera.position.copy(this.focus).add(off);
     this.camera.near = d / 200;
     this.camera.far = d * 60;
     this.camera.updateProjectionMatrix();
@@ -170,8 +203,24 @@ export class Scene3D {
     return box.isEmpty() ? 0.3 : box.getSize(new THREE.Vector3()).length();
   }
 
+  // the horizontal direction (rad from +x) of the pipe's axis nearest to p, or
+  // null (not a pipe, or the pipe is about vertical there)
+  pipeHeading(p) {
+    const a = this.env?.axisAt?.(p);
+    if (!a || Math.hypot(a.tangent.x, a.tangent.y) < 0.25) return null;
+    return Math.atan2(a.tangent.y, a.tangent.x);
+  }
+
+  // 'cut' | 'glass' | 'solid': how pipe and mesh walls are drawn
+  setWallMode(mode) {
+    this.wallMode = mode;
+    this.env?.setWallMode?.(mode);
+    this.dirty = true;
+  }
+
   render(force = false) {
     if (!this.dirty && !force) return;
+    this.env?.update?.({ focus: this.focus, camera: this.camera, axis: this.axis });
     this.renderer.render(this.scene, this.camera);
     this.dirty = false;
   }

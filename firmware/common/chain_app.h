@@ -1,0 +1,52 @@
+/* The part of a module program every module type shares after discovery:
+ * the frame filter (addressing, lengths, ENUM_OFFER, STATUS), replies to the
+ * central control, the shared gait clock and the control-step timer. Each
+ * program keeps its own main loop and handles SET_GAIT, START, STOP and
+ * READ_SENSORS itself. See docs/firmware.md. */
+#ifndef CHAIN_APP_H
+#define CHAIN_APP_H
+
+#include <stdint.h>
+
+/* this module, after chain_app_init */
+extern uint8_t ca_addr; /* I2C address, 0x20 + k */
+extern uint8_t ca_pos;  /* k, chain position */
+extern uint8_t ca_type; /* MT_* */
+/* the state STATUS_REPLY reports; the program keeps them current */
+extern uint8_t ca_running; /* 1 while a gait runs */
+extern uint8_t ca_gait;    /* gait last set by SET_GAIT */
+extern uint8_t ca_flags;   /* CC_FLAG_*, cleared when STATUS reads them */
+extern uint16_t ca_control_ms; /* parameter control_ms (1..1000) */
+
+/* read control_ms (default control_ms_default), run discovery reporting
+ * type, set ca_addr/ca_pos */
+void chain_app_init(uint8_t type, uint16_t control_ms_default);
+
+/* Check one received frame. Returns its command code when the program must
+ * act on it (SET_GAIT, START, STOP, READ_SENSORS, all of the right length and
+ * addressed to this module or, START/STOP, to the general call); 0 when it
+ * was handled here (STATUS is answered) or must be ignored (not for us,
+ * ENUM_OFFER); an unknown code or a wrong length sets CC_FLAG_BAD_FRAME and
+ * returns 0. */
+uint8_t chain_app_filter(const uint8_t *buf, uint8_t len, uint8_t to);
+
+/* send a frame to the central control (waits a tick while the queue is full) */
+void chain_app_reply(const uint8_t *data, uint8_t len);
+
+/* SENSORS reply: n (<= 6) signed 16-bit values */
+void chain_app_sensors(const int16_t *v, uint8_t n);
+
+/* setspangle that records a refusal in ca_flags (servo missing: ignored) */
+void chain_app_servo(uint8_t servo, int16_t cdeg);
+
+/* the gait clock: ms since START (START reaches every module at the same
+ * tick, so every module's clock is the same) */
+void chain_app_clock_start(void);
+uint32_t chain_app_clock_ms(void);
+
+/* Sleep until the next control step (every ca_control_ms) when periodic is
+ * non-zero, else up to 60 s; an I2C frame wakes it earlier. Returns 1 when
+ * a control step is due. */
+uint8_t chain_app_wait(uint8_t periodic);
+
+#endif

@@ -1,0 +1,82 @@
+/* Support module firmware (paper 3.3.3): servo 0 opens the three arms
+ * (0 = closed, 9000 cdeg = perpendicular); opened against the pipe wall they
+ * anchor the module.
+ *
+ * Gait 8 (inchworm): SET_GAIT gives the grip angle, the step duration, this
+ * support's index i and the number of supports n (chain_commands.h); from
+ * START, every control_ms it opens the arms to the grip angle or closes
+ * them (0) as the schedule in inchworm.h says for support i. STOP: it grips
+ * and holds (so that a chain in a vertical pipe does not fall); SET_GAIT
+ * with gait 0: arms closed. Any other gait sets CC_FLAG_BAD_GAIT.
+ * READ_SENSORS: SENSORS with 2 values, the measured arm angle (cdeg) and
+ * the arm servo's current in ADC counts (ADC 0). See docs/firmware.md. */
+#include "hal.h"
+
+#include "chain_app.h"
+#include "chain_commands.h"
+#include "inchworm.h"
+
+#define SERVO_ARM 0u
+
+static int16_t grip_cdeg = 9000;
+static uint16_t step_ms = 1000;
+static uint8_t my_index;
+static uint8_t n_sup = 1;
+
+int main(void)
+{
+    uint8_t buf[HAL_I2C_DATA_MAX];
+    uint8_t len, to;
+    int16_t v[2];
+    int16_t g;
+
+    hal_init();
+    chain_app_servo(SERVO_ARM, 0);
+    chain_app_init(MT_SUPPORT, 10);
+
+    for (;;) {
+        while (hal_i2c_receive(buf, sizeof buf, &len, &to) == HAL_OK) {
+            switch (chain_app_filter(buf, len, to)) {
+            case CC_SET_GAIT:
+                ca_gait = buf[CC_GAIT_OFF_GAIT];
+                g = cc_get_i16(buf + CC_GAIT_OFF_GRIP);
+                grip_cdeg = g < 0 ? 0 : (g > 9000 ? 9000 : g);
+                g = cc_get_i16(buf + CC_GAIT_OFF_STEP);
+                step_ms = (uint16_t)(g < 40 ? 40 : g);
+                g = cc_get_i16(buf + CC_GAIT_OFF_INDEX);
+                my_index = (uint8_t)(g < 0 ? 0 : (g > 255 ? 255 : g));
+                n_sup = buf[CC_GAIT_OFF_NSUP] == 0 ? 1u : buf[CC_GAIT_OFF_NSUP];
+                if (ca_gait != GAIT_NONE && ca_gait != GAIT_INCHWORM)
+                    ca_flags |= CC_FLAG_BAD_GAIT;
+                if (ca_gait == GAIT_NONE) {
+                    ca_running = 0;
+                    chain_app_servo(SERVO_ARM, 0);
+                }
+                break;
+            case CC_START:
+                ca_running = ca_gait == GAIT_INCHWORM;
+                if (ca_gait != GAIT_NONE && !ca_running)
+                    hal_log("start: gait not supported by support module");
+                chain_app_clock_start();
+                break;
+            case CC_STOP:
+                if (ca_running)
+                    chain_app_servo(SERVO_ARM, grip_cdeg);
+                ca_running = 0;
+                break;
+            case CC_READ_SENSORS:
+                v[0] = hal_servo_angle_cdeg(SERVO_ARM);
+                v[1] = (int16_t)hal_adc_read(0);
+                chain_app_sensors(v, 2);
+                break;
+            default:
+                break;
+            }
+        }
+        if (chain_app_wait(ca_running) && ca_running)
+            chain_app_servo(SERVO_ARM,
+                            iw_support_grips(chain_app_clock_ms(), step_ms, n_sup, my_index)
+                                ? grip_cdeg
+                                : 0);
+    }
+}

@@ -1,0 +1,216 @@
+// The programs of the other module types (issue 5): discovery of mixed
+// chains, STATUS, the helicoidal drive (gait 9), the inchworm (gait 8), the
+// touch module's contact report and the traveller's distance estimate, each
+// with the real firmware on the real physics server.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <sstream>
+
+#include "scenario_util.h"
+
+using namespace scenario;
+
+namespace {
+
+std::string scene_path(const std::string& name) {
+  std::string here = __FILE__;
+  return here.substr(0, here.rfind("/tests/scenario/")) + "/scenes/" + name + ".yaml";
+}
+
+std::map<std::string, std::vector<double>> read_trace(const std::string& path) {
+  std::istringstream in(read_file(path));
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  std::stringstream h(line);
+  for (std::string c; std::getline(h, c, ',');) names.push_back(c);
+  std::map<std::string, std::vector<double>> cols;
+  while (std::getline(in, line)) {
+    std::stringstream r(line);
+    size_t i = 0;
+    for (std::string v; std::getline(r, v, ',') && i < names.size(); ++i) cols[names[i]].push_back(std::stod(v));
+  }
+  return cols;
+}
+
+std::string central_log(const Outcome& o, int n) {
+  return read_file(o.dir + "/modules/" + (n < 10 ? "0" : "") + std::to_string(n) + "-central.log");
+}
+
+// run a scene file (optionally with text edits) for duration_s
+Outcome run_scene(const std::string& name, double duration_s,
+                  const std::vector<std::pair<std::string, std::string>>& edits = {}) {
+  const std::string dir = temp_dir("mfw-" + name);
+  std::string text = read_file(scene_path(name));
+  for (const auto& e : edits) {
+    const size_t at = text.find(e.first);
+    EXPECT_NE(at, std::string::npos) << e.first;
+    if (at != std::string::npos) text.replace(at, e.first.size(), e.second);
+  }
+  const std::string scene = write_file(dir, name + ".yaml", text);
+  return run({scene, "--duration", std::to_string(duration_s), "-q"}, dir);
+}
+
+// displacement of body b along the unit direction (ux, 0, uz) between t_from and the end
+double advance(const std::map<std::string, std::vector<double>>& tr, const std::string& b, double slope_deg,
+               double t_from) {
+  const double a = slope_deg * M_PI / 180.0, ux = std::cos(a), uz = std::sin(a);
+  const auto& t = tr.at("t_s");
+  size_t i0 = 0;
+  while (i0 + 1 < t.size() && t[i0] < t_from) ++i0;
+  const size_t i1 = t.size() - 1;
+  return (tr.at(b + ".x")[i1] - tr.at(b + ".x")[i0]) * ux + (tr.at(b + ".z")[i1] - tr.at(b + ".z")[i0]) * uz;
+}
+
+}  // namespace
+
+// ---- discovery and STATUS -----------------------------------------------------
+
+class MixedChain : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(MixedChain, CentralControlLearnsEveryModuleType) {
+  const std::string chain = GetParam();
+  const int n = static_cast<int>(chain.size());
+  const std::string dir = temp_dir("mixed");
+  const std::string scene = write_file(dir, "s.yaml", "chain: " + chain + "\nduration_s: 0.3\n");
+  const Outcome o = run({scene}, dir);
+  ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+  const std::string log = central_log(o, n);
+  EXPECT_NE(log.find("chain: " + chain + " (" + std::to_string(n) + " modules)"), std::string::npos) << log;
+}
+
+INSTANTIATE_TEST_SUITE_P(Chains, MixedChain,
+                         ::testing::Values("THRH", "SES", "RWRP", "THRHRHRHH", "TWHSEP"));
+
+// poll_ms makes the central control send READ_SENSORS to every module: each
+// program answers with its own values (and none of them flags a bad frame)
+TEST(ModulePrograms, EveryTypeAnswersReadSensors) {
+  const std::string dir = temp_dir("sensors");
+  const std::string scene =
+      write_file(dir, "s.yaml", "chain: THSEWPR\nduration_s: 0.5\ncentral:\n  params: {gait: 0, poll_ms: 200}\n");
+  const Outcome o = run({scene}, dir);
+  ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+  const std::string log = central_log(o, 7);
+  // values per type: touch 4, helicoidal 2, support 2, extension 3, traveller 4, passive 0, rotation 2
+  const int nvals[] = {4, 2, 2, 3, 4, 0, 2};
+  for (int k = 0; k < 7; ++k) {
+    char want[32];
+    std::snprintf(want, sizeof want, "sensors 0x%02x:", 0x20 + k);
+    const size_t at = log.find(want);
+    ASSERT_NE(at, std::string::npos) << want << "\n" << log;
+    const std::string line = log.substr(at, log.find('\n', at) - at);
+    EXPECT_EQ(std::count(line.begin(), line.end(), ' ') - 1, nvals[k]) << line;
+  }
+}
+
+// ---- helicoidal drive (gait 9) ----------------------------------------------
+
+// measured: docs/firmware.md (speeds vs the paper's Table 2)
+TEST(Helicoidal, ClimbsAVerticalPipe) {
+  const Outcome o = run_scene("helicoidal-90", 4);
+  ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+  EXPECT_NE(central_log(o, 1).find("chain: H (1 modules)"), std::string::npos);
+  const auto tr = read_trace(o.dir + "/trace.csv");
+  const double up = advance(tr, "m0.pig", 90, 0.5);
+  std::printf("[ helicoid ] vertical pipe: %.2f cm up in %.1f s\n", up * 100, tr.at("t_s").back() - 0.5);
+  EXPECT_GT(up, 0.03);  // > 3 cm in 3.5 s (about 1 cm/s)
+}
+
+TEST(Helicoidal, ReversedCommandDrivesBackwards) {
+  // placed 20 cm deep into the pipe, so that it stays inside while it backs out
+  const Outcome o = run_scene("helicoidal-0", 3,
+                              {{"drive_permille: 1000", "drive_permille: -1000"}, {"inset_m: 0.01", "inset_m: 0.2"}});
+  ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+  const auto tr = read_trace(o.dir + "/trace.csv");
+  EXPECT_LT(advance(tr, "m0.pig", 0, 0.5), -0.01);
+}
+
+// ---- inchworm (gait 8) --------------------------------------------------------
+
+TEST(Inchworm, AdvancesInAHorizontalPipe) {
+  const Outcome o = run_scene("inchworm-0", 6);
+  ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+  const auto tr = read_trace(o.dir + "/trace.csv");
+  const double head = advance(tr, "m0.front", 0, 0.2), tail = advance(tr, "m2.back", 0, 0.2);
+  std::printf("[ inchworm ] level pipe: head %.2f cm, tail %.2f cm in %.1f s\n", head * 100, tail * 100,
+              tr.at("t_s").back() - 0.2);
+  EXPECT_GT(head, 0.03);
+  EXPECT_GT(tail, 0.03);
+}
+
+// ---- touch and traveller ------------------------------------------------------
+
+// a touch module pushed by two helicoidal modules along a pipe that turns
+// sharply: the head meets the wall of the elbow (at about 3 s) and the
+// central control gets a TOUCH frame
+TEST(Touch, RegistersThePipeWall) {
+  const std::string dir = temp_dir("touch");
+  const std::string scene = write_file(dir, "s.yaml", R"(duration_s: 4
+environment:
+  type: pipe
+  pipe:
+    inner_diameter_m: 0.04
+    segments:
+      - {type: straight, length_m: 0.2}
+      - {type: elbow, bend_radius_m: 0.03, angle_deg: 90, direction_deg: 90}
+      - {type: straight, length_m: 0.1}
+  material: {mu: 0.05}
+chain: THH
+placement: {at: pipe_entry, inset_m: 0.01}
+central:
+  params: {gait: 9, drive_permille: 1000}
+)");
+  const Outcome o = run({scene}, dir);
+  ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+  const std::string log = central_log(o, 3);
+  EXPECT_NE(log.find("touch 0x20: contact"), std::string::npos) << log;
+}
+
+// the traveller, pushed by helicoidal modules along a level pipe of 31 mm
+// (its three wheels on the wall), estimates the distance within 10 %
+TEST(Traveller, DistanceMatchesTheTrueDistance) {
+  const std::string dir = temp_dir("traveller");
+  const std::string scene = write_file(dir, "s.yaml", R"(duration_s: 5
+environment:
+  type: pipe
+  pipe:
+    inner_diameter_m: 0.031
+    segments:
+      - {type: straight, length_m: 0.4}
+  material: {mu: 0.6}
+chain: WHH
+placement: {at: pipe_entry, inset_m: 0.01}
+central:
+  params: {gait: 9, drive_permille: 1000, poll_ms: 500}
+output:
+  trace_hz: 100
+)");
+  const Outcome o = run({scene}, dir);
+  ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+  const std::string log = central_log(o, 3);
+  // the last report of the traveller: "<t_s> sensors 0x20: <mm> <enc> <enc> <enc>"
+  const size_t at = log.rfind("sensors 0x20: ");
+  ASSERT_NE(at, std::string::npos) << log;
+  const int mm = std::atoi(log.c_str() + at + 14);
+  const size_t line0 = log.rfind('\n', at) == std::string::npos ? 0 : log.rfind('\n', at) + 1;
+  const double t_report = std::atof(log.c_str() + line0);
+  const size_t st = log.find("start at ms ");
+  ASSERT_NE(st, std::string::npos) << log;
+  const double t0 = std::atoi(log.c_str() + st + 12) * 1e-3;
+  // true distance: the traveller's core from START to the report
+  const auto tr = read_trace(o.dir + "/trace.csv");
+  const auto& t = tr.at("t_s");
+  const auto& x = tr.at("m0.core.x");
+  size_t i0 = 0, i1 = 0;
+  while (i0 + 1 < t.size() && t[i0] < t0) ++i0;
+  while (i1 + 1 < t.size() && t[i1] < t_report) ++i1;
+  const double truth_mm = (x[i1] - x[i0]) * 1000;
+  std::printf("[ traveller] estimate %d mm, true %.1f mm (t %.3f..%.3f)\n", mm, truth_mm, t[i0], t[i1]);
+  ASSERT_GT(truth_mm, 20);
+  EXPECT_NEAR(mm, truth_mm, 0.1 * truth_mm);
+}
