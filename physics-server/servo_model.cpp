@@ -6,7 +6,14 @@
 
 namespace chainsim {
 
-ServoModel::ServoModel(const ServoParams& params) : p_(params) {}
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}
+
+ServoModel::ServoModel(const ServoParams& params) : p_(params) {
+  engaged_ = !(p_.backlash_deg > 0.0);  // backlash: start in the middle of the play
+  applied_ = setpoint_;
+}
 
 void ServoModel::update_constants(double h) {
   h_ = h;
@@ -26,13 +33,39 @@ void ServoModel::update_constants(double h) {
 ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
   if (h != h_) update_constants(h);
   drive_ = enabled_;
+  // pwm_frame_delay: the set-point is latched at the pulse frames only
+  if (p_.pwm_frame_s > 0.0) {
+    const long long k = static_cast<long long>(std::floor(time_s_ / p_.pwm_frame_s + 1e-9));
+    if (k != frame_) {
+      frame_ = k;
+      applied_ = setpoint_;
+    }
+  } else {
+    applied_ = setpoint_;
+  }
+  time_s_ += h;
+  const bool backlash = p_.backlash_deg > 0.0 && p_.j > 0.0;
+  if (!backlash) engaged_ = true;
+  // the rotor's rate now: the joint's, or its own while it crosses the gap
+  const double wr = engaged_ ? w : wm_;
   StepLaw law;
   // rotor inertia, implicit on the joint rate: -J (w' - w)/h
   const double jh = p_.j / h;
   // step-average current = i0 - ci w' (affine in the end-of-step rate w')
   double i0, ci;
   if (drive_) {
-    ea_ = std::clamp(p_.kp * (setpoint_ - theta), -p_.supply_v, p_.supply_v);
+    double err = applied_ - theta;
+    if (p_.deadband_deg > 0.0) {  // deadband: errors within +-width/2 are ignored
+      const double half = 0.5 * p_.deadband_deg * kPi / 180.0;
+      err = std::fabs(err) <= half ? 0.0 : err - std::copysign(half, err);
+    }
+    ea_ = std::clamp(p_.kp * err, -p_.supply_v, p_.supply_v);
+    if (p_.supply_sag_ohm > 0.0 && p_.supply_v > 0.0)  // supply_sag: duty x (Vs - Rs |i|)
+      ea_ *= std::max(0.0, 1.0 - p_.supply_sag_ohm * std::fabs(i_) / p_.supply_v);
+    if (p_.current_limit_a > 0.0) {  // current_limit: |ea - Km w| <= R I_lim
+      const double lim = p_.r * p_.current_limit_a;
+      ea_ = std::clamp(ea_, p_.km * wr - lim, p_.km * wr + lim);
+    }
     i0 = (1.0 - phi_) * ea_ / p_.r + phi_ * i_;
     ci = p_.km * (1.0 - phi_) / p_.r;
   } else {
@@ -43,7 +76,7 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
   if (p_.i_threshold_a > 0.0) {
     // static friction: torque Kt dz(i_avg); the branch of dz from the
     // prediction w' = w, then affine (implicit) within it
-    const double i_pred = i0 - ci * w;
+    const double i_pred = i0 - ci * wr;
     if (i_pred > p_.i_threshold_a) {
       i0 -= p_.i_threshold_a;
     } else if (i_pred < -p_.i_threshold_a) {
@@ -53,15 +86,47 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
       ci = 0.0;
     }
   }
+  // coulomb_friction on the output: -Tc tanh(w'/ws) ~ tc0 - dc w'
+  double tc0 = 0.0, dc = 0.0;
+  if (p_.coulomb_nm > 0.0) {
+    const double th = std::tanh(w / kCoulombRate);
+    dc = p_.coulomb_nm * (1.0 - th * th) / kCoulombRate;
+    tc0 = -p_.coulomb_nm * th + dc * w;
+  }
+  gap_step_ = false;
+  if (backlash) {
+    const double g = 0.5 * p_.backlash_deg * kPi / 180.0;
+    const double tq = i0 - ci * wr;  // sign of the motor torque about to act
+    if (engaged_ && tq * delta_ < 0.0) {  // pulls away from the contact side: the gap opens
+      engaged_ = false;
+      wm_ = w;
+    }
+    if (!engaged_) {
+      // the rotor alone: J (wm' - wm)/h = Kt (i0 - ci wm') - B wm'
+      gap_step_ = true;
+      const double wm_next = (jh * wm_ + p_.kt * i0) / (jh + p_.b + p_.kt * ci);
+      delta_ += (wm_next - w) * h;
+      wm_ = wm_next;
+      if (std::fabs(delta_) >= g) {  // the gap closes (inelastic)
+        delta_ = std::copysign(g, delta_);
+        engaged_ = true;
+      }
+      law.damping = dc + 1e-9;
+      law.target_rate = tc0 / law.damping;
+      return law;
+    }
+  }
   // step-average electromagnetic torque = t0 - c_emf w'
   const double t0 = p_.kt * i0, c_emf = p_.kt * ci;
-  law.damping = c_emf + p_.b + jh;
-  law.target_rate = (t0 + jh * w) / law.damping;
+  law.damping = c_emf + p_.b + jh + dc;
+  law.target_rate = (t0 + tc0 + jh * w) / law.damping;
   return law;
 }
 
 void ServoModel::end_step(double w_next) {
-  const double i_inf = drive_ ? (ea_ - p_.km * w_next) / p_.r : 0.0;
+  const double wr = gap_step_ ? wm_ : w_next;  // the rotor's rate (back-EMF)
+  if (!gap_step_) wm_ = w_next;
+  const double i_inf = drive_ ? (ea_ - p_.km * wr) / p_.r : 0.0;
   i_mean_ = (1.0 - phi_) * i_inf + phi_ * i_;
   i_ = i_inf + (i_ - i_inf) * e_;
   // RC filter of |i|, exact for the step-average |i| held over the step
@@ -87,6 +152,11 @@ void ServoModel::reset_state() {
   i_f_ = 0.0;
   i_mean_ = 0.0;
   ea_ = 0.0;
+  time_s_ = 0.0;
+  frame_ = -1;
+  delta_ = 0.0;
+  wm_ = 0.0;
+  engaged_ = !(p_.backlash_deg > 0.0);
 }
 
 }  // namespace chainsim

@@ -50,11 +50,36 @@
 // the torque stays affine in w' and implicit as above. Consequences: a servo
 // holding a load has a steady error of up to I_th R / Kp (0.05 A: 2.9 degrees
 // with Table 1), and in the dead band the electrical braking is gone.
+//
+// Effect catalogue (docs/calibration.md; `chainsim calibrate` names them). Each
+// is off by default and its parameter's null value (0) removes it exactly:
+//  * static_friction_threshold  i_threshold_a (above).
+//  * coulomb_friction  coulomb_nm: output-side friction torque -Tc tanh(w/ws),
+//    ws = kCoulombRate (0.005 rad/s), linearised at the start-of-step rate with
+//    the slope implicit (a damper Tc sech^2/ws added to the law), so a holding
+//    joint sticks without chatter.
+//  * backlash  backlash_deg: gear play of that total width between the motor
+//    side and the output (the potentiometer is on the output). Engaged on the
+//    side the motor torque pushes, the law is the full one; while the motor
+//    crosses the gap the joint gets no motor torque and the rotor (J, B, the
+//    electrical circuit, back-EMF at the rotor rate) is integrated here,
+//    implicitly; the gap closes inelastically.
+//  * deadband  deadband_deg: the servo amplifier ignores position errors within
+//    +-deadband/2 (continuous dead zone on the error before Kp).
+//  * supply_sag  supply_sag_ohm: internal resistance of the supply; the bridge's
+//    duty cycle is applied to Vs - Rs |i| (i at the start of the step).
+//  * pwm_frame_delay  pwm_frame_s: the set-point reaches the servo only at its
+//    pulse frames, every pwm_frame_s seconds (0.02 s: 50 Hz) from reset_state.
+//  * current_limit  current_limit_a: the driver limits the drive voltage to
+//    Km w +- R I_lim (w at the start of the step), so |i| settles at <= I_lim.
 #pragma once
 
 #include <cstdint>
 
 namespace chainsim {
+
+// the smoothing rate of coulomb_friction, rad/s
+constexpr double kCoulombRate = 0.005;
 
 struct ServoParams {
   double kp = 12.0;        // V/rad
@@ -68,6 +93,13 @@ struct ServoParams {
   double current_filter_tau_s = 0.003;
   // static-friction current threshold, A: no torque for |i| <= it (see above); 0 = off
   double i_threshold_a = 0.0;
+  // effect catalogue (see above); 0 = off for each
+  double coulomb_nm = 0.0;       // coulomb_friction: torque, N m
+  double backlash_deg = 0.0;     // backlash: total play, degrees of output
+  double deadband_deg = 0.0;     // deadband: total width of the error dead band, degrees
+  double supply_sag_ohm = 0.0;   // supply_sag: supply internal resistance, ohm
+  double pwm_frame_s = 0.0;      // pwm_frame_delay: set-point frame period, s (50 Hz = 0.02)
+  double current_limit_a = 0.0;  // current_limit: driver current limit, A
   // Current sense chain (our assumption, the paper gives no figures): a 1 ohm
   // shunt, an amplifier of gain 10 and a 10-bit ADC with a 5 V reference:
   // 1023 counts = 0.5 A (0.489 mA per count). The stall current is
@@ -98,6 +130,11 @@ class ServoModel {
   // End of the step: w_next = the joint rate the physics produced.
   void end_step(double w_next);
 
+  // the set-point the servo acts on (differs from setpoint() under pwm_frame_delay)
+  double applied_setpoint() const { return applied_; }
+  // backlash: motor-side angle minus output angle, rad (0 without backlash)
+  double backlash_offset() const { return delta_; }
+
   double current_a() const { return i_; }              // armature current now
   double mean_current_a() const { return i_mean_; }    // average over the last step
   double filtered_current_a() const { return i_f_; }   // after the RC filter
@@ -122,6 +159,13 @@ class ServoModel {
   double i_ = 0.0;
   double i_f_ = 0.0;
   double i_mean_ = 0.0;
+  double time_s_ = 0.0;      // since reset_state (pwm frames)
+  long long frame_ = -1;     // the last pwm frame latched
+  double applied_ = 0.0;     // set-point latched at the last frame
+  double delta_ = 0.0;       // backlash: motor side - output, rad
+  double wm_ = 0.0;          // backlash: motor-side rate, rad/s
+  bool engaged_ = true;      // backlash: gap closed
+  bool gap_step_ = false;    // backlash: this step the rotor crossed the gap alone
   // held over the current step
   double ea_ = 0.0;
   bool drive_ = true;   // enabled_ at begin_step

@@ -45,16 +45,6 @@ constexpr double kMotorFMax = 10.0;        // N m, far above any servo torque (a
 constexpr double kMaxSpan_s = 10000.0;     // longest set-point file accepted, simulated seconds
 constexpr double kEpsUs = 1e-3;            // time tolerance, microseconds
 
-struct BenchError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-struct BenchConfig {
-  ServoParams servo;                 // Table 1 defaults
-  double load_inertia_kgm2 = 3.0e-6;
-  double load_torque_nm = 0.0;
-  int64_t dt_us = 500;
-};
 
 // ---------------------------------------------------------------- bench file
 
@@ -131,7 +121,9 @@ BenchConfig load_bench_file(const std::string& file) {
   check_keys(c, root, "bench file", {"servo", "load", "sensors", "sim"});
   ServoParams& p = b.servo;
   if (const YAML::Node n = root["servo"]; n && !n.IsNull()) {
-    check_keys(c, n, "servo", {"Kp", "Km", "Kt", "R", "L", "B", "J", "supply_v", "i_threshold_a"});
+    check_keys(c, n, "servo",
+               {"Kp", "Km", "Kt", "R", "L", "B", "J", "supply_v", "i_threshold_a", "coulomb_nm",
+                "backlash_deg", "deadband_deg", "supply_sag_ohm", "pwm_frame_s", "current_limit_a"});
     get_number(c, n, "servo", "Kp", 0, false, 1e6, &p.kp);
     get_number(c, n, "servo", "Km", 0, false, 1e3, &p.km);
     get_number(c, n, "servo", "Kt", 0, false, 1e3, &p.kt);
@@ -141,6 +133,12 @@ BenchConfig load_bench_file(const std::string& file) {
     get_number(c, n, "servo", "J", 0, false, 1e3, &p.j);
     get_number(c, n, "servo", "supply_v", 0, false, 1e3, &p.supply_v);
     get_number(c, n, "servo", "i_threshold_a", 0, false, 1e3, &p.i_threshold_a);
+    get_number(c, n, "servo", "coulomb_nm", 0, false, 1e3, &p.coulomb_nm);
+    get_number(c, n, "servo", "backlash_deg", 0, false, 90, &p.backlash_deg);
+    get_number(c, n, "servo", "deadband_deg", 0, false, 90, &p.deadband_deg);
+    get_number(c, n, "servo", "supply_sag_ohm", 0, false, 1e6, &p.supply_sag_ohm);
+    get_number(c, n, "servo", "pwm_frame_s", 0, false, 10, &p.pwm_frame_s);
+    get_number(c, n, "servo", "current_limit_a", 0, false, 1e3, &p.current_limit_a);
   }
   if (const YAML::Node n = root["load"]; n && !n.IsNull()) {
     check_keys(c, n, "load", {"inertia_kgm2", "torque_nm"});
@@ -293,7 +291,10 @@ struct Sample {
 
 class Stand {
  public:
-  explicit Stand(const BenchConfig& b) : cfg_(b), model_(b.servo), h_(b.dt_us * 1e-6) {
+  Stand(const BenchConfig& b, BenchSolver solver)
+      : cfg_(b), model_(b.servo), h_(b.dt_us * 1e-6), solver_(solver) {
+    jl_ = std::max(b.load_inertia_kgm2, 1e-12);
+    if (solver_ == BenchSolver::closed_form) return;
     dInitODE2(0);
     dAllocateODEDataForThread(dAllocateMaskAll);
     world_ = dWorldCreate();
@@ -319,7 +320,9 @@ class Stand {
     dJointSetAMotorAxis(motor_, 0, 0, 0, 0, 1);
     dJointSetAMotorParam(motor_, dParamFMax, kMotorFMax);
   }
-  ~Stand() { dWorldDestroy(world_); }
+  ~Stand() {
+    if (world_) dWorldDestroy(world_);
+  }
   Stand(const Stand&) = delete;
   Stand& operator=(const Stand&) = delete;
 
@@ -328,6 +331,16 @@ class Stand {
   void set_setpoint_rad(double rel) { model_.set_setpoint(rel); }
 
   void step() {
+    if (solver_ == BenchSolver::closed_form) {
+      // one degree of freedom: (Jl/h + D) w' = Jl w/h + D v + tau_load, then
+      // theta += h w' (ODE's semi-implicit position update)
+      const ServoModel::StepLaw law = model_.begin_step(theta_, w_, h_);
+      const double jh = jl_ / h_;
+      w_ = (jh * w_ + law.damping * law.target_rate + cfg_.load_torque_nm) / (jh + law.damping);
+      model_.end_step(w_);
+      theta_ += h_ * w_;
+      return;
+    }
     const double w = dJointGetHingeAngleRate(hinge_);
     const ServoModel::StepLaw law = model_.begin_step(theta_, w, h_);
     dJointSetAMotorParam(motor_, dParamVel, law.target_rate);
@@ -351,14 +364,17 @@ class Stand {
   BenchConfig cfg_;
   ServoModel model_;
   double h_;
+  BenchSolver solver_;
+  double jl_ = 0, w_ = 0;   // closed form: load inertia, hinge rate
   dWorldID world_ = nullptr;
   dBodyID rotor_ = nullptr;
   dJointID hinge_ = nullptr, motor_ = nullptr;
   double theta_ = 0, last_raw_ = 0;
 };
 
-std::vector<Sample> run_bench(const BenchConfig& b, const std::vector<Row>& rows) {
-  Stand stand(b);
+std::vector<Sample> run_bench(const BenchConfig& b, const std::vector<Row>& rows,
+                              BenchSolver solver = BenchSolver::ode_exact) {
+  Stand stand(b, solver);
   const double deg = kPi / 180.0;
   const double sp0 = rows.front().setpoint_deg;
   const double dt = static_cast<double>(b.dt_us);
@@ -469,5 +485,19 @@ void add_bench_command(CLI::App& app) {
 }
 
 int bench_command_exit_code() { return g_exit_code; }
+
+BenchConfig load_bench_config(const std::string& file) { return load_bench_file(file); }
+
+std::vector<BenchSample> simulate_bench(const BenchConfig& b, const std::vector<double>& t_s,
+                                        const std::vector<double>& setpoint_deg, BenchSolver solver) {
+  if (t_s.empty() || t_s.size() != setpoint_deg.size())
+    throw std::invalid_argument("simulate_bench: t_s and setpoint_deg must be non-empty, same length");
+  std::vector<Row> rows(t_s.size());
+  for (size_t k = 0; k < t_s.size(); ++k) rows[k] = {t_s[k], setpoint_deg[k]};
+  const std::vector<Sample> s = run_bench(b, rows, solver);
+  std::vector<BenchSample> out(s.size());
+  for (size_t k = 0; k < s.size(); ++k) out[k] = {s[k].angle_deg, s[k].current_a};
+  return out;
+}
 
 }  // namespace chainsim

@@ -2,6 +2,7 @@
 //   chainsim run [SCENE.yaml]        run a scene (default: the built-in one)
 //   chainsim view RUN_DIR            replay.html of a run (--png: a picture); run --live: live view
 //   chainsim bench                   one servo on a test stand (set-points in, angle and current out)
+//   chainsim calibrate               find what the servo model misses against a measurement
 //   chainsim bench-lockstep          price of processes and sockets vs physics only
 #include <CLI/CLI.hpp>
 
@@ -14,6 +15,7 @@
 #include <sstream>
 
 #include "bench_command.h"
+#include "calibrate_command.h"
 #include "live_view.h"
 #include "lockstep_server.h"
 #include "scene.h"
@@ -201,8 +203,10 @@ int main(int argc, char** argv) {
   bench->add_option("--repeat", ba.repeat, "runs per figure; the fastest counts")->check(CLI::PositiveNumber);
 
   add_bench_command(app);
+  add_calibrate_command(app);
   CLI11_PARSE(app, argc, argv);
   if (const int rc = bench_command_exit_code(); rc >= 0) return rc;
+  if (const int rc = calibrate_command_exit_code(); rc >= 0) return rc;
   if (*run) return cmd_run(ra);
   if (*view) return cmd_view(va);
   if (*bench) return cmd_bench_lockstep(ba);

@@ -9,6 +9,7 @@ PACKAGES=(
   build-essential cmake pkg-config git python3
   libode-dev libyaml-cpp-dev libcli11-dev libboost-dev libeigen3-dev libassimp-dev
   nlohmann-json3-dev libssl-dev libgtest-dev
+  libnlopt-cxx-dev                # chainsim calibrate: the optimiser (NLopt BOBYQA)
   clang libclang-rt-14-dev        # libFuzzer target of the protocol decoder
   chromium                        # chainsim view --png and the viewer tests (headless)
 )
