@@ -11,22 +11,6 @@ using namespace scenario;
 
 namespace {
 
-// column name -> values, from trace.csv
-std::map<std::string, std::vector<double>> read_trace(const std::string& path) {
-  std::istringstream in(read_file(path));
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> names;
-  std::stringstream h(line);
-  for (std::string c; std::getline(h, c, ',');) names.push_back(c);
-  std::map<std::string, std::vector<double>> cols;
-  while (std::getline(in, line)) {
-    std::stringstream r(line);
-    size_t i = 0;
-    for (std::string v; std::getline(r, v, ',') && i < names.size(); ++i) cols[names[i]].push_back(std::stod(v));
-  }
-  return cols;
-}
 
 }  // namespace
 

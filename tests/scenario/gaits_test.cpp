@@ -26,27 +26,7 @@ using namespace scenario;
 
 namespace {
 
-// the repository's scenes/ directory, from this file's path
-std::string scene_path(const std::string& name) {
-  std::string here = __FILE__;
-  return here.substr(0, here.rfind("/tests/scenario/")) + "/scenes/" + name + ".yaml";
-}
 
-std::map<std::string, std::vector<double>> read_trace(const std::string& path) {
-  std::istringstream in(read_file(path));
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> names;
-  std::stringstream h(line);
-  for (std::string c; std::getline(h, c, ',');) names.push_back(c);
-  std::map<std::string, std::vector<double>> cols;
-  while (std::getline(in, line)) {
-    std::stringstream r(line);
-    size_t i = 0;
-    for (std::string v; std::getline(r, v, ',') && i < names.size(); ++i) cols[names[i]].push_back(std::stod(v));
-  }
-  return cols;
-}
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = 180.0 / kPi;

@@ -135,4 +135,25 @@ std::string sha256_file(const std::string& path) {
   return hex;
 }
 
+std::map<std::string, std::vector<double>> read_trace(const std::string& path) {
+  std::istringstream in(read_file(path));
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  std::stringstream h(line);
+  for (std::string c; std::getline(h, c, ',');) names.push_back(c);
+  std::map<std::string, std::vector<double>> cols;
+  while (std::getline(in, line)) {
+    std::stringstream r(line);
+    size_t i = 0;
+    for (std::string v; std::getline(r, v, ',') && i < names.size(); ++i) cols[names[i]].push_back(std::stod(v));
+  }
+  return cols;
+}
+
+std::string scene_path(const std::string& name) {
+  std::string here = __FILE__;
+  return here.substr(0, here.rfind("/tests/scenario/")) + "/scenes/" + name + ".yaml";
+}
+
 }  // namespace scenario

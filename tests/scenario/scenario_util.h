@@ -5,6 +5,7 @@
 #include <sys/types.h>
 
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -40,5 +41,10 @@ bool alive(pid_t pid);
 bool wait_until(const std::function<bool()>& pred, double timeout_s);
 
 std::string sha256_file(const std::string& path);
+
+// trace.csv as column name -> values
+std::map<std::string, std::vector<double>> read_trace(const std::string& path);
+// scenes/<name>.yaml of the repository
+std::string scene_path(const std::string& name);
 
 }  // namespace scenario
