@@ -390,6 +390,13 @@ class Parser {
         {"current_filter_tau_s", &ServoParams::current_filter_tau_s, 0},
         {"i_threshold_a", &ServoParams::i_threshold_a, 0},
         {"adc_full_scale_a", &ServoParams::adc_full_scale_a, 1e-9},
+        // the calibration effect catalogue (servo_model.h), 0 = off
+        {"coulomb_nm", &ServoParams::coulomb_nm, 0},
+        {"backlash_deg", &ServoParams::backlash_deg, 0},
+        {"deadband_deg", &ServoParams::deadband_deg, 0},
+        {"supply_sag_ohm", &ServoParams::supply_sag_ohm, 0},
+        {"pwm_frame_s", &ServoParams::pwm_frame_s, 0},
+        {"current_limit_a", &ServoParams::current_limit_a, 0},
     };
     Keys keys;
     for (const Field& f : kFields) keys.insert(f.key);

@@ -90,6 +90,18 @@ TEST(ModuleFile, ValidFileMapsOntoTheModuleDef) {
 }
 
 // the shipped files are the built-in types, each named after its file
+TEST(ModuleFile, ServoCanSwitchOnCalibrationEffects) {
+  std::string text = kGood;
+  const std::string from = "servo: {kt: 0.07}";
+  text.replace(text.find(from), from.size(), "servo: {backlash_deg: 2.5, pwm_frame_s: 0.02, coulomb_nm: 0.001}");
+  const ModuleDef d = load_module_text(text, "m.yaml");
+  ASSERT_TRUE(d.actuators[0].servo.has_value());
+  EXPECT_DOUBLE_EQ(d.actuators[0].servo->backlash_deg, 2.5);
+  EXPECT_DOUBLE_EQ(d.actuators[0].servo->pwm_frame_s, 0.02);
+  EXPECT_DOUBLE_EQ(d.actuators[0].servo->coulomb_nm, 0.001);
+  EXPECT_DOUBLE_EQ(d.actuators[0].servo->deadband_deg, 0.0);  // not named: off
+}
+
 TEST(ModuleFile, ShippedFilesAreTheBuiltInTypes) {
   const std::vector<std::string> want = {"extension", "helicoidal", "passive",  "rotation",
                                          "support",   "touch",      "traveller"};
