@@ -204,7 +204,12 @@ int main(int argc, char** argv) {
 
   add_bench_command(app);
   add_calibrate_command(app);
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);  // prints help, or the error and a hint
+    return rc == 0 ? 0 : kExitBadInput;
+  }
   if (const int rc = bench_command_exit_code(); rc >= 0) return rc;
   if (const int rc = calibrate_command_exit_code(); rc >= 0) return rc;
   if (*run) return cmd_run(ra);
