@@ -223,10 +223,14 @@ void Server::start_processes() {
 
 void Server::on_hello(std::shared_ptr<ModuleLink> link) {
   link->async_receive([this, link](const std::string& err) {
-    if (err.empty() && link->received().type != CS_MSG_HELLO) {
-      return;  // a peer that does not start with HELLO is dropped
+    // a peer that breaks the handshake is dropped; the module it should have
+    // been is then reported when it does not connect in time
+    if (!err.empty() || link->received().type != CS_MSG_HELLO) {
+      say("dropped a connection: " +
+          (err.empty() ? std::string("it sent ") + cs_msg_name(link->received().type) + " instead of HELLO" : err));
+      link->close();
+      return;
     }
-    if (!err.empty()) return;
     const cs_hello& h = link->received().u.hello;
     cs_msg reply{};
     std::string why;
