@@ -10,11 +10,16 @@
  *    start_ms; STOP at stop_ms.
  * 3. Sleeps on I2C, logging replies (and polling the sensors every poll_ms
  *    if that parameter is set).
+ * 4. Elbows (gait 9, parameter elbow_dir_deg >= 0): when the touch module
+ *    reports contact, it bends every rotation module toward the turn
+ *    (SET_GAIT gait 10) for bend_ms while the helicoidal modules push, then
+ *    straightens them.
  * See docs/firmware.md.
  */
 #include "hal.h"
 
 #include "chain_commands.h"
+#include "fixed_sin.h"
 #include "strbuf.h"
 
 #define ENUM_REPLY_TIMEOUT_MS 200u
@@ -29,6 +34,7 @@ static uint8_t module_type[CHAIN_MAX_MODULES];
 static strbuf sb;
 static uint8_t rx[HAL_I2C_DATA_MAX];
 static uint8_t log_lines; /* logged since the last wait */
+static uint8_t touch_event; /* a TOUCH contact frame came in */
 
 /* every wait goes through these, so that log lines are counted per wait */
 static void tick_wait(void)
@@ -96,6 +102,8 @@ static void log_reply(const uint8_t *buf, uint8_t len)
         sb_str(&sb, "touch ");
         sb_hex8(&sb, buf[1]);
         sb_str(&sb, buf[2] ? ": contact" : ": released");
+        if (buf[2])
+            touch_event = 1;
     } else if (buf[0] == CC_ENUM_REPLY || buf[0] == CC_ENUM_OFFER) {
         return; /* late discovery traffic */
     } else {
@@ -270,6 +278,23 @@ static void send_inchworm(int16_t grip, int16_t step, int16_t stroke)
     }
 }
 
+/* gait 10 to every rotation module: hold pitch and yaw (cdeg) */
+static void send_bend(int16_t pitch, int16_t yaw)
+{
+    uint8_t f[CC_SET_GAIT_LEN];
+    uint8_t i;
+
+    for (i = 0; i < CC_SET_GAIT_LEN; i++)
+        f[i] = 0;
+    f[0] = CC_SET_GAIT;
+    f[CC_GAIT_OFF_GAIT] = GAIT_BEND;
+    cc_put_i16(f + CC_GAIT_OFF_BEND_PITCH, pitch);
+    cc_put_i16(f + CC_GAIT_OFF_BEND_YAW, yaw);
+    for (i = 0; i < n_modules; i++)
+        if (module_type[i] == MT_ROTATION)
+            send_frame((uint8_t)(CHAIN_FIRST_MODULE_ADDR + i), f, CC_SET_GAIT_LEN);
+}
+
 static void drain_replies(void)
 {
     uint8_t len, to;
@@ -298,6 +323,10 @@ int main(void)
     int16_t amp, omega, phase, posture, amp2, shift, bias;
     int16_t drive_pm, step, grip, stroke;
     uint32_t start_ms, stop_ms, poll_ms, next_poll = 0;
+    int16_t elbow_dir, bend, bend_pitch = 0, bend_yaw = 0;
+    uint16_t bend_ms;
+    uint8_t bending = 0, bent_once = 0;
+    uint32_t bend_end = 0;
 
     hal_init();
     hal_i2c_set_address(CHAIN_CENTRAL_ADDR);
@@ -322,6 +351,19 @@ int main(void)
     start_ms = (uint32_t)param_clamped("start_ms", 0, 0, 0x7FFFFFFFL);
     stop_ms = (uint32_t)param_clamped("stop_ms", 0, 0, 0x7FFFFFFFL);
     poll_ms = (uint32_t)param_clamped("poll_ms", 0, 0, 60000L);
+    /* elbows: which way the pipe turns, relative to the chain (0 up, 90 left,
+     * 180 down, 270 right; -1 = off), how far and how long to bend */
+    elbow_dir = (int16_t)param_clamped("elbow_dir_deg", -1, -1, 359);
+    bend = (int16_t)param_clamped("bend_cdeg", 4500, 0, 9000);
+    bend_ms = (uint16_t)param_clamped("bend_ms", 1500, 0, 30000L);
+    if (elbow_dir >= 0) {
+        /* direction in mrad = deg * 17.453; a positive pitch bends the
+         * chain up, a negative yaw to the left (as the turn gait's offset;
+         * measured in the simulator, docs/firmware.md) */
+        int32_t d = (int32_t)elbow_dir * 17453L / 1000L;
+        bend_pitch = fs_scale(bend, fs_cos_mrad(d));
+        bend_yaw = (int16_t)-fs_scale(bend, fs_sin_mrad(d));
+    }
 
     sb_reset(&sb);
     sb_str(&sb, "gait: code=");
@@ -348,6 +390,18 @@ int main(void)
         sb_str(&sb, " stroke_um=");
         sb_int(&sb, stroke);
         log_line(sb.buf);
+        if (elbow_dir >= 0) {
+            sb_reset(&sb);
+            sb_str(&sb, "elbow: dir_deg=");
+            sb_int(&sb, elbow_dir);
+            sb_str(&sb, " pitch_cdeg=");
+            sb_int(&sb, bend_pitch);
+            sb_str(&sb, " yaw_cdeg=");
+            sb_int(&sb, bend_yaw);
+            sb_str(&sb, " bend_ms=");
+            sb_int(&sb, bend_ms);
+            log_line(sb.buf);
+        }
     } else if (gait >= GAIT_TURN_LEFT) {
         sb_reset(&sb);
         sb_str(&sb, "gait: amp2_cdeg=");
@@ -380,12 +434,37 @@ int main(void)
 
         drain_replies();
         now = hal_millis();
+        if (touch_event) {
+            touch_event = 0;
+            /* a contact while bent, or within bend_ms after straightening
+             * (the head meeting the outgoing leg's wall), is the same elbow */
+            if (started && !stopped && gait == GAIT_HELICOIDAL && elbow_dir >= 0 && !bending &&
+                (!bent_once || (int32_t)(now - bend_end) >= (int32_t)bend_ms)) {
+                send_bend(bend_pitch, bend_yaw);
+                log_int("elbow: bend at ms ", now);
+                bending = 1;
+                bent_once = 1;
+                bend_end = now + bend_ms;
+            }
+        }
+        if (bending) {
+            if (stopped) {
+                bending = 0; /* STOP has straightened them */
+            } else if ((int32_t)(now - bend_end) >= 0) {
+                send_bend(0, 0);
+                bending = 0;
+                log_int("elbow: straight at ms ", now);
+            } else {
+                wake = bend_end;
+                have_wake = 1;
+            }
+        }
         if (started && !stopped && stop_ms != 0) {
             if ((int32_t)(now - stop_ms) >= 0) {
                 send_code(HAL_I2C_GENERAL_CALL, CC_STOP);
                 stopped = 1;
                 log_int("stop at ms ", now);
-            } else {
+            } else if (!have_wake || (int32_t)(stop_ms - wake) < 0) {
                 wake = stop_ms;
                 have_wake = 1;
             }

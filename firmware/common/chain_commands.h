@@ -20,7 +20,7 @@
  *  0x23  STATUS_REPLY    M -> C     0x10     6      code, addr, type, state, gait, flags
  *  0x24  TOUCH           M -> C     0x10     3      code, addr, contact (touch module, on change)
  *
- * SET_GAIT of gaits 8 and 9 reuses the frame's fields (CC_GAIT_OFF_DRIVE ..
+ * SET_GAIT of gaits 8, 9 and 10 reuses the frame's fields (CC_GAIT_OFF_DRIVE ..
  * CC_GAIT_OFF_STROKE below).
  *
  * Modules ignore codes they do not know and frames of the wrong length
@@ -79,6 +79,9 @@
 
 /* SET_GAIT of gait 9 (helicoidal drive), sent to helicoidal modules */
 #define CC_GAIT_OFF_DRIVE 2u  /* i16 screw command, per mille (-1000..1000, + = forward) */
+/* SET_GAIT of gait 10 (bend), sent to rotation modules: the angles to hold */
+#define CC_GAIT_OFF_BEND_PITCH 2u /* i16 pitch, centidegrees (-9000..9000) */
+#define CC_GAIT_OFF_BEND_YAW 4u   /* i16 yaw, centidegrees (-9000..9000) */
 /* SET_GAIT of gait 8 (inchworm), sent to support and extension modules, one
  * frame each: the cycle has n steps (one per support); in step i support i
  * releases, extension i-1 retracts and extension i extends, then support i
@@ -109,6 +112,7 @@
 #define GAIT_LATERAL_SHIFT 7u /* pitch and yaw waves of the same phase step, shifted */
 #define GAIT_INCHWORM 8u      /* supports grip/release, extensions extend/retract */
 #define GAIT_HELICOIDAL 9u    /* helicoidal modules drive their screws */
+#define GAIT_BEND 10u         /* rotation modules hold a fixed pitch and yaw (elbows) */
 
 /* axis (SET_GAIT): which servo of a rotation module moves */
 #define CC_AXIS_PITCH 0u /* servo 0 */

@@ -8,6 +8,8 @@
  *   turn left/right   the same with s = +1, and yaw += -bias / +bias
  *   roll, lat. shift  pitch = A sin(w t + k phi), yaw = A2 sin(w t + k phi + shift)
  *   rotate            pitch = A sin(w t + 2 k phi), yaw = A2 sin(w t + k phi + shift)
+ *   bend (gait 10)    pitch, yaw = the frame's fixed angles, held from the
+ *                     SET_GAIT on (no START needed): elbow negotiation
  *
  * See docs/firmware.md. Integer arithmetic only.
  */
@@ -37,6 +39,8 @@ static int16_t posture_cdeg; /* zig-zag of the other axis, CC_GAIT_OFF_POSTURE *
 static int16_t amp2_cdeg;    /* yaw wave of the two-axis gaits, CC_GAIT_OFF_AMP2 */
 static int16_t shift_mrad;   /* yaw wave's phase relative to the pitch wave */
 static int16_t bias_cdeg;    /* yaw offset of the turns, CC_GAIT_OFF_BIAS */
+static int16_t bend_pitch_cdeg; /* gait 10 */
+static int16_t bend_yaw_cdeg;
 
 static uint8_t running;
 static uint32_t t0_ms;        /* hal_millis() at START */
@@ -69,7 +73,7 @@ static int16_t posture_angle(void)
 
 static uint8_t gait_supported(uint8_t g)
 {
-    return g <= GAIT_LATERAL_SHIFT; /* 0 none .. 7 lateral shift */
+    return g <= GAIT_LATERAL_SHIFT || g == GAIT_BEND; /* 0 none .. 7 lateral shift, 10 bend */
 }
 
 static int16_t clamp_i16(int32_t v, int16_t lim)
@@ -88,7 +92,10 @@ static void control_step(uint32_t now_ms)
     int32_t offset = (int32_t)my_pos * (int32_t)phase_mrad;
     int16_t pitch, yaw;
 
-    if (gait == GAIT_ROLL || gait == GAIT_ROTATE || gait == GAIT_LATERAL_SHIFT) {
+    if (gait == GAIT_BEND) {
+        pitch = bend_pitch_cdeg;
+        yaw = bend_yaw_cdeg;
+    } else if (gait == GAIT_ROLL || gait == GAIT_ROTATE || gait == GAIT_LATERAL_SHIFT) {
         /* two waves of the same omega; rotate: the pitch wave has twice the
          * yaw wave's phase step */
         pitch = gait_angle_cdeg(amp_cdeg, omega_mrad_s, t,
@@ -164,6 +171,17 @@ static void handle_frame(const uint8_t *buf, uint8_t len, uint8_t to)
         if (len != CC_SET_GAIT_LEN)
             break;
         gait = buf[CC_GAIT_OFF_GAIT];
+        if (gait == GAIT_BEND) {
+            /* a fixed posture, taken at once (the chain keeps moving) */
+            bend_pitch_cdeg = clamp_i16(cc_get_i16(buf + CC_GAIT_OFF_BEND_PITCH), 9000);
+            bend_yaw_cdeg = clamp_i16(cc_get_i16(buf + CC_GAIT_OFF_BEND_YAW), 9000);
+            if (!running) {
+                running = 1;
+                t0_ms = hal_millis();
+            }
+            next_step_ms = hal_millis(); /* set the servos on the next pass */
+            return;
+        }
         amp_cdeg = cc_get_i16(buf + CC_GAIT_OFF_AMP);
         omega_mrad_s = cc_get_i16(buf + CC_GAIT_OFF_OMEGA);
         phase_mrad = cc_get_i16(buf + CC_GAIT_OFF_PHASE);
