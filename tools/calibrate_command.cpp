@@ -43,6 +43,7 @@
 #include <vector>
 
 #include "bench_command.h"
+#include "robot_calibration.h"
 #include "servo_model.h"
 
 namespace chainsim {
@@ -567,6 +568,7 @@ struct CalArgs {
 };
 
 CalArgs g_args;
+robotcal::RobotArgs g_robot;
 int g_exit = -1;
 
 struct Candidate {
@@ -847,11 +849,43 @@ void add_calibrate_command(CLI::App& app) {
       "fit the servo model to a bench measurement (t_s,setpoint_deg,angle_deg[,current_a]) and find which "
       "catalogue effects it is missing (docs/calibration.md)");
   sub->add_option("--bench,-b", g_args.bench, "bench file (datasheet values; docs/servo-bench.md)");
-  sub->add_option("--measured,-m", g_args.measured, "measured CSV: t_s,setpoint_deg,angle_deg[,current_a]")
-      ->required();
+  auto* measured =
+      sub->add_option("--measured,-m", g_args.measured, "measured CSV: t_s,setpoint_deg,angle_deg[,current_a]");
   sub->add_option("--out,-o", g_args.out, "output directory (report.json, report.md, SVG plots)")->required();
   sub->add_flag("--quiet,-q", g_args.quiet, "print only errors");
-  sub->callback([] { g_exit = run(g_args); });
+  // robot level: a speed table and one scene per row (robot_calibration.h)
+  auto* robot = sub->add_option("--robot", g_robot.table,
+                                "robot-level table: key column (e.g. slope_deg), real_speed_cm_s"
+                                "[,paper_sim_speed_cm_s] (instead of --measured)");
+  auto* tmpl = sub->add_option("--scene-template", g_robot.scene_template,
+                               "with --robot: scene file with {slope} replaced by each row's key");
+  sub->add_option("--duration", g_robot.duration_s, "with --robot: simulated seconds per run (default 6)")
+      ->check(CLI::PositiveNumber);
+  sub->add_option("--window-start", g_robot.window_start_s,
+                  "with --robot: the speed is measured from this time to the end (default 1 s)")
+      ->check(CLI::NonNegativeNumber);
+  sub->add_option("--jobs,-j", g_robot.jobs, "with --robot: runs at once (default 2)")->check(CLI::Range(1, 64));
+  sub->add_option("--firmware-dir", g_robot.firmware_dir, "with --robot: where the fw-* programs are");
+  measured->excludes(robot);
+  robot->needs(tmpl);
+  tmpl->needs(robot);
+  sub->callback([measured, robot] {
+    if (robot->count() > 0) {
+      g_robot.out = g_args.out, g_robot.quiet = g_args.quiet;
+      try {
+        g_exit = robotcal::run_robot(g_robot);
+      } catch (const robotcal::RobotError& e) {
+        std::fprintf(stderr, "chainsim calibrate: %s\n", e.what());
+        g_exit = 1;
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "chainsim calibrate: internal error: %s\n", e.what());
+        g_exit = 3;
+      }
+      return;
+    }
+    if (measured->count() == 0) throw CLI::RequiredError("--measured or --robot");
+    g_exit = run(g_args);
+  });
 }
 
 int calibrate_command_exit_code() { return g_exit; }
