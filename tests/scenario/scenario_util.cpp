@@ -1,5 +1,7 @@
 #include "scenario_util.h"
 
+#include <gtest/gtest.h>
+
 #include <fcntl.h>
 #include <openssl/evp.h>
 #include <signal.h>
@@ -9,16 +11,38 @@
 #include <chrono>
 #include <cstdlib>
 #include <dirent.h>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
 
 namespace scenario {
+namespace {
+
+// the directories a test made: removed when every test of the process passed,
+// kept for a look when one failed
+std::vector<std::string>& made_dirs() {
+  static std::vector<std::string> dirs;
+  return dirs;
+}
+
+class RemoveDirsOnSuccess : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    if (!::testing::UnitTest::GetInstance()->Passed()) return;
+    std::error_code ec;
+    for (const auto& d : made_dirs()) std::filesystem::remove_all(d, ec);
+  }
+};
+const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new RemoveDirsOnSuccess);
+
+}  // namespace
 
 std::string temp_dir(const std::string& tag) {
   std::string t = "/tmp/chainsim-test-" + tag + "-XXXXXX";
   if (!mkdtemp(t.data())) throw std::runtime_error("mkdtemp failed");
+  made_dirs().push_back(t);
   return t;
 }
 
