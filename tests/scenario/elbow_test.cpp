@@ -19,22 +19,7 @@ using namespace scenario;
 
 namespace {
 
-Outcome run_scene(const std::string& name, double duration_s,
-                  const std::vector<std::pair<std::string, std::string>>& edits = {}) {
-  const std::string dir = temp_dir("elbow-" + name);
-  std::string text = read_file(scene_path(name));
-  for (const auto& e : edits) {
-    const size_t at = text.find(e.first);
-    EXPECT_NE(at, std::string::npos) << e.first;
-    if (at != std::string::npos) text.replace(at, e.first.size(), e.second);
-  }
-  const std::string scene = write_file(dir, name + ".yaml", text);
-  return run({scene, "--duration", std::to_string(duration_s), "-q"}, dir);
-}
 
-std::string central_log(const Outcome& o, int n) {
-  return read_file(o.dir + "/modules/" + (n < 10 ? "0" : "") + std::to_string(n) + "-central.log");
-}
 
 struct Head {
   double x = 0, y = 0;
@@ -70,7 +55,7 @@ std::string text(const Head& h) {
 
 // touch + two rotation + one helicoidal: the paper's minimal configuration
 TEST(Elbow, TRRHPassesTheElbow) {
-  const Outcome o = run_scene("elbow-TRRH", 15);
+  const Outcome o = run_scene("elbow", "elbow-TRRH", 15);
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
   const std::string log = central_log(o, 4);
   EXPECT_NE(log.find("touch 0x20: contact"), std::string::npos) << log;
@@ -82,7 +67,7 @@ TEST(Elbow, TRRHPassesTheElbow) {
 
 // the same chain without the steering (elbow_dir_deg off) jams at the elbow
 TEST(Elbow, TRRHWithoutSteeringJams) {
-  const Outcome o = run_scene("elbow-TRRH", 15, {{"elbow_dir_deg: 90", "elbow_dir_deg: -1"}});
+  const Outcome o = run_scene("elbow", "elbow-TRRH", 15, {{"elbow_dir_deg: 90", "elbow_dir_deg: -1"}});
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
   const Head h = head(o, 0.3);
   EXPECT_LT(h.t_out, 0) << text(h);
@@ -91,7 +76,7 @@ TEST(Elbow, TRRHWithoutSteeringJams) {
 
 // the GA's best configuration of touch + 8 modules (paper 6.2)
 TEST(Elbow, THRHRHRHHPassesTheElbow) {
-  const Outcome o = run_scene("elbow-THRHRHRHH", 15);
+  const Outcome o = run_scene("elbow", "elbow-THRHRHRHH", 15);
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
   const std::string log = central_log(o, 9);
   EXPECT_NE(log.find("elbow: bend at ms"), std::string::npos) << log;

@@ -22,7 +22,7 @@ TEST_P(Discovery, CentralControlLearnsTheChainThroughTheSyncLines) {
   const std::string scene = write_file(dir, "s.yaml", "chain: " + std::string(n, 'R') + "\nduration_s: 0.3\n");
   const Outcome o = run({scene}, dir);
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
-  const std::string log = read_file(o.dir + "/modules/" + (n < 10 ? "0" : "") + std::to_string(n) + "-central.log");
+  const std::string log = central_log(o, n);
   EXPECT_NE(log.find("chain: " + std::string(n, 'R') + " (" + std::to_string(n) + " modules)"), std::string::npos)
       << log;
   // every module took the next address, in chain order

@@ -19,23 +19,7 @@ namespace {
 
 
 
-std::string central_log(const Outcome& o, int n) {
-  return read_file(o.dir + "/modules/" + (n < 10 ? "0" : "") + std::to_string(n) + "-central.log");
-}
 
-// run a scene file (optionally with text edits) for duration_s
-Outcome run_scene(const std::string& name, double duration_s,
-                  const std::vector<std::pair<std::string, std::string>>& edits = {}) {
-  const std::string dir = temp_dir("mfw-" + name);
-  std::string text = read_file(scene_path(name));
-  for (const auto& e : edits) {
-    const size_t at = text.find(e.first);
-    EXPECT_NE(at, std::string::npos) << e.first;
-    if (at != std::string::npos) text.replace(at, e.first.size(), e.second);
-  }
-  const std::string scene = write_file(dir, name + ".yaml", text);
-  return run({scene, "--duration", std::to_string(duration_s), "-q"}, dir);
-}
 
 // displacement of body b along the unit direction (ux, 0, uz) between t_from and the end
 double advance(const std::map<std::string, std::vector<double>>& tr, const std::string& b, double slope_deg,
@@ -93,7 +77,7 @@ TEST(ModulePrograms, EveryTypeAnswersReadSensors) {
 
 // measured: docs/firmware.md (speeds vs the paper's Table 2)
 TEST(Helicoidal, ClimbsAVerticalPipe) {
-  const Outcome o = run_scene("helicoidal-90", 4);
+  const Outcome o = run_scene("mfw", "helicoidal-90", 4);
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
   EXPECT_NE(central_log(o, 1).find("chain: H (1 modules)"), std::string::npos);
   const auto tr = read_trace(o.dir + "/trace.csv");
@@ -104,7 +88,7 @@ TEST(Helicoidal, ClimbsAVerticalPipe) {
 
 TEST(Helicoidal, ReversedCommandDrivesBackwards) {
   // placed 20 cm deep into the pipe, so that it stays inside while it backs out
-  const Outcome o = run_scene("helicoidal-0", 3,
+  const Outcome o = run_scene("mfw", "helicoidal-0", 3,
                               {{"drive_permille: 1000", "drive_permille: -1000"}, {"inset_m: 0.01", "inset_m: 0.2"}});
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
   const auto tr = read_trace(o.dir + "/trace.csv");
@@ -114,7 +98,7 @@ TEST(Helicoidal, ReversedCommandDrivesBackwards) {
 // ---- inchworm (gait 8) --------------------------------------------------------
 
 TEST(Inchworm, AdvancesInAHorizontalPipe) {
-  const Outcome o = run_scene("inchworm-0", 6);
+  const Outcome o = run_scene("mfw", "inchworm-0", 6);
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
   const auto tr = read_trace(o.dir + "/trace.csv");
   const double head = advance(tr, "m0.front", 0, 0.2), tail = advance(tr, "m2.back", 0, 0.2);

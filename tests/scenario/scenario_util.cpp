@@ -180,4 +180,21 @@ std::string scene_path(const std::string& name) {
   return here.substr(0, here.rfind("/tests/scenario/")) + "/scenes/" + name + ".yaml";
 }
 
+Outcome run_scene(const std::string& tag, const std::string& name, double duration_s,
+                  const std::vector<std::pair<std::string, std::string>>& edits) {
+  const std::string dir = temp_dir(tag + "-" + name);
+  std::string text = read_file(scene_path(name));
+  for (const auto& e : edits) {
+    const size_t at = text.find(e.first);
+    EXPECT_NE(at, std::string::npos) << e.first;
+    if (at != std::string::npos) text.replace(at, e.first.size(), e.second);
+  }
+  const std::string scene = write_file(dir, name + ".yaml", text);
+  return run({scene, "--duration", std::to_string(duration_s), "-q"}, dir);
+}
+
+std::string central_log(const Outcome& o, int n) {
+  return read_file(o.dir + "/modules/" + (n < 10 ? "0" : "") + std::to_string(n) + "-central.log");
+}
+
 }  // namespace scenario

@@ -7,6 +7,7 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -46,5 +47,12 @@ std::string sha256_file(const std::string& path);
 std::map<std::string, std::vector<double>> read_trace(const std::string& path);
 // scenes/<name>.yaml of the repository
 std::string scene_path(const std::string& name);
+// run scenes/<name>.yaml for duration_s (quiet), after replacing each
+// edits[i].first in its text by .second (a missing one fails the test);
+// tag names the test's /tmp directory
+Outcome run_scene(const std::string& tag, const std::string& name, double duration_s,
+                  const std::vector<std::pair<std::string, std::string>>& edits = {});
+// the central control's log of a run of n modules (it is endpoint n)
+std::string central_log(const Outcome& o, int n);
 
 }  // namespace scenario
