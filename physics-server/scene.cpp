@@ -10,58 +10,12 @@
 
 #include "scene_environment.h"
 #include "scene_modules.h"
+#include "scene_yaml.h"
 
 namespace chainsim {
 namespace {
 
-// a YAML node with the file name, for messages that say where
-struct Ctx {
-  const std::string& file;
-};
-
-std::string where(const Ctx& c, const YAML::Node& n) {
-  const YAML::Mark m = n.Mark();
-  std::ostringstream s;
-  s << c.file;
-  if (m.line >= 0) s << ":" << (m.line + 1) << ":" << (m.column + 1);
-  return s.str();
-}
-
-[[noreturn]] void fail(const Ctx& c, const YAML::Node& n, const std::string& what) {
-  throw SceneError(where(c, n) + ": " + what);
-}
-
-// every key of map node must be in allowed
-void check_keys(const Ctx& c, const YAML::Node& map, const std::string& path,
-                const std::set<std::string>& allowed) {
-  if (!map.IsMap()) fail(c, map, "'" + path + "' must be a mapping");
-  for (const auto& kv : map) {
-    const std::string key = kv.first.as<std::string>();
-    if (!allowed.count(key)) {
-      std::string known;
-      for (const auto& a : allowed) known += (known.empty() ? "" : ", ") + a;
-      fail(c, kv.first, "unknown key '" + key + "' in '" + path + "' (known: " + known + ")");
-    }
-  }
-}
-
-double get_double(const Ctx& c, const YAML::Node& map, const std::string& key, double dflt,
-                  double lo, double hi, const std::string& path) {
-  const YAML::Node n = map[key];
-  if (!n) return dflt;
-  double v = 0;
-  try {
-    v = n.as<double>();
-  } catch (const YAML::Exception&) {
-    fail(c, n, "'" + path + "." + key + "' must be a number");
-  }
-  if (!std::isfinite(v) || v < lo || v > hi) {
-    std::ostringstream s;
-    s << "'" << path << "." << key << "' = " << v << " is out of range [" << lo << ", " << hi << "]";
-    fail(c, n, s.str());
-  }
-  return v;
-}
+using Ctx = SceneYaml;
 
 int64_t get_int(const Ctx& c, const YAML::Node& map, const std::string& key, int64_t dflt,
                 int64_t lo, int64_t hi, const std::string& path) {
@@ -71,12 +25,12 @@ int64_t get_int(const Ctx& c, const YAML::Node& map, const std::string& key, int
   try {
     v = n.as<int64_t>();
   } catch (const YAML::Exception&) {
-    fail(c, n, "'" + path + "." + key + "' must be an integer");
+    c.fail(n, "'" + path + "." + key + "' must be an integer");
   }
   if (v < lo || v > hi) {
     std::ostringstream s;
     s << "'" << path << "." << key << "' = " << v << " is out of range [" << lo << ", " << hi << "]";
-    fail(c, n, s.str());
+    c.fail(n, s.str());
   }
   return v;
 }
@@ -85,7 +39,7 @@ std::string get_string(const Ctx& c, const YAML::Node& map, const std::string& k
                        const std::string& dflt, const std::string& path) {
   const YAML::Node n = map[key];
   if (!n) return dflt;
-  if (!n.IsScalar()) fail(c, n, "'" + path + "." + key + "' must be a string");
+  if (!n.IsScalar()) c.fail(n, "'" + path + "." + key + "' must be a string");
   return n.as<std::string>();
 }
 
@@ -94,28 +48,28 @@ std::map<std::string, int32_t> get_params(const Ctx& c, const YAML::Node& map,
   std::map<std::string, int32_t> out;
   const YAML::Node n = map["params"];
   if (!n) return out;
-  if (!n.IsMap()) fail(c, n, "'" + path + ".params' must be a mapping of name: integer");
+  if (!n.IsMap()) c.fail(n, "'" + path + ".params' must be a mapping of name: integer");
   for (const auto& kv : n) {
     const std::string name = kv.first.as<std::string>();
     if (name.empty() || name.size() > 15)
-      fail(c, kv.first, "parameter name '" + name + "' must have 1 to 15 characters");
+      c.fail(kv.first, "parameter name '" + name + "' must have 1 to 15 characters");
     out[name] = static_cast<int32_t>(
         get_int(c, n, name, 0, INT32_MIN, INT32_MAX, path + ".params"));
   }
-  if (out.size() > 16) fail(c, n, "'" + path + ".params' has more than 16 parameters");
+  if (out.size() > 16) c.fail(n, "'" + path + ".params' has more than 16 parameters");
   return out;
 }
 
 void load_chain(const Ctx& c, const YAML::Node& root, Scene* s) {
   const YAML::Node n = root["chain"];
-  if (!n) fail(c, root, "missing key 'chain' (a string such as \"RRRRRRRR\" or a list of modules)");
+  if (!n) c.fail(root, "missing key 'chain' (a string such as \"RRRRRRRR\" or a list of modules)");
   if (n.IsScalar()) {
     const std::string letters = n.as<std::string>();
-    if (letters.empty()) fail(c, n, "'chain' is empty");
+    if (letters.empty()) c.fail(n, "'chain' is empty");
     for (char l : letters) {
       const std::string type = module_type_for_letter(l);
       if (type.empty())
-        fail(c, n, std::string("'chain' has unknown module letter '") + l +
+        c.fail(n, std::string("'chain' has unknown module letter '") + l +
                        "' (T touch, R rotation, H helicoidal, S support, E extension, "
                        "W traveller, P passive)");
       s->modules.push_back({type, default_firmware(type), {}});
@@ -124,19 +78,19 @@ void load_chain(const Ctx& c, const YAML::Node& root, Scene* s) {
     for (size_t i = 0; i < n.size(); ++i) {
       const YAML::Node m = n[i];
       const std::string p = "chain[" + std::to_string(i) + "]";
-      check_keys(c, m, p, {"type", "firmware", "params"});
-      if (!m["type"]) fail(c, m, "'" + p + "' needs a 'type'");
+      c.keys(m, p, {"type", "firmware", "params"});
+      if (!m["type"]) c.fail(m, "'" + p + "' needs a 'type'");
       SceneModule sm;
       sm.type = get_string(c, m, "type", "", p);
       sm.firmware = get_string(c, m, "firmware", default_firmware(sm.type), p);
       sm.params = get_params(c, m, p);
       s->modules.push_back(sm);
     }
-    if (s->modules.empty()) fail(c, n, "'chain' is empty");
+    if (s->modules.empty()) c.fail(n, "'chain' is empty");
   } else {
-    fail(c, n, "'chain' must be a string of module letters or a list of modules");
+    c.fail(n, "'chain' must be a string of module letters or a list of modules");
   }
-  if (s->modules.size() > 64) fail(c, n, "'chain' has more than 64 modules");
+  if (s->modules.size() > 64) c.fail(n, "'chain' has more than 64 modules");
   for (const auto& m : s->modules) s->world.chain.push_back(m.type);
 }
 
@@ -168,24 +122,24 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
     throw SceneError(s.str());
   }
   if (!root || !root.IsMap()) throw SceneError(name + ": a scene must be a YAML mapping");
-  check_keys(c, root, "scene",
+  c.keys(root, "scene",
              {"name", "duration_s", "seed", "physics", "environment", "contacts", "module_types",
               "chain", "placement", "central", "output"});
 
   Scene s;
   s.source = name;
   s.name = get_string(c, root, "name", "unnamed", "scene");
-  s.duration_s = get_double(c, root, "duration_s", s.duration_s, 0.001, 86400.0, "scene");
+  s.duration_s = c.number(root, "duration_s", s.duration_s, 0.001, 86400.0, "scene");
   s.seed = static_cast<uint64_t>(get_int(c, root, "seed", 1, 0, INT64_MAX, "scene"));
   s.world.seed = s.seed;
 
   if (const YAML::Node p = root["physics"]) {
-    check_keys(c, p, "physics", {"dt_us", "tick_us", "gravity_m_s2"});
+    c.keys(p, "physics", {"dt_us", "tick_us", "gravity_m_s2"});
     s.world.dt_us = get_int(c, p, "dt_us", s.world.dt_us, 10, 100000, "physics");
     s.tick_us = get_int(c, p, "tick_us", s.tick_us, 10, 1000000, "physics");
-    s.world.gravity_m_s2 = get_double(c, p, "gravity_m_s2", s.world.gravity_m_s2, 0.0, 100.0, "physics");
+    s.world.gravity_m_s2 = c.number(p, "gravity_m_s2", s.world.gravity_m_s2, 0.0, 100.0, "physics");
     if (s.tick_us % s.world.dt_us != 0)
-      fail(c, p, "'physics.tick_us' (" + std::to_string(s.tick_us) +
+      c.fail(p, "'physics.tick_us' (" + std::to_string(s.tick_us) +
                      ") must be a multiple of 'physics.dt_us' (" + std::to_string(s.world.dt_us) + ")");
   }
 
@@ -199,32 +153,32 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
   check_scene_chain_types(name, root["chain"], s);
 
   if (const YAML::Node p = root["placement"]) {
-    check_keys(c, p, "placement", {"position_m", "heading_deg", "at", "inset_m"});
+    c.keys(p, "placement", {"position_m", "heading_deg", "at", "inset_m"});
     if (const YAML::Node pos = p["position_m"]) {
       if (!pos.IsSequence() || pos.size() != 3)
-        fail(c, pos, "'placement.position_m' must be a list of 3 numbers [x, y, z]");
+        c.fail(pos, "'placement.position_m' must be a list of 3 numbers [x, y, z]");
       for (int i = 0; i < 3; ++i) {
         try {
           s.world.head_position[i] = pos[i].as<double>();
         } catch (const YAML::Exception&) {
-          fail(c, pos[i], "'placement.position_m' must be a list of 3 numbers [x, y, z]");
+          c.fail(pos[i], "'placement.position_m' must be a list of 3 numbers [x, y, z]");
         }
       }
     }
-    s.world.heading_rad = get_double(c, p, "heading_deg", 0.0, -360.0, 360.0, "placement") * M_PI / 180.0;
+    s.world.heading_rad = c.number(p, "heading_deg", 0.0, -360.0, 360.0, "placement") * M_PI / 180.0;
     load_scene_placement_at(name, p, &s.world);  // at: pipe_entry
   }
 
   s.central = {"central", "fw-central", {}};
   if (const YAML::Node ce = root["central"]) {
-    check_keys(c, ce, "central", {"program", "params"});
+    c.keys(ce, "central", {"program", "params"});
     s.central.firmware = get_string(c, ce, "program", "fw-central", "central");
     s.central.params = get_params(c, ce, "central");
   }
 
   if (const YAML::Node o = root["output"]) {
-    check_keys(c, o, "output", {"trace_hz"});
-    s.trace_hz = get_double(c, o, "trace_hz", s.trace_hz, 0.001, 1e6, "output");
+    c.keys(o, "output", {"trace_hz"});
+    s.trace_hz = c.number(o, "trace_hz", s.trace_hz, 0.001, 1e6, "output");
   }
   return s;
 }

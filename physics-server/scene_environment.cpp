@@ -1,6 +1,8 @@
 // Environment keys of a scene. See scene_environment.h and docs/scene-reference.md.
 #include "scene_environment.h"
 
+#include "scene_yaml.h"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -17,112 +19,8 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// the same conventions as scene.cpp: messages start with file:line:column
-struct Yaml {
-  const std::string& file;
 
-  [[noreturn]] void fail(const YAML::Node& n, const std::string& what) const {
-    std::ostringstream s;
-    s << file;
-    const YAML::Mark m = n.Mark();
-    if (m.line >= 0) s << ":" << (m.line + 1) << ":" << (m.column + 1);
-    throw SceneError(s.str() + ": " + what);
-  }
-  void keys(const YAML::Node& map, const std::string& path, const std::set<std::string>& allowed) const {
-    if (!map.IsMap()) fail(map, "'" + path + "' must be a mapping");
-    for (const auto& kv : map) {
-      const std::string key = kv.first.as<std::string>();
-      if (allowed.count(key)) continue;
-      std::string known;
-      for (const auto& a : allowed) known += (known.empty() ? "" : ", ") + a;
-      fail(kv.first, "unknown key '" + key + "' in '" + path + "' (known: " + known + ")");
-    }
-  }
-  // a number in [lo, hi]; lo_open: > lo
-  double number(const YAML::Node& map, const std::string& key, double dflt, double lo, double hi,
-                const std::string& path, bool lo_open = false) const {
-    const YAML::Node n = map[key];
-    if (!n) return dflt;
-    double v = 0;
-    try {
-      v = n.as<double>();
-    } catch (const YAML::Exception&) {
-      fail(n, "'" + path + "." + key + "' must be a number");
-    }
-    std::ostringstream s;
-    s << "'" << path << "." << key << "' = " << v;
-    if (lo_open && lo == 0 && !(v > 0)) fail(n, s.str() + " must be > 0");
-    if (!std::isfinite(v) || v < lo || v > hi || (lo_open && v <= lo)) {
-      s << " is out of range " << (lo_open ? "(" : "[") << lo << ", " << hi << "]";
-      fail(n, s.str());
-    }
-    return v;
-  }
-  double positive(const YAML::Node& map, const std::string& key, double dflt, double hi,
-                  const std::string& path) const {
-    return number(map, key, dflt, 0.0, hi, path, true);
-  }
-  std::string text(const YAML::Node& map, const std::string& key, const std::string& dflt,
-                   const std::string& path) const {
-    const YAML::Node n = map[key];
-    if (!n) return dflt;
-    if (!n.IsScalar() || n.as<std::string>().empty())
-      fail(n, "'" + path + "." + key + "' must be a non-empty string");
-    return n.as<std::string>();
-  }
-  bool flag(const YAML::Node& map, const std::string& key, bool dflt, const std::string& path) const {
-    const YAML::Node n = map[key];
-    if (!n) return dflt;
-    try {
-      return n.as<bool>();
-    } catch (const YAML::Exception&) {
-      fail(n, "'" + path + "." + key + "' must be true or false");
-    }
-  }
-  Eigen::Vector3d vec3(const YAML::Node& map, const std::string& key, const Eigen::Vector3d& dflt,
-                       const std::string& path) const {
-    const YAML::Node n = map[key];
-    if (!n) return dflt;
-    const std::string msg = "'" + path + "." + key + "' must be a list of 3 numbers [x, y, z]";
-    if (!n.IsSequence() || n.size() != 3) fail(n, msg);
-    Eigen::Vector3d v;
-    for (int i = 0; i < 3; ++i) {
-      try {
-        v[i] = n[i].as<double>();
-      } catch (const YAML::Exception&) {
-        fail(n[i], msg);
-      }
-      if (!std::isfinite(v[i])) fail(n[i], msg);
-    }
-    return v;
-  }
-  // one of choices
-  std::string choice(const YAML::Node& map, const std::string& key, const std::string& dflt,
-                     const std::vector<std::string>& choices, const std::string& path) const {
-    const std::string v = text(map, key, dflt, path);
-    std::string known;
-    for (const auto& c : choices) {
-      if (c == v) return v;
-      known += (known.empty() ? "" : ", ") + c;
-    }
-    fail(map[key], "'" + path + "." + key + "' '" + v + "' is not known (known: " + known + ")");
-  }
-  Material material(const YAML::Node& n, const std::string& path, const Material& dflt,
-                    bool allow_between = false) const {
-    if (allow_between)
-      keys(n, path, {"between", "mu", "bounce", "soft_erp", "soft_cfm"});
-    else
-      keys(n, path, {"mu", "bounce", "soft_erp", "soft_cfm"});
-    Material m = dflt;
-    m.mu = number(n, "mu", m.mu, 0.0, 100.0, path);
-    m.bounce = number(n, "bounce", m.bounce, 0.0, 1.0, path);
-    m.soft_erp = number(n, "soft_erp", m.soft_erp, 0.0, 1.0, path);
-    m.soft_cfm = number(n, "soft_cfm", m.soft_cfm, 0.0, 1.0, path);
-    return m;
-  }
-};
-
-PipeSegment load_segment(const Yaml& y, const YAML::Node& n, const std::string& p, double diameter) {
+PipeSegment load_segment(const SceneYaml& y, const YAML::Node& n, const std::string& p, double diameter) {
   PipeSegment g;
   if (!n.IsMap()) y.fail(n, "'" + p + "' must be a mapping such as {type: straight, length_m: 0.5}");
   if (!n["type"]) y.fail(n, "'" + p + "' needs a 'type' (straight, elbow or tee)");
@@ -151,7 +49,7 @@ PipeSegment load_segment(const Yaml& y, const YAML::Node& n, const std::string& 
   return g;
 }
 
-void load_pipe(const Yaml& y, const YAML::Node& n, PipeSpec* pipe) {
+void load_pipe(const SceneYaml& y, const YAML::Node& n, PipeSpec* pipe) {
   const std::string p = "environment.pipe";
   y.keys(n, p, {"inner_diameter_m", "collider", "entry_m", "heading_deg", "slope_deg", "segments",
                 "mesh_segments", "surface"});
@@ -182,7 +80,7 @@ void load_pipe(const Yaml& y, const YAML::Node& n, PipeSpec* pipe) {
   }
 }
 
-void load_terrain(const Yaml& y, const YAML::Node& n, TerrainSpec* t) {
+void load_terrain(const SceneYaml& y, const YAML::Node& n, TerrainSpec* t) {
   const std::string p = "environment.terrain";
   y.keys(n, p, {"amplitude_m", "wavelength_m", "width_m", "length_m", "resolution_m", "walls",
                 "wall_height_m", "wall_thickness_m", "surface", "wall_surface"});
@@ -203,7 +101,7 @@ void load_terrain(const Yaml& y, const YAML::Node& n, TerrainSpec* t) {
   }
 }
 
-void load_mesh(const Yaml& y, const YAML::Node& n, const std::string& base_dir, MeshSpec* m) {
+void load_mesh(const SceneYaml& y, const YAML::Node& n, const std::string& base_dir, MeshSpec* m) {
   const std::string p = "environment.mesh";
   y.keys(n, p, {"file", "scale", "position_m", "rpy_deg", "surface"});
   if (!n["file"]) y.fail(n, "'" + p + "' needs 'file' (an STL, OBJ, PLY or glTF file)");
@@ -224,7 +122,7 @@ void load_mesh(const Yaml& y, const YAML::Node& n, const std::string& base_dir, 
   }
 }
 
-void load_contacts(const Yaml& y, const YAML::Node& n, WorldConfig* w) {
+void load_contacts(const SceneYaml& y, const YAML::Node& n, WorldConfig* w) {
   if (!n.IsSequence())
     y.fail(n, "'contacts' must be a list such as [{between: [pipe, module], mu: 0.4}]");
   const std::vector<std::string> env = environment_surfaces(w->environment);
@@ -261,7 +159,7 @@ void load_contacts(const Yaml& y, const YAML::Node& n, WorldConfig* w) {
 
 void load_scene_environment(const std::string& file, const std::string& base_dir,
                             const YAML::Node& e, const YAML::Node& contacts, WorldConfig* world) {
-  const Yaml y{file};
+  const SceneYaml y{file};
   EnvironmentConfig& env = world->environment;
   if (e) {
     const std::string p = "environment";
@@ -295,7 +193,7 @@ void load_scene_environment(const std::string& file, const std::string& base_dir
 
 void load_scene_placement_at(const std::string& file, const YAML::Node& placement,
                              WorldConfig* world) {
-  const Yaml y{file};
+  const SceneYaml y{file};
   const YAML::Node at = placement["at"];
   if (!at) {
     if (placement["inset_m"]) y.fail(placement["inset_m"], "'placement.inset_m' needs 'placement.at'");

@@ -7,17 +7,11 @@
 
 #include "module_file.h"
 #include "module_library.h"
+#include "scene_yaml.h"
 
 namespace chainsim {
 namespace {
 
-std::string where(const std::string& file, const YAML::Node& n) {
-  std::ostringstream s;
-  s << file;
-  const YAML::Mark m = n.Mark();
-  if (m.line >= 0) s << ":" << (m.line + 1) << ":" << (m.column + 1);
-  return s.str();
-}
 
 bool known(const WorldConfig& w, const std::string& type) {
   const auto builtin = builtin_module_names();
@@ -32,12 +26,12 @@ void load_scene_module_types(const std::string& file, const std::string& base_di
                              const YAML::Node& node, WorldConfig* world) {
   if (!node) return;
   if (!node.IsMap())
-    throw SceneError(where(file, node) +
+    throw SceneError(SceneYaml{file}.where(node) +
                      ": 'module_types' must be a mapping of type name: module definition file");
   for (const auto& kv : node) {
     const std::string name = kv.first.as<std::string>();
     if (!kv.second.IsScalar())
-      throw SceneError(where(file, kv.second) + ": 'module_types." + name +
+      throw SceneError(SceneYaml{file}.where(kv.second) + ": 'module_types." + name +
                        "' must be a file name (a module definition, docs/module-format.md)");
     std::filesystem::path path = kv.second.as<std::string>();
     if (path.is_relative() && !base_dir.empty()) path = std::filesystem::path(base_dir) / path;
@@ -45,10 +39,10 @@ void load_scene_module_types(const std::string& file, const std::string& base_di
     try {
       def = load_module_file(path.string());
     } catch (const ModuleFileError& e) {
-      throw SceneError(where(file, kv.second) + ": module type '" + name + "': " + e.what());
+      throw SceneError(SceneYaml{file}.where(kv.second) + ": module type '" + name + "': " + e.what());
     }
     if (def.type != name)
-      throw SceneError(where(file, kv.first) + ": 'module_types." + name + "': " + path.string() +
+      throw SceneError(SceneYaml{file}.where(kv.first) + ": 'module_types." + name + "': " + path.string() +
                        " defines type '" + def.type + "', not '" + name + "'");
     world->module_types.push_back(std::move(def));
   }
@@ -63,7 +57,7 @@ void check_scene_chain_types(const std::string& file, const YAML::Node& chain, c
     std::string names;
     for (const auto& n : builtin_module_names()) names += " " + n;
     for (const auto& d : scene.world.module_types) names += " " + d.type;
-    throw SceneError(where(file, at) + ": module type '" + type + "' is not known (known:" + names +
+    throw SceneError(SceneYaml{file}.where(at) + ": module type '" + type + "' is not known (known:" + names +
                      "; a scene adds its own with module_types: {name: file.yaml})");
   }
 }
