@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "headless_chromium.h"
 #include "lockstep_server.h"
 #include "viewer_page.h"
 
@@ -43,45 +44,9 @@ std::string tail_of(const fs::path& p, size_t n) {
   return t.size() > n ? "..." + t.substr(t.size() - n) : t;
 }
 
-// run argv with stdout and stderr to log; returns the exit status, or -1 on
-// a timeout (the process group is killed) or when it cannot start
-int run_logged(const std::vector<std::string>& argv, const fs::path& log, int timeout_s) {
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&fa, 1, 2);
-  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawnattr_t at;
-  posix_spawnattr_init(&at);
-  posix_spawnattr_setflags(&at, POSIX_SPAWN_SETPGROUP);
-  posix_spawnattr_setpgroup(&at, 0);
-  std::vector<char*> args;
-  for (const auto& s : argv) args.push_back(const_cast<char*>(s.c_str()));
-  args.push_back(nullptr);
-  pid_t pid = 0;
-  const int rc = posix_spawn(&pid, args[0], &fa, &at, args.data(), environ);
-  posix_spawn_file_actions_destroy(&fa);
-  posix_spawnattr_destroy(&at);
-  if (rc != 0) return -1;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(timeout_s);
-  int status = 0;
-  for (;;) {
-    const pid_t w = waitpid(pid, &status, WNOHANG);
-    if (w == pid) break;
-    if (std::chrono::steady_clock::now() > deadline) {
-      kill(-pid, SIGKILL);
-      waitpid(pid, &status, 0);
-      return -1;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  }
-  kill(-pid, SIGKILL);  // helpers Chromium may have left in its group
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
-
 int render_png(const ViewArgs& a, const std::string& page) {
-  const std::string chromium = find_chromium();
-  if (chromium.empty()) {
+  const std::string chromium_program = find_chromium();
+  if (chromium_program.empty()) {
     std::fprintf(stderr,
                  "chainsim: view --png needs Chromium, which is not installed: install the Debian package "
                  "'chromium' (apt-get install chromium; tools/setup.sh does), or set CHAINSIM_CHROMIUM\n");
@@ -98,7 +63,7 @@ int render_png(const ViewArgs& a, const std::string& page) {
     return kExitFailed;
   }
   const fs::path tmp = tmpl;
-  const fs::path html = tmp / "page.html", shot = tmp / "shot.png", log = tmp / "chromium.log";
+  const fs::path html = tmp / "page.html", log = tmp / "chromium.log";
   if (!write_file(html, page)) {
     std::fprintf(stderr, "chainsim: cannot write %s\n", html.c_str());
     return kExitFailed;
@@ -106,30 +71,39 @@ int render_png(const ViewArgs& a, const std::string& page) {
   char t[64];
   std::snprintf(t, sizeof t, "%.6g", a.png_time);
   const std::string url = "file://" + html.string() + "#t=" + t + "&hideui" + (a.hash.empty() ? "" : "&" + a.hash);
-  const std::vector<std::string> argv = {
-      chromium, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-      "--disable-background-networking", "--disable-component-update", "--disable-sync",
-      "--disable-default-apps", "--hide-scrollbars", "--mute-audio",
-      "--user-data-dir=" + (tmp / "profile").string(),
-      // without these two the screenshot may be taken before the WebGL canvas is composited
-      "--run-all-compositor-stages-before-draw", "--virtual-time-budget=5000",
-      "--window-size=" + std::to_string(w) + "," + std::to_string(h),
-      "--screenshot=" + shot.string(), url};
-  const int rc = run_logged(argv, log, kChromiumTimeoutS);
+  // the page is ready once it is posed at the time and its meshes are drawn;
+  // two animation frames later the picture is on the canvas
+  static const char* kWhenReady = R"(new Promise((resolve, reject) => {
+    const poll = () => {
+      const v = window.chainsimViewer;
+      if (v?.state.errors.length) return reject(new Error(v.state.errors.join('; ')));
+      if (v?.state.ready) return requestAnimationFrame(() => requestAnimationFrame(() => resolve(true)));
+      setTimeout(poll, 20);
+    };
+    poll();
+  }))";
   int result = kExitOk;
-  std::error_code ec;
-  if (rc != 0 || !fs::exists(shot) || fs::file_size(shot, ec) == 0) {
-    std::fprintf(stderr, "chainsim: Chromium did not render %s (%s); its output:\n%s\n", url.c_str(),
-                 rc == -1 ? "it did not start or timed out" : ("exit status " + std::to_string(rc)).c_str(),
-                 tail_of(log, 2000).c_str());
-    result = kExitFailed;
-  } else {
-    fs::copy_file(shot, a.out, fs::copy_options::overwrite_existing, ec);
-    if (ec) {
-      std::fprintf(stderr, "chainsim: cannot write %s: %s\n", a.out.c_str(), ec.message().c_str());
+  try {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(kChromiumTimeoutS);
+    std::vector<unsigned char> png;
+    {
+      HeadlessChromium chromium(chromium_program, tmp / "profile", log, w, h, deadline);
+      chromium.open(url);
+      chromium.evaluate(kWhenReady);
+      png = chromium.screenshot_png();
+    }
+    std::ofstream f(a.out, std::ios::binary | std::ios::trunc);
+    f.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+    if (!f.flush()) {
+      std::fprintf(stderr, "chainsim: cannot write %s\n", a.out.c_str());
       result = kExitFailed;
     }
+  } catch (const ChromiumError& e) {
+    std::fprintf(stderr, "chainsim: Chromium did not render %s: %s; its output:\n%s\n", url.c_str(), e.what(),
+                 tail_of(log, 2000).c_str());
+    result = kExitFailed;
   }
+  std::error_code ec;
   fs::remove_all(tmp, ec);
   return result;
 }

@@ -1,11 +1,14 @@
 // `chainsim view RUN --png T`: the picture shows the modules (pixels of the
 // rotation colour #e4572e; none in a picture of a scene without modules), it
-// changes with the time, and a missing Chromium is named in the error.
+// changes with the time, several renders at once on a busy machine all give
+// the same picture (the page says when it is drawn; no guessed delay), and a
+// missing or broken Chromium is named in the error.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { mkdirSync, writeFileSync, readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { chainsim, launch, makeRun, pngStats, tempDir, cleanup } from './util.mjs';
+import { existsSync } from 'node:fs';
+import { chainsim, launch, makeRun, pngStats, startChainsim, tempDir, cleanup } from './util.mjs';
 
 let browser, run, dir;
 
@@ -60,4 +63,25 @@ test('a missing Chromium is named in the error', () => {
     { env: { ...process.env, CHAINSIM_CHROMIUM: '/nonexistent/chromium' } });
   assert.notEqual(r.code, 0);
   assert.match(r.stderr, /Debian package 'chromium'/);
+});
+
+test('four renders at once on two cores all give the same picture', async () => {
+  const ref = png(run, 1.0, 'busy-ref.png');
+  const outs = [0, 1, 2, 3].map((k) => join(dir, `busy-${k}.png`));
+  const procs = outs.map((o) => startChainsim(['view', run, '--png', '1.0', '--out', o, '--size', '640x400']));
+  const codes = await Promise.all(procs.map((p) => p.exited));
+  codes.forEach((c, k) => assert.equal(c, 0, procs[k].stderrText));
+  for (const o of outs) {
+    const s = await pngStats(browser, o, ref);
+    assert.ok(s.rotation > 2000, `${o}: only ${s.rotation} pixels of the rotation colour`);
+    assert.ok(s.changed < 0.002 * s.width * s.height, `${o}: ${s.changed} pixels differ from the picture made alone`);
+  }
+});
+
+test('a program that is not Chromium: an error naming it, no picture', () => {
+  const out = join(dir, 'not-chromium.png');
+  const r = chainsim(['view', run, '--png', '1', '--out', out], { env: { ...process.env, CHAINSIM_CHROMIUM: '/bin/true' } });
+  assert.equal(r.code, 3, r.stderr);
+  assert.match(r.stderr, /Chromium did not render .*DevTools pipe/);
+  assert.ok(!existsSync(out));
 });
