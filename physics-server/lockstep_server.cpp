@@ -110,7 +110,8 @@ class Server : public BarrierSink {
                          : World::servo_from_wire(kind, static_cast<int32_t>(std::lround(rad * 180.0 / M_PI * 1000.0)));
     world_.set_servo_enabled(module, servo, enabled);
     if (enabled) world_.set_servo_setpoint(module, servo, v);
-    if (record_) record_->push_back({now_us_, static_cast<int16_t>(module), static_cast<int8_t>(servo),
+    // applied after the step of this tick: in force from the next one
+    if (record_) record_->push_back({now_us_ + scene_.tick_us, static_cast<int16_t>(module), static_cast<int8_t>(servo),
                                      static_cast<int8_t>(enabled), v});
   }
   void bus_event(int64_t t_us, const char* line) override {
@@ -150,7 +151,11 @@ class Server : public BarrierSink {
   void start_processes();
   bool handshake();
   void on_hello(std::shared_ptr<ModuleLink> link);
-  bool exchange(const std::vector<int>& awake);
+  // one tick's exchange, in two halves with the physics step between them:
+  // send_begin sends each awake endpoint its TickBegin (sensors at now),
+  // collect_end reads their TickEnds and stores them in the barrier
+  bool send_begin(const std::vector<int>& awake);
+  bool collect_end(const std::vector<int>& awake);
   // a fault of e: returns true if the run goes on (limp mode)
   bool fault(Endpoint& e, const std::string& what);
   std::string describe_end(Endpoint& e, const std::string& what);
@@ -338,7 +343,7 @@ bool Server::fault(Endpoint& e, const std::string& what) {
   return false;
 }
 
-bool Server::exchange(const std::vector<int>& awake) {
+bool Server::send_begin(const std::vector<int>& awake) {
   cs_msg msg{};
   msg.type = CS_MSG_TICK_BEGIN;
   for (int i : awake) {
@@ -368,6 +373,10 @@ bool Server::exchange(const std::vector<int>& awake) {
     }
     ++exchanges_;
   }
+  return true;
+}
+
+bool Server::collect_end(const std::vector<int>& awake) {
   // collect every reply, in index order (the order they are applied in anyway);
   // attached modules (maybe in a debugger) have no deadline
   const auto deadline = Clock::now() + std::chrono::duration<double>(opt_.module_timeout_s);
@@ -471,17 +480,26 @@ RunResult Server::run() {
   const double vs = scene_.world.servo.supply_v;
   const double dt_s = world_.dt_us() * 1e-6;
   while (ok && now_us_ < end_us) {
+    // The modules compute this tick while the physics steps through it: they
+    // get the sensors at now, and their outputs (set-points) are in force
+    // from the next tick, one HAL tick of actuation latency, as on the board
+    // where a set-point waits for the next servo pulse anyway. The bus and
+    // the sync lines see the outputs at now, as before.
     barrier_->due(now_us_, &awake, this);
-    if (!awake.empty() && !exchange(awake)) {
+    if (!awake.empty() && !send_begin(awake)) {
       ok = false;
       break;
     }
-    barrier_->apply(now_us_, this);
     for (int k = 0; k < substeps; ++k) {
       world_.step();
       for (int m = 0; m < n_modules_; ++m) energy_j_[m] += world_.module_supply_current_a(m) * vs * dt_s;
       trace_clock.maybe_write(world_, &row, write_row);
     }
+    if (!awake.empty() && !collect_end(awake)) {
+      ok = false;
+      break;
+    }
+    barrier_->apply(now_us_, this);
     now_us_ += scene_.tick_us;
     log_touch_edges();
     io_.poll();
