@@ -31,26 +31,31 @@ void ModuleLink::async_receive(Handler handler) {
 ModuleLink::Receive ModuleLink::receive(int timeout_ms) {
   const int fd = socket_.native_handle();
   for (;;) {
-    const size_t need = rpos_ < 4 ? 4 : 4 + body_len_;
-    if (rpos_ == need) {
-      rpos_ = 0;
+    // a whole frame in the buffer: decode it and keep what follows it
+    if (sfill_ >= 4) {
+      uint32_t len = 0;
       const char* reason = nullptr;
-      if (cs_decode(rbuf_.data() + 4, body_len_, &in_, &reason) != CS_OK) {
-        error_ = std::string("sent a malformed frame: ") + (reason ? reason : "?");
+      if (cs_body_length(sbuf_.data(), &len, &reason) != CS_OK) {
+        error_ = std::string("sent a malformed frame: ") + (reason ? reason : "bad length");
         return Receive::Failed;
       }
-      return Receive::Ready;
-    }
-    const ssize_t n = ::recv(fd, rbuf_.data() + rpos_, need - rpos_, MSG_DONTWAIT);
-    if (n > 0) {
-      rpos_ += static_cast<size_t>(n);
-      if (rpos_ == 4) {
-        const char* reason = nullptr;
-        if (cs_body_length(rbuf_.data(), &body_len_, &reason) != CS_OK) {
-          error_ = std::string("sent a malformed frame: ") + (reason ? reason : "bad length");
+      if (sfill_ >= 4 + len) {
+        const int st = cs_decode(sbuf_.data() + 4, len, &in_, &reason);
+        sfill_ -= 4 + len;
+        std::memmove(sbuf_.data(), sbuf_.data() + 4 + len, sfill_);
+        if (st != CS_OK) {
+          error_ = std::string("sent a malformed frame: ") + (reason ? reason : "?");
           return Receive::Failed;
         }
+        return Receive::Ready;
       }
+    }
+    // read what is there (usually the whole frame in one call); the buffer
+    // holds two frames of the largest size, so a frame always fits after a
+    // part of one
+    const ssize_t n = ::recv(fd, sbuf_.data() + sfill_, sbuf_.size() - sfill_, MSG_DONTWAIT);
+    if (n > 0) {
+      sfill_ += static_cast<size_t>(n);
       continue;
     }
     if (n == 0) {

@@ -49,7 +49,9 @@ class ModuleLink {
   std::array<uint8_t, 4 + CS_BODY_MAX> rbuf_{};
   std::array<uint8_t, 4 + CS_BODY_MAX> wbuf_{};
   uint32_t body_len_ = 0;
-  size_t rpos_ = 0;      // bytes of the current frame received (sync path)
+  // the sync path's buffer: bytes received and not yet decoded
+  std::array<uint8_t, 2 * (4 + CS_BODY_MAX)> sbuf_{};
+  size_t sfill_ = 0;
   std::string error_;
   cs_msg in_{};
   Handler handler_;

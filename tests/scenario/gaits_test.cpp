@@ -127,7 +127,7 @@ Motion run_gait(const std::string& name, double duration_s, std::pair<std::strin
 
 }  // namespace
 
-// measured (10 s): forward dx = +0.295 m, backward dx = -0.309 m
+// measured (10 s): forward dx = +0.295 m, backward dx = -0.305 m
 TEST(Gaits, ForwardAdvancesAlongTheChainAxisAndBackwardReverses) {
   const Motion f = run_gait("default", 6);
   const Motion b = run_gait("snake-backward", 6);
@@ -138,7 +138,7 @@ TEST(Gaits, ForwardAdvancesAlongTheChainAxisAndBackwardReverses) {
   EXPECT_GT(std::fabs(b.dx), 2 * std::fabs(b.dy)) << b.text();
 }
 
-// measured (10 s): left +81 deg, right -80 deg, both still advancing ~0.28 m
+// measured (10 s): left +80 deg, right -81 deg, both still advancing 0.26-0.28 m
 TEST(Gaits, TurnLeftAndRightChangeTheHeadingInOppositeDirections) {
   const Motion l = run_gait("snake-turn-left", 8);
   const Motion r = run_gait("snake-turn-right", 8);
@@ -163,7 +163,7 @@ TEST(Gaits, RollSpinsTheChainAboutItsAxisAndRollsItSideways) {
   EXPECT_LT(std::fabs(m.heading_deg), 30) << m.text();
 }
 
-// measured (10 s): heading -543 deg, centroid moved 0.05 m
+// measured (10 s): heading -545 deg, centroid moved 0.06 m
 TEST(Gaits, RotateInPlaceTurnsTheHeadingWithLittleDisplacement) {
   const Motion cw = run_gait("snake-rotate", 6);
   EXPECT_LT(cw.heading_deg, -180) << cw.text();  // w > 0: clockwise
@@ -174,7 +174,7 @@ TEST(Gaits, RotateInPlaceTurnsTheHeadingWithLittleDisplacement) {
   EXPECT_LT(std::hypot(ccw.dx, ccw.dy), 0.12) << ccw.text();
 }
 
-// measured (10 s): centroid 1.28 m to -y, 0.09 m along x, heading -2 deg
+// measured (10 s): centroid 1.28 m to -y, 0.09 m along x, heading -1 deg
 TEST(Gaits, LateralShiftMovesTheChainSideways) {
   const Motion m = run_gait("snake-lateral-shift", 6);
   EXPECT_LT(m.lateral, -0.3) << m.text();  // w > 0: to the chain's right
