@@ -8,7 +8,7 @@ import { launch, makeRun, newPage, sha256File, startChainsim, tempDir, waitFor, 
 import { readFileSync } from 'node:fs';
 
 let browser, dir;
-const DURATION = 3;
+const DURATION = 6;  // about a second of wall time: many 40 ms frames
 
 before(async () => {
   dir = tempDir('live');
@@ -29,18 +29,16 @@ test('the live page receives frames during the run; the trace is unchanged', asy
   const page = await newPage(browser);
   await page.goto(url);
   const state = () => page.evaluate(() => ({ ...window.chainsimViewer.state }));
-  // frames arrive while the run is still going
-  const during = await waitFor(async () => {
-    const s = await state();
-    return s.rowsReceived > 0 ? s : null;
-  }, 60000, 'the first frames');
-  assert.equal(during.finished, false, 'the first frames came only with the end of the run');
   await waitFor(async () => (await state()).finished, 120000, 'finished');
   const code = await within(cs.exited, 15000, 'still running');
   assert.equal(code, 0, cs.stderrText);
   const st = await state();
   const rows = readFileSync(join(dir, 'live', 'trace.csv'), 'utf8').trim().split('\n').length - 1;
   assert.equal(st.rowsReceived, rows, 'every trace row reached the page');
+  // frames arrive while the run is still going: the server sends what the
+  // run produced every 40 ms, so a run of about half a second comes in many
+  // messages before 'finished' (counted by the page, whatever the test's timing)
+  assert.ok(st.messagesAtFinish >= 3, `only ${st.messagesAtFinish} messages of rows before the end of the run`);
   assert.ok(await page.evaluate(() => window.chainsimViewer.data.summary?.trace_sha256), 'summary received');
   assert.deepEqual(page.problems, []);
   await page.close();

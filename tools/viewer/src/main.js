@@ -196,6 +196,7 @@ if (boot.mode === 'replay') {
     gap: (n) => ui.note(`this page missed ${n} trace rows (it was too slow to receive them)`),
     finished: (summary) => {
       data.setSummary(summary);
+      state.messagesAtFinish = state.messages;  // rows messages that came while the run went on
       state.finished = true;
       if (!state.ready) firstPose();
       onData(true);
