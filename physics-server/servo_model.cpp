@@ -48,6 +48,12 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
   if (!backlash) engaged_ = true;
   // the rotor's rate now: the joint's, or its own while it crosses the gap
   const double wr = engaged_ ? w : wm_;
+  // backlash: the step after the gap closed is the (plastic) impact: the rotor
+  // still has its own rate wm_ and its momentum J wm_ joins the joint's (rather
+  // than being lost); the gap does not reopen within that step
+  const bool impact = closed_;
+  closed_ = false;
+  const double w_rotor = impact ? wm_ : w;
   StepLaw law;
   // rotor inertia, implicit on the joint rate: -J (w' - w)/h
   const double jh = p_.j / h;
@@ -97,7 +103,7 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
   if (backlash) {
     const double g = 0.5 * p_.backlash_deg * kPi / 180.0;
     const double tq = i0 - ci * wr;  // sign of the motor torque about to act
-    if (engaged_ && tq * delta_ < 0.0) {  // pulls away from the contact side: the gap opens
+    if (engaged_ && !impact && tq * delta_ < 0.0) {  // pulls away from the contact side: the gap opens
       engaged_ = false;
       wm_ = w;
     }
@@ -110,6 +116,7 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
       if (std::fabs(delta_) >= g) {  // the gap closes (inelastic)
         delta_ = std::copysign(g, delta_);
         engaged_ = true;
+        closed_ = true;
       }
       law.damping = dc + 1e-9;
       law.target_rate = tc0 / law.damping;
@@ -119,7 +126,7 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
   // step-average electromagnetic torque = t0 - c_emf w'
   const double t0 = p_.kt * i0, c_emf = p_.kt * ci;
   law.damping = c_emf + p_.b + jh + dc;
-  law.target_rate = (t0 + tc0 + jh * w) / law.damping;
+  law.target_rate = (t0 + tc0 + jh * w_rotor) / law.damping;
   return law;
 }
 
@@ -157,6 +164,7 @@ void ServoModel::reset_state() {
   delta_ = 0.0;
   wm_ = 0.0;
   engaged_ = !(p_.backlash_deg > 0.0);
+  closed_ = false;
 }
 
 }  // namespace chainsim

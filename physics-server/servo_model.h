@@ -63,7 +63,9 @@
 //    side the motor torque pushes, the law is the full one; while the motor
 //    crosses the gap the joint gets no motor torque and the rotor (J, B, the
 //    electrical circuit, back-EMF at the rotor rate) is integrated here,
-//    implicitly; the gap closes inelastically.
+//    implicitly; the gap closes inelastically (a plastic impact: the step
+//    after closing takes the rotor's momentum J wm at its own rate into the
+//    joint's, and the gap cannot reopen within that step).
 //  * deadband  deadband_deg: the servo amplifier ignores position errors within
 //    +-deadband/2 (continuous dead zone on the error before Kp).
 //  * supply_sag  supply_sag_ohm: internal resistance of the supply; the bridge's
@@ -166,6 +168,7 @@ class ServoModel {
   double wm_ = 0.0;          // backlash: motor-side rate, rad/s
   bool engaged_ = true;      // backlash: gap closed
   bool gap_step_ = false;    // backlash: this step the rotor crossed the gap alone
+  bool closed_ = false;      // backlash: the gap closed in the last step (rotor rate wm_)
   // held over the current step
   double ea_ = 0.0;
   bool drive_ = true;   // enabled_ at begin_step
