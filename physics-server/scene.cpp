@@ -134,10 +134,12 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
   s.world.seed = s.seed;
 
   if (const YAML::Node p = root["physics"]) {
-    c.keys(p, "physics", {"dt_us", "tick_us", "gravity_m_s2"});
+    c.keys(p, "physics", {"dt_us", "tick_us", "gravity_m_s2", "solver_iterations"});
     s.world.dt_us = get_int(c, p, "dt_us", s.world.dt_us, 10, 100000, "physics");
     s.tick_us = get_int(c, p, "tick_us", s.tick_us, 10, 1000000, "physics");
     s.world.gravity_m_s2 = c.number(p, "gravity_m_s2", s.world.gravity_m_s2, 0.0, 100.0, "physics");
+    s.world.solver_iterations =
+        static_cast<int>(get_int(c, p, "solver_iterations", s.world.solver_iterations, 1, 10000, "physics"));
     if (s.tick_us % s.world.dt_us != 0)
       c.fail(p, "'physics.tick_us' (" + std::to_string(s.tick_us) +
                      ") must be a multiple of 'physics.dt_us' (" + std::to_string(s.world.dt_us) + ")");

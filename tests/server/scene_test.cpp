@@ -86,3 +86,11 @@ TEST(Scene, MalformedYamlGivesTheParserPosition) {
   EXPECT_EQ(e.rfind("s.yaml:", 0), 0u) << e;
   EXPECT_NE(e, "(no error)");
 }
+
+TEST(Scene, SolverIterationsAreAPhysicsSetting) {
+  EXPECT_EQ(load_scene_text("chain: R\n", "s.yaml").world.solver_iterations, 30);
+  EXPECT_EQ(load_scene_text("chain: R\nphysics: {solver_iterations: 200}\n", "s.yaml").world.solver_iterations, 200);
+  const std::string e = error_of("chain: R\nphysics: {solver_iterations: 0}\n");
+  EXPECT_NE(e.find("s.yaml:2:"), std::string::npos) << e;
+  EXPECT_NE(e.find("solver_iterations"), std::string::npos) << e;
+}
