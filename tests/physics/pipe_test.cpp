@@ -269,8 +269,10 @@ TEST(PipeWorld, AnalyticPipeHoldsAModuleAtAnySlope) {
 // two tracks over 0.4 s:
 //  * ball: 0.2 mm + 1.5% of the distance travelled, with or without friction;
 //  * capsule: dropped (mu 0.3) 1 mm; sliding frictionless 0.5 mm + 1.5%;
-//    sliding with mu 0.3 10% of the distance: ODE's capsule-trimesh
-//    contacts (edges of the groove) twist the capsule and add friction.
+//    sliding with mu 0.3 0.5 mm + 3% (measured 3.0 mm over 0.19 m, 1.6%).
+//    Before the friction pyramid was turned along the sliding (world.cpp)
+//    this needed 10%: the groove's two tilted contacts each had their own
+//    pyramid directions and together held the capsule back 7-9%.
 //    Frictionless and dropped, the capsule rocks sideways in the groove with
 //    nothing to damp it (5 mm): not compared.
 TEST(PipeWorld, MeshPipeAndAnalyticPipeMoveABodyAlike) {
@@ -280,7 +282,7 @@ TEST(PipeWorld, MeshPipeAndAnalyticPipeMoveABodyAlike) {
   };
   for (const Case& k : {Case{"ball", 0, 0, 2e-4, 0.015}, Case{"ball", -30, 0, 2e-4, 0.015},
                         Case{"ball", -30, 0.3, 2e-4, 0.015}, Case{"passive", 0, 0.3, 1e-3, 0},
-                        Case{"passive", -30, 0, 5e-4, 0.015}, Case{"passive", -30, 0.3, 0, 0.10}}) {
+                        Case{"passive", -30, 0, 5e-4, 0.015}, Case{"passive", -30, 0.3, 5e-4, 0.03}}) {
     std::vector<Eigen::Vector3d> track[2];
     for (int mesh = 0; mesh < 2; ++mesh) {
       WorldConfig c = pipe_world(pipe_of({straight(1.0, k.slope)}), {k.type},

@@ -127,7 +127,7 @@ Motion run_gait(const std::string& name, double duration_s, std::pair<std::strin
 
 }  // namespace
 
-// measured (10 s): forward dx = +0.295 m, backward dx = -0.305 m
+// measured (10 s): forward dx = +0.299 m, backward dx = -0.296 m
 TEST(Gaits, ForwardAdvancesAlongTheChainAxisAndBackwardReverses) {
   const Motion f = run_gait("default", 6);
   const Motion b = run_gait("snake-backward", 6);
@@ -138,7 +138,7 @@ TEST(Gaits, ForwardAdvancesAlongTheChainAxisAndBackwardReverses) {
   EXPECT_GT(std::fabs(b.dx), 2 * std::fabs(b.dy)) << b.text();
 }
 
-// measured (10 s): left +80 deg, right -81 deg, both still advancing 0.26-0.28 m
+// measured (10 s): left +84 deg, right -80 deg, both still advancing about 0.27 m
 TEST(Gaits, TurnLeftAndRightChangeTheHeadingInOppositeDirections) {
   const Motion l = run_gait("snake-turn-left", 8);
   const Motion r = run_gait("snake-turn-right", 8);
@@ -152,7 +152,7 @@ TEST(Gaits, TurnLeftAndRightChangeTheHeadingInOppositeDirections) {
   EXPECT_LT(r.dy, -0.03) << r.text();
 }
 
-// measured (10 s): twist 4340 deg (w = 8 rad/s), centroid 0.34 m to -y
+// measured (10 s): twist 4340 deg (w = 8 rad/s), centroid 0.31 m to -y
 TEST(Gaits, RollSpinsTheChainAboutItsAxisAndRollsItSideways) {
   const Motion m = run_gait("snake-roll", 5);
   // w t = 40 rad = 2290 deg if it turned with the wave; at least two turns
@@ -163,7 +163,7 @@ TEST(Gaits, RollSpinsTheChainAboutItsAxisAndRollsItSideways) {
   EXPECT_LT(std::fabs(m.heading_deg), 30) << m.text();
 }
 
-// measured (10 s): heading -545 deg, centroid moved 0.06 m
+// measured (10 s): heading -558 deg, centroid moved 0.05 m
 TEST(Gaits, RotateInPlaceTurnsTheHeadingWithLittleDisplacement) {
   const Motion cw = run_gait("snake-rotate", 6);
   EXPECT_LT(cw.heading_deg, -180) << cw.text();  // w > 0: clockwise
