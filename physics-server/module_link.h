@@ -49,7 +49,9 @@ class ModuleLink {
   std::array<uint8_t, 4 + CS_BODY_MAX> rbuf_{};
   std::array<uint8_t, 4 + CS_BODY_MAX> wbuf_{};
   uint32_t body_len_ = 0;
-  // the sync path's buffer: bytes received and not yet decoded
+  // the sync path's buffer: bytes received and not yet decoded. It may hold
+  // the start of the next frame, which the async path would not see: never
+  // call async_receive() after receive() (the server uses async only for HELLO)
   std::array<uint8_t, 2 * (4 + CS_BODY_MAX)> sbuf_{};
   size_t sfill_ = 0;
   std::string error_;

@@ -46,13 +46,14 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
   time_s_ += h;
   const bool backlash = p_.backlash_deg > 0.0 && p_.j > 0.0;
   if (!backlash) engaged_ = true;
-  // the rotor's rate now: the joint's, or its own while it crosses the gap
-  const double wr = engaged_ ? w : wm_;
   // backlash: the step after the gap closed is the (plastic) impact: the rotor
   // still has its own rate wm_ and its momentum J wm_ joins the joint's (rather
   // than being lost); the gap does not reopen within that step
   const bool impact = closed_;
   closed_ = false;
+  // the rotor's rate now: the joint's, or its own while it crosses the gap
+  // and in the impact step
+  const double wr = engaged_ && !impact ? w : wm_;
   const double w_rotor = impact ? wm_ : w;
   StepLaw law;
   // rotor inertia, implicit on the joint rate: -J (w' - w)/h

@@ -222,7 +222,12 @@ struct World::Impl {
     const double a = std::atan2(vq, vp);
     const double turn = (a - std::round(a / (M_PI / 2)) * (M_PI / 2)) *
                         (s2 / (s2 + kFrictionTurnSpeed * kFrictionTurnSpeed));
-    const Eigen::Vector3d d = std::cos(turn) * p + std::sin(turn) * q;
+    // (Between the two ends the turn jumps from +w 45 to -w 45 degrees where
+    // the sliding crosses a diagonal of the pyramid: no continuous blend of
+    // "turn with the sliding" and "do not turn" exists on a quarter-turn
+    // circle. The jump is 0 at both ends and largest, 45 degrees, at 1 cm/s.)
+    Eigen::Vector3d d = std::cos(turn) * p + std::sin(turn) * q;
+    d.normalize();  // p, q are unit for a unit normal; the pipe geoms write their own normals
     c.surface.mode |= dContactFDir1;
     c.fdir1[0] = d.x();
     c.fdir1[1] = d.y();

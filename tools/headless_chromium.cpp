@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <thread>
@@ -16,6 +17,8 @@
 extern char** environ;
 
 namespace chainsim {
+
+volatile sig_atomic_t HeadlessChromium::interrupted = 0;
 
 namespace {
 
@@ -44,7 +47,7 @@ std::vector<unsigned char> base64_decode(const std::string& text) {
 HeadlessChromium::HeadlessChromium(const std::string& program, const std::filesystem::path& profile_dir,
                                    const std::filesystem::path& log, int width, int height,
                                    Clock::time_point deadline)
-    : width_(width), height_(height), deadline_(deadline) {
+    : program_(program), width_(width), height_(height), deadline_(deadline) {
   int sv[2];
   if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0)
     throw ChromiumError(std::string("socketpair: ") + std::strerror(errno));
@@ -53,6 +56,9 @@ HeadlessChromium::HeadlessChromium(const std::string& program, const std::filesy
       program, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
       "--disable-background-networking", "--disable-component-update", "--disable-sync",
       "--disable-default-apps", "--hide-scrollbars", "--mute-audio", "--remote-debugging-pipe",
+      // WebGL in software (SwiftShader): Chromium warns that it will stop
+      // falling back to it without this flag
+      "--enable-unsafe-swiftshader",
       "--user-data-dir=" + profile_dir.string(),
       "--window-size=" + std::to_string(width) + "," + std::to_string(height), "about:blank"};
   posix_spawn_file_actions_t fa;
@@ -104,14 +110,33 @@ void HeadlessChromium::send(const nlohmann::json& msg) {
   while (done < text.size()) {
     const ssize_t n = ::send(to_, text.data() + done, text.size() - done, MSG_NOSIGNAL);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) throw ChromiumError("Chromium closed its DevTools pipe (it ended?)");
+    if (n <= 0) throw ChromiumError(ended());
     done += static_cast<size_t>(n);
   }
 }
 
+std::string HeadlessChromium::ended() {
+  // the pipe closed: Chromium ended, or is ending; say how if it did
+  std::string how = "did not say why";
+  const auto until = Clock::now() + std::chrono::seconds(1);
+  int status = 0;
+  while (pid_ > 0 && Clock::now() < until) {
+    if (waitpid(pid_, &status, WNOHANG) == pid_) {
+      kill(-pid_, SIGKILL);  // helpers it may have left in its group
+      pid_ = -1;
+      how = WIFEXITED(status) ? "exit status " + std::to_string(WEXITSTATUS(status))
+                              : std::string("signal ") + strsignal(WTERMSIG(status));
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return program_ + " closed its DevTools pipe (" + how + ")";
+}
+
 nlohmann::json HeadlessChromium::receive() {
+  size_t scanned = 0;  // bytes of inbox_ known to hold no NUL
   for (;;) {
-    if (const size_t end = inbox_.find('\0'); end != std::string::npos) {
+    if (const size_t end = inbox_.find('\0', scanned); end != std::string::npos) {
       nlohmann::json msg = nlohmann::json::parse(inbox_.begin(), inbox_.begin() + static_cast<long>(end),
                                                  nullptr, false);
       inbox_.erase(0, end + 1);
@@ -119,15 +144,17 @@ nlohmann::json HeadlessChromium::receive() {
       return msg;
     }
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline_ - Clock::now()).count();
-    if (left <= 0) throw ChromiumError("timed out waiting for Chromium");
+    if (left <= 0) throw Timeout();
+    if (interrupted) throw ChromiumError(std::string("interrupted by ") + strsignal(interrupted));
     pollfd p{from_, POLLIN, 0};
-    const int r = poll(&p, 1, static_cast<int>(std::min<long long>(left, 1000)));
+    const int r = poll(&p, 1, static_cast<int>(std::min<long long>(left, 200)));
     if (r < 0 && errno != EINTR) throw ChromiumError(std::string("poll: ") + std::strerror(errno));
     if (r <= 0) continue;
     char buf[65536];
     const ssize_t n = read(from_, buf, sizeof buf);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) throw ChromiumError("Chromium closed its DevTools pipe (it ended?)");
+    if (n <= 0) throw ChromiumError(ended());
+    scanned = inbox_.size();
     inbox_.append(buf, static_cast<size_t>(n));
   }
 }
@@ -138,8 +165,21 @@ nlohmann::json HeadlessChromium::call(const std::string& method, const nlohmann:
   if (in_page) msg["sessionId"] = session_;
   send(msg);
   for (;;) {
-    nlohmann::json reply = receive();
-    if (!reply.contains("id") || reply["id"] != id) continue;  // events, other replies
+    nlohmann::json reply;
+    try {
+      reply = receive();
+    } catch (const Timeout&) {
+      throw ChromiumError(method + ": no answer from Chromium in time");
+    }
+    // an exception the page did not catch (Runtime.enable is on) ends the wait
+    if (reply.value("method", "") == "Runtime.exceptionThrown" && reply.value("sessionId", "") == session_) {
+      const nlohmann::json d = reply["params"].value("exceptionDetails", nlohmann::json::object());
+      std::string what = d.value("text", "an exception");
+      if (d.contains("exception") && d["exception"].is_object())
+        what += ": " + d["exception"].value("description", d["exception"].value("value", nlohmann::json()).dump());
+      throw ChromiumError("the page threw " + what);
+    }
+    if (!reply.contains("id") || reply["id"] != id) continue;  // other events, other replies
     if (reply.contains("error"))
       throw ChromiumError(method + ": " + reply["error"].value("message", reply["error"].dump()));
     return reply.value("result", nlohmann::json::object());
@@ -161,6 +201,7 @@ void HeadlessChromium::open(const std::string& url) {
     }
   }
   session_ = call("Target.attachToTarget", {{"targetId", target}, {"flatten", true}}, false).value("sessionId", "");
+  call("Runtime.enable", nlohmann::json::object(), true);  // uncaught exceptions are reported
   // the window size is not the page's: set the viewport itself
   call("Emulation.setDeviceMetricsOverride",
        {{"width", width_}, {"height", height_}, {"deviceScaleFactor", 1}, {"mobile", false}}, true);
@@ -182,7 +223,11 @@ nlohmann::json HeadlessChromium::evaluate(const std::string& expression) {
 
 std::vector<unsigned char> HeadlessChromium::screenshot_png() {
   const nlohmann::json r = call("Page.captureScreenshot", {{"format", "png"}}, true);
-  return base64_decode(r.value("data", ""));
+  std::vector<unsigned char> png = base64_decode(r.value("data", ""));
+  static const unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (png.size() < 8 || !std::equal(kSignature, kSignature + 8, png.begin()))
+    throw ChromiumError("Page.captureScreenshot gave no PNG (" + std::to_string(png.size()) + " bytes)");
+  return png;
 }
 
 }  // namespace chainsim

@@ -6,6 +6,7 @@
 // the page needs, so a loaded machine gets the same picture, only later.
 #pragma once
 
+#include <signal.h>
 #include <sys/types.h>
 
 #include <chrono>
@@ -42,11 +43,18 @@ class HeadlessChromium {
   // the page's viewport as PNG bytes
   std::vector<unsigned char> screenshot_png();
 
+  // set to the signal's number by a SIGINT/SIGTERM handler: the wait in
+  // progress ends with a ChromiumError, so the caller can clean up
+  static volatile sig_atomic_t interrupted;
+
  private:
   nlohmann::json call(const std::string& method, const nlohmann::json& params, bool in_page);
   void send(const nlohmann::json& msg);
-  nlohmann::json receive();  // the next whole message
+  struct Timeout {};
+  nlohmann::json receive();  // the next whole message; Timeout at the deadline
+  std::string ended();       // why the pipe closed: the program and its exit status
 
+  std::string program_;
   pid_t pid_ = -1;
   int to_ = -1, from_ = -1;  // our ends of Chromium's fd 3 and fd 4
   std::string inbox_;

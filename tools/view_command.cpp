@@ -82,14 +82,24 @@ int render_png(const ViewArgs& a, const std::string& page) {
     };
     poll();
   }))";
+  // Ctrl-C or a kill ends the wait; the temporary folder is removed below
+  struct sigaction sa {}, old_int {}, old_term {};
+  sa.sa_handler = [](int sig) { HeadlessChromium::interrupted = sig; };
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, &old_int);
+  sigaction(SIGTERM, &sa, &old_term);
   int result = kExitOk;
+  const char* stage = "starting Chromium";
   try {
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(kChromiumTimeoutS);
     std::vector<unsigned char> png;
     {
       HeadlessChromium chromium(chromium_program, tmp / "profile", log, w, h, deadline);
+      stage = "opening the page";
       chromium.open(url);
+      stage = "waiting for the page to be drawn";
       chromium.evaluate(kWhenReady);
+      stage = "taking the screenshot";
       png = chromium.screenshot_png();
     }
     std::ofstream f(a.out, std::ios::binary | std::ios::trunc);
@@ -98,11 +108,17 @@ int render_png(const ViewArgs& a, const std::string& page) {
       std::fprintf(stderr, "chainsim: cannot write %s\n", a.out.c_str());
       result = kExitFailed;
     }
-  } catch (const ChromiumError& e) {
-    std::fprintf(stderr, "chainsim: Chromium did not render %s: %s; its output:\n%s\n", url.c_str(), e.what(),
-                 tail_of(log, 2000).c_str());
+  } catch (const std::exception& e) {
+    if (HeadlessChromium::interrupted)
+      std::fprintf(stderr, "chainsim: view --png %s; no picture written\n", e.what());
+    else
+      std::fprintf(stderr, "chainsim: Chromium did not render %s (%s, limit %d s): %s; its output:\n%s\n",
+                 url.c_str(), stage, kChromiumTimeoutS, e.what(), tail_of(log, 2000).c_str());
     result = kExitFailed;
   }
+  sigaction(SIGINT, &old_int, nullptr);
+  sigaction(SIGTERM, &old_term, nullptr);
+  if (HeadlessChromium::interrupted) result = kExitInterrupted;
   std::error_code ec;
   fs::remove_all(tmp, ec);
   return result;

@@ -2,12 +2,12 @@
 // rotation colour #e4572e; none in a picture of a scene without modules), it
 // changes with the time, several renders at once on a busy machine all give
 // the same picture (the page says when it is drawn; no guessed delay), and a
-// missing or broken Chromium is named in the error.
+// missing or broken Chromium, or a page that throws, is named in the error.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { mkdirSync, writeFileSync, readFileSync } from 'node:fs';
 import { join } from 'node:path';
-import { existsSync } from 'node:fs';
+import { chmodSync, existsSync } from 'node:fs';
 import { chainsim, launch, makeRun, pngStats, startChainsim, tempDir, cleanup } from './util.mjs';
 
 let browser, run, dir;
@@ -82,6 +82,18 @@ test('a program that is not Chromium: an error naming it, no picture', () => {
   const out = join(dir, 'not-chromium.png');
   const r = chainsim(['view', run, '--png', '1', '--out', out], { env: { ...process.env, CHAINSIM_CHROMIUM: '/bin/true' } });
   assert.equal(r.code, 3, r.stderr);
-  assert.match(r.stderr, /Chromium did not render .*DevTools pipe/);
+  assert.match(r.stderr, /Chromium did not render .*\/bin\/true closed its DevTools pipe \(exit status 0\)/);
   assert.ok(!existsSync(out));
+});
+
+test('a page that cannot draw: the exception it threw, at once, no picture', () => {
+  // Chromium without WebGL: the viewer's renderer throws while the page loads
+  const wrapper = join(dir, 'chromium-no-webgl.sh');
+  writeFileSync(wrapper, `#!/bin/sh\nexec ${process.env.CHAINSIM_CHROMIUM || '/usr/bin/chromium'} --disable-3d-apis "$@"\n`);
+  chmodSync(wrapper, 0o755);
+  const out = join(dir, 'no-webgl.png');
+  const r = chainsim(['view', run, '--png', '1', '--out', out], { env: { ...process.env, CHAINSIM_CHROMIUM: wrapper } });
+  assert.equal(r.code, 3, r.stderr);
+  assert.match(r.stderr, /waiting for the page to be drawn.*the page threw .*WebGL/s);
+  assert.ok(!existsSync(out));  // and not "no answer in time": it stopped on the exception
 });

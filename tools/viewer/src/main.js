@@ -31,6 +31,10 @@ const view = {
 };
 const state = { ready: false, rowsReceived: 0, messages: 0, finished: false, status: '', errors: [] };
 window.chainsimViewer = { state, view, data, seek: (t) => view.seek(t) };
+// what went wrong, for `chainsim view --png` and the tests (registered before
+// anything below can throw; async code fails as an unhandled rejection)
+window.addEventListener('error', (e) => state.errors.push(String(e.message)));
+window.addEventListener('unhandledrejection', (e) => state.errors.push(String(e.reason?.message ?? e.reason)));
 
 const scene3d = new Scene3D(ui.view3d, {
   preserveDrawingBuffer: hideui,
@@ -163,8 +167,6 @@ ui.setPlaying(view.playing);
 ui.setSpeed(view.speed);
 ui.setFollow(scene3d.follow);
 ui.setWalls(scene3d.wallMode);
-
-window.addEventListener('error', (e) => state.errors.push(String(e.message)));
 
 if (boot.mode === 'replay') {
   const nl = boot.trace.indexOf('\n');
