@@ -496,6 +496,7 @@ RunResult Server::run() {
       trace_clock.maybe_write(world_, &row, write_row);
     }
     if (!awake.empty() && !collect_end(awake)) {
+      now_us_ += scene_.tick_us;  // the physics did step: the trace reaches here
       ok = false;
       break;
     }

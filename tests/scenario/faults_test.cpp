@@ -12,11 +12,12 @@ using namespace scenario;
 namespace {
 
 // three rotation modules and, at the tail, a module running fw-test-misbehave
-std::string misbehave_scene(const std::string& dir, int mode, int at_ms) {
+std::string misbehave_scene(const std::string& dir, int mode, int at_ms, const std::string& more = "") {
   return write_file(dir, "s.yaml",
                     "name: faulty\nduration_s: 2\nchain:\n  - {type: rotation}\n  - {type: rotation}\n"
                     "  - {type: rotation}\n  - {type: rotation, firmware: " FW_MISBEHAVE
-                    ", params: {mode: " + std::to_string(mode) + ", at_ms: " + std::to_string(at_ms) + "}}\n");
+                    ", params: {mode: " + std::to_string(mode) + ", at_ms: " + std::to_string(at_ms) + "}}\n" +
+                        more);
 }
 
 const nlohmann::json& module(const Outcome& o, int i) { return o.summary["modules"][i]; }
@@ -73,6 +74,17 @@ TEST(Faults, CrashingModuleStopsTheRunNamingItsSignal) {
   // the module's last log line before the crash was kept
   EXPECT_NE(read_file(o.dir + "/modules/03-rotation.log").find("misbehaving now"), std::string::npos);
   expect_no_survivors(o);
+}
+
+// the tick in which the module died was stepped (the physics runs while the
+// modules compute): the summary's simulated time is where the trace ends
+TEST(Faults, SummaryTimeIsWhereTheTraceEnds) {
+  const std::string dir = temp_dir("crash-time");
+  const Outcome o = run({misbehave_scene(dir, 2, 300, "output: {trace_hz: 1000}\n")}, dir);
+  EXPECT_EQ(o.exit_code, 2);
+  const auto tr = read_trace(o.dir + "/trace.csv");
+  ASSERT_FALSE(tr.at("t_s").empty());
+  EXPECT_NEAR(tr.at("t_s").back(), o.summary["sim_time_s"].get<double>(), 1e-9);
 }
 
 TEST(Faults, HungModuleIsReportedByNameAfterTheTimeout) {
