@@ -76,7 +76,7 @@ static void commit_frame(void)
     }
 }
 
-/* called by the low-priority interrupt when SSPIF is set (slave mode only) */
+/* called by the low-priority interrupt when SSPIF is set and SSPIE on (slave mode only) */
 void hp_i2c_isr(void)
 {
     uint8_t st, b;

@@ -18,7 +18,10 @@ static volatile uint8_t hp_ticks; /* low byte of the tick count, for the waits *
 /* low-priority interrupt: the tick (Timer2) and the MSSP (I2C slave) */
 void hp_isr_low(void) __interrupt(2)
 {
-    if (PIR1bits.SSPIF)
+    /* slave mode only: while hp_i2c_flush sends as master it turns SSPIE off
+     * and polls SSPIF itself; a tick falling just after a byte must not take
+     * that flag (the send then timed out and was repeated 50 ms later) */
+    if (PIE1bits.SSPIE && PIR1bits.SSPIF)
         hp_i2c_isr();
     if (PIR1bits.TMR2IF) {
         PIR1bits.TMR2IF = 0;
