@@ -34,6 +34,14 @@ void chain_app_init(uint8_t type, uint16_t control_ms_default)
     ca_next_ms = hal_millis();
 }
 
+uint8_t chain_app_take_gait(const uint8_t *buf, uint8_t supported)
+{
+    ca_gait = buf[CC_GAIT_OFF_GAIT];
+    if (ca_gait != GAIT_NONE && ca_gait != supported)
+        ca_flags |= CC_FLAG_BAD_GAIT;
+    return ca_gait;
+}
+
 void chain_app_reply(const uint8_t *data, uint8_t len)
 {
     while (hal_i2c_send(CHAIN_CENTRAL_ADDR, data, len) == HAL_ERR_FULL)
@@ -112,6 +120,11 @@ void chain_app_clock_start(void)
 uint32_t chain_app_clock_ms(void)
 {
     return hal_millis() - ca_t0_ms;
+}
+
+void chain_app_step_now(void)
+{
+    ca_next_ms = hal_millis();
 }
 
 uint8_t chain_app_wait(uint8_t periodic)

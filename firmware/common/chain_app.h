@@ -1,8 +1,8 @@
 /* The part of a module program every module type shares after discovery:
  * the frame filter (addressing, lengths, ENUM_OFFER, STATUS), replies to the
- * central control, the shared gait clock and the control-step timer. Each
- * program keeps its own main loop and handles SET_GAIT, START, STOP and
- * READ_SENSORS itself. See docs/firmware.md. */
+ * central control, the shared gait clock and the control-step timer. Every
+ * module program (rotation included) keeps its own main loop and handles
+ * SET_GAIT, START, STOP and READ_SENSORS itself. See docs/firmware.md. */
 #ifndef CHAIN_APP_H
 #define CHAIN_APP_H
 
@@ -30,6 +30,10 @@ void chain_app_init(uint8_t type, uint16_t control_ms_default);
  * returns 0. */
 uint8_t chain_app_filter(const uint8_t *buf, uint8_t len, uint8_t to);
 
+/* SET_GAIT's gait code into ca_gait; a code other than GAIT_NONE and the
+ * module's own `supported` gait sets CC_FLAG_BAD_GAIT. Returns the code. */
+uint8_t chain_app_take_gait(const uint8_t *buf, uint8_t supported);
+
 /* send a frame to the central control (waits a tick while the queue is full) */
 void chain_app_reply(const uint8_t *data, uint8_t len);
 
@@ -43,6 +47,8 @@ void chain_app_servo(uint8_t servo, int16_t cdeg);
  * tick, so every module's clock is the same) */
 void chain_app_clock_start(void);
 uint32_t chain_app_clock_ms(void);
+/* make the next control step due now (the gait clock goes on) */
+void chain_app_step_now(void);
 
 /* Sleep until the next control step (every ca_control_ms) when periodic is
  * non-zero, else up to 60 s; an I2C frame wakes it earlier. Returns 1 when

@@ -41,10 +41,8 @@ int main(void)
         while (hal_i2c_receive(buf, sizeof buf, &len, &to) == HAL_OK) {
             switch (chain_app_filter(buf, len, to)) {
             case CC_SET_GAIT:
-                ca_gait = buf[CC_GAIT_OFF_GAIT];
+                (void)chain_app_take_gait(buf, GAIT_HELICOIDAL);
                 drive_pm = cc_get_i16(buf + CC_GAIT_OFF_DRIVE);
-                if (ca_gait != GAIT_NONE && ca_gait != GAIT_HELICOIDAL)
-                    ca_flags |= CC_FLAG_BAD_GAIT;
                 if (ca_gait == GAIT_NONE) {
                     ca_running = 0;
                     set_drive(0);

@@ -20,9 +20,7 @@ int main(void)
         while (hal_i2c_receive(buf, sizeof buf, &len, &to) == HAL_OK) {
             switch (chain_app_filter(buf, len, to)) {
             case CC_SET_GAIT:
-                ca_gait = buf[CC_GAIT_OFF_GAIT];
-                if (ca_gait != GAIT_NONE)
-                    ca_flags |= CC_FLAG_BAD_GAIT;
+                (void)chain_app_take_gait(buf, GAIT_NONE);
                 break;
             case CC_READ_SENSORS:
                 chain_app_sensors(none, 0);

@@ -38,7 +38,7 @@ int main(void)
         while (hal_i2c_receive(buf, sizeof buf, &len, &to) == HAL_OK) {
             switch (chain_app_filter(buf, len, to)) {
             case CC_SET_GAIT:
-                ca_gait = buf[CC_GAIT_OFF_GAIT];
+                (void)chain_app_take_gait(buf, GAIT_INCHWORM);
                 g = cc_get_i16(buf + CC_GAIT_OFF_GRIP);
                 grip_cdeg = g < 0 ? 0 : (g > 9000 ? 9000 : g);
                 g = cc_get_i16(buf + CC_GAIT_OFF_STEP);
@@ -46,8 +46,6 @@ int main(void)
                 g = cc_get_i16(buf + CC_GAIT_OFF_INDEX);
                 my_index = (uint8_t)(g < 0 ? 0 : (g > 255 ? 255 : g));
                 n_sup = buf[CC_GAIT_OFF_NSUP] == 0 ? 1u : buf[CC_GAIT_OFF_NSUP];
-                if (ca_gait != GAIT_NONE && ca_gait != GAIT_INCHWORM)
-                    ca_flags |= CC_FLAG_BAD_GAIT;
                 if (ca_gait == GAIT_NONE) {
                     ca_running = 0;
                     chain_app_servo(SERVO_ARM, 0);
