@@ -1,6 +1,17 @@
 /* The inchworm schedule: see inchworm.h. */
 #include "inchworm.h"
 
+#include "chain_commands.h"
+
+void iw_read_schedule(const uint8_t *frame, iw_schedule *s)
+{
+    int16_t g = cc_get_i16(frame + CC_GAIT_OFF_STEP);
+    s->step_ms = (uint16_t)(g < 40 ? 40 : g);
+    g = cc_get_i16(frame + CC_GAIT_OFF_INDEX);
+    s->index = (uint8_t)(g < 0 ? 0 : (g > 255 ? 255 : g));
+    s->n_sup = frame[CC_GAIT_OFF_NSUP] == 0 ? 1u : frame[CC_GAIT_OFF_NSUP];
+}
+
 /* step s (0..n-1) and quarter q (0..3) of the step at time t */
 static void iw_phase(uint32_t t_ms, uint16_t step_ms, uint8_t n, uint8_t *s, uint8_t *q)
 {

@@ -22,9 +22,7 @@
 #define STROKE_MAX_UM 15000
 
 static int16_t stroke_um = STROKE_MAX_UM;
-static uint16_t step_ms = 1000;
-static uint8_t my_index;
-static uint8_t n_sup = 2;
+static iw_schedule sched = {1000, 0, 2};
 
 static void set_length_um(int16_t um)
 {
@@ -50,11 +48,7 @@ int main(void)
                 (void)chain_app_take_gait(buf, GAIT_INCHWORM);
                 g = cc_get_i16(buf + CC_GAIT_OFF_STROKE);
                 stroke_um = g < 0 ? 0 : (g > STROKE_MAX_UM ? STROKE_MAX_UM : g);
-                g = cc_get_i16(buf + CC_GAIT_OFF_STEP);
-                step_ms = (uint16_t)(g < 40 ? 40 : g);
-                g = cc_get_i16(buf + CC_GAIT_OFF_INDEX);
-                my_index = (uint8_t)(g < 0 ? 0 : (g > 255 ? 255 : g));
-                n_sup = buf[CC_GAIT_OFF_NSUP] == 0 ? 1u : buf[CC_GAIT_OFF_NSUP];
+                iw_read_schedule(buf, &sched);
                 if (ca_gait == GAIT_NONE) {
                     ca_running = 0;
                     set_length_um(0);
@@ -80,7 +74,7 @@ int main(void)
             }
         }
         if (chain_app_wait(ca_running) && ca_running)
-            set_length_um(iw_extension_extended(chain_app_clock_ms(), step_ms, n_sup, my_index)
+            set_length_um(iw_extension_extended(chain_app_clock_ms(), sched.step_ms, sched.n_sup, sched.index)
                               ? stroke_um
                               : 0);
     }

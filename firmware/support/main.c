@@ -19,9 +19,7 @@
 #define SERVO_ARM 0u
 
 static int16_t grip_cdeg = 9000;
-static uint16_t step_ms = 1000;
-static uint8_t my_index;
-static uint8_t n_sup = 1;
+static iw_schedule sched = {1000, 0, 1};
 
 int main(void)
 {
@@ -41,11 +39,7 @@ int main(void)
                 (void)chain_app_take_gait(buf, GAIT_INCHWORM);
                 g = cc_get_i16(buf + CC_GAIT_OFF_GRIP);
                 grip_cdeg = g < 0 ? 0 : (g > 9000 ? 9000 : g);
-                g = cc_get_i16(buf + CC_GAIT_OFF_STEP);
-                step_ms = (uint16_t)(g < 40 ? 40 : g);
-                g = cc_get_i16(buf + CC_GAIT_OFF_INDEX);
-                my_index = (uint8_t)(g < 0 ? 0 : (g > 255 ? 255 : g));
-                n_sup = buf[CC_GAIT_OFF_NSUP] == 0 ? 1u : buf[CC_GAIT_OFF_NSUP];
+                iw_read_schedule(buf, &sched);
                 if (ca_gait == GAIT_NONE) {
                     ca_running = 0;
                     chain_app_servo(SERVO_ARM, 0);
@@ -73,7 +67,7 @@ int main(void)
         }
         if (chain_app_wait(ca_running) && ca_running)
             chain_app_servo(SERVO_ARM,
-                            iw_support_grips(chain_app_clock_ms(), step_ms, n_sup, my_index)
+                            iw_support_grips(chain_app_clock_ms(), sched.step_ms, sched.n_sup, sched.index)
                                 ? grip_cdeg
                                 : 0);
     }
