@@ -110,38 +110,18 @@ const hueSat = `(r, g, b) => {
 export const IS_PIPE = `(r, g, b) => { const [h, s] = (${hueSat})(r, g, b); return s > 0.35 && h > 176 && h < 204; }`;
 export const IS_TERRAIN = `(r, g, b) => { const [h, s] = (${hueSat})(r, g, b); return s > 0.3 && h > 31 && h < 48; }`;
 
-// how many pixels of a PNG match each predicate: {name: count}
-export async function pngColours(browser, png, predicates) {
-  const page = await browser.newPage();
-  const counts = await page.evaluate(async ({ data, preds }) => {
-    const img = new Image();
-    img.src = `data:image/png;base64,${data}`;
-    await img.decode();
-    const c = document.createElement('canvas');
-    c.width = img.width;
-    c.height = img.height;
-    const g = c.getContext('2d');
-    g.drawImage(img, 0, 0);
-    const px = g.getImageData(0, 0, c.width, c.height).data;
-    const out = {};
-    for (const [name, src] of Object.entries(preds)) {
-      const is = eval(src);
-      let n = 0;
-      for (let i = 0; i < px.length; i += 4) if (is(px[i], px[i + 1], px[i + 2])) n++;
-      out[name] = n;
-    }
-    return out;
-  }, { data: readFileSync(png).toString('base64'), preds: predicates });
-  await page.close();
-  return counts;
+// how many pixels of a PNG match each predicate: {name: count, width, height}
+export function pngColours(browser, png, predicates) {
+  return pngStats(browser, png, null, predicates);
 }
 
-// pixel statistics of a PNG: {width, height, rotation: pixels of the rotation colour}
-// and, with other, {changed: pixels that differ by more than 24 in a channel}
-export async function pngStats(browser, png, other) {
+// pixel statistics of a PNG: {width, height} and, per predicate, the pixels
+// that match it (default: {rotation: pixels of the rotation colour}); with
+// other, {changed: pixels that differ by more than 24 in a channel}
+export async function pngStats(browser, png, other, predicates = { rotation: IS_ROTATION }) {
   const page = await browser.newPage();
   const b64 = (f) => (f ? readFileSync(f).toString('base64') : null);
-  const stats = await page.evaluate(async ({ a, b, isRot }) => {
+  const stats = await page.evaluate(async ({ a, b, preds }) => {
     const load = async (data) => {
       const img = new Image();
       img.src = `data:image/png;base64,${data}`;
@@ -153,11 +133,14 @@ export async function pngStats(browser, png, other) {
       g.drawImage(img, 0, 0);
       return g.getImageData(0, 0, c.width, c.height);
     };
-    const is = eval(isRot);
     const A = await load(a);
-    let rotation = 0;
-    for (let i = 0; i < A.data.length; i += 4) if (is(A.data[i], A.data[i + 1], A.data[i + 2])) rotation++;
-    const out = { width: A.width, height: A.height, rotation };
+    const out = { width: A.width, height: A.height };
+    for (const [name, src] of Object.entries(preds)) {
+      const is = eval(src);
+      let n = 0;
+      for (let i = 0; i < A.data.length; i += 4) if (is(A.data[i], A.data[i + 1], A.data[i + 2])) n++;
+      out[name] = n;
+    }
     if (b) {
       const B = await load(b);
       let changed = 0;
@@ -167,7 +150,7 @@ export async function pngStats(browser, png, other) {
       out.changed = changed;
     }
     return out;
-  }, { a: b64(png), b: b64(other), isRot: IS_ROTATION });
+  }, { a: b64(png), b: b64(other), preds: predicates });
   await page.close();
   return stats;
 }
