@@ -4,7 +4,7 @@
  *   angles:  binary angle (BAM16, 65536 = one turn) or milliradians
  *   output:  Q15, i.e. -32767..32767 for -1..1
  *
- * Accuracy (checked by tests/hal_sim/fixed_sin_test.cpp against sin()):
+ * Accuracy (checked by tests/firmware/common/fixed_sin_test.cpp against sin()):
  *   fs_sin_bam   |error| <= 1.0e-4 (measured 9.5e-5, 3.2 Q15 counts)
  *   fs_sin_mrad  |error| <= 3.0e-4 (measured 2.5e-4); it uses a period of exactly
  *                FS_TWO_PI_MRAD = 6283 mrad instead of 6283.185, which costs

@@ -1,0 +1,128 @@
+#include "cosim/child_process.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+#include <stdexcept>
+#include <thread>
+
+extern char** environ;
+
+namespace chainsim {
+
+std::string ExitStatus::text() const {
+  if (exited) return "exit code " + std::to_string(code);
+  return "signal " + std::to_string(signal) + " (" + strsignal(signal) + ")";
+}
+
+ChildProcess::~ChildProcess() {
+  if (running()) terminate(200);
+}
+
+void ChildProcess::spawn(const ChildSpec& spec) {
+  // everything the child needs is prepared before fork: no allocation after
+  std::vector<std::string> env_strings;
+  for (char** e = environ; *e; ++e) env_strings.emplace_back(*e);
+  for (const auto& e : spec.env) env_strings.push_back(e);
+  std::vector<char*> envp;
+  for (auto& e : env_strings) envp.push_back(e.data());
+  envp.push_back(nullptr);
+  std::vector<std::string> arg_strings{spec.program};
+  arg_strings.insert(arg_strings.end(), spec.args.begin(), spec.args.end());
+  std::vector<char*> argv;
+  for (auto& a : arg_strings) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t parent = getpid();
+
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error(std::string("fork failed: ") + strerror(errno));
+  if (pid == 0) {
+    // child: own process group (a terminal's Ctrl-C reaches only the server,
+    // which then ends the modules in order), killed if the server dies
+    setpgid(0, 0);
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != parent) _exit(126);
+    if (!spec.stdout_path.empty()) {
+      const int fd = open(spec.stdout_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+      if (fd >= 0) {
+        dup2(fd, 1);
+        dup2(fd, 2);
+      }
+    }
+    const int devnull = open("/dev/null", O_RDONLY);
+    if (devnull >= 0) dup2(devnull, 0);
+    signal(SIGPIPE, SIG_DFL);
+    execve(argv[0], argv.data(), envp.data());
+    const char* msg = "chainsim: cannot execute ";
+    (void)!write(2, msg, strlen(msg));
+    (void)!write(2, argv[0], strlen(argv[0]));
+    (void)!write(2, ": ", 2);
+    const char* why = strerror(errno);
+    (void)!write(2, why, strlen(why));
+    (void)!write(2, "\n", 1);
+    _exit(127);
+  }
+  setpgid(pid, pid);  // also from the parent, so no race with kill(-pgid)
+  pid_ = pid;
+  status_.reset();
+}
+
+const std::optional<ExitStatus>& ChildProcess::poll() {
+  if (pid_ <= 0 || status_) return status_;
+  int st = 0;
+  const pid_t r = waitpid(pid_, &st, WNOHANG);
+  if (r == pid_) {
+    ExitStatus s;
+    if (WIFEXITED(st)) {
+      s.exited = true;
+      s.code = WEXITSTATUS(st);
+    } else if (WIFSIGNALED(st)) {
+      s.signal = WTERMSIG(st);
+    }
+    status_ = s;
+  }
+  return status_;
+}
+
+const std::optional<ExitStatus>& ChildProcess::wait_for(int timeout_ms) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+  while (!poll() && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  return status_;
+}
+
+void ChildProcess::terminate(int grace_ms) { terminate_all({this}, grace_ms); }
+
+void terminate_all(std::vector<ChildProcess*> children, int grace_ms) {
+  for (auto* c : children)
+    if (c->running()) kill(-c->pid(), SIGTERM);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(grace_ms);
+  for (;;) {
+    bool left = false;
+    for (auto* c : children) left |= c->running() && !c->poll();
+    if (!left || std::chrono::steady_clock::now() >= deadline) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  for (auto* c : children) {
+    if (c->running() && !c->poll()) {
+      kill(-c->pid(), SIGKILL);
+      c->wait_for(5000);
+    }
+  }
+}
+
+std::string executable_dir() {
+  char buf[4096];
+  const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
+  if (n <= 0) return ".";
+  std::string p(buf, static_cast<size_t>(n));
+  const auto slash = p.rfind('/');
+  return slash == std::string::npos ? "." : p.substr(0, slash);
+}
+
+}  // namespace chainsim

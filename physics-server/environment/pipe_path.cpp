@@ -1,0 +1,219 @@
+// Pipe network layout and bore queries. See pipe_path.h.
+#include "environment/pipe_path.h"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace chainsim {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+std::string num(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+Eigen::Vector3d left_of(const PipeFrame& f) { return f.up.cross(f.tangent); }
+
+// the frame turned by angle about axis (a rigid rotation of tangent and up)
+PipeFrame turned(const PipeFrame& f, const Eigen::Vector3d& axis, double angle) {
+  const Eigen::AngleAxisd r(angle, axis.normalized());
+  PipeFrame out = f;
+  out.tangent = (r * f.tangent).normalized();
+  out.up = r * f.up;
+  out.up = (out.up - out.up.dot(out.tangent) * out.tangent).normalized();
+  return out;
+}
+
+PipePiece straight(const PipeFrame& at, double length, double radius, int segment) {
+  PipePiece p;
+  p.kind = PipePiece::Kind::Straight;
+  p.radius_m = radius;
+  p.segment = segment;
+  p.start = at;
+  p.length_m = length;
+  return p;
+}
+
+// angle of p about the elbow's centre from u towards v, in [-eps, 2 pi - eps)
+double elbow_angle(const PipePiece& e, const Eigen::Vector3d& qp) {
+  double a = std::atan2(qp.dot(e.v), qp.dot(e.u));
+  if (a < -1e-12) a += 2 * kPi;
+  return a;
+}
+
+}  // namespace
+
+PipeLayout layout_pipe(const PipeSpec& spec) {
+  if (!(spec.inner_diameter_m > 0) || !std::isfinite(spec.inner_diameter_m))
+    throw PipeLayoutError(-1, "inner_diameter_m must be > 0 (is " + num(spec.inner_diameter_m) + ")");
+  if (spec.segments.empty()) throw PipeLayoutError(-1, "a pipe needs at least one segment");
+  if (!(std::fabs(spec.slope_deg) <= 90))
+    throw PipeLayoutError(-1, "slope_deg must be in [-90, 90] (is " + num(spec.slope_deg) + ")");
+  const double radius = spec.inner_diameter_m / 2;
+  PipeLayout out;
+  out.radius_m = radius;
+
+  double slope = spec.slope_deg;
+  const PipeSegment& first = spec.segments[0];
+  if (first.type == PipeSegment::Type::Straight && !std::isnan(first.slope_deg)) {
+    if (!(std::fabs(first.slope_deg) <= 90))
+      throw PipeLayoutError(0, "slope_deg must be in [-90, 90] (is " + num(first.slope_deg) + ")");
+    slope = first.slope_deg;
+  }
+  const double h = spec.heading_deg * kDeg, s = slope * kDeg;
+  PipeFrame f;
+  f.point = spec.entry_m;
+  f.tangent = Eigen::Vector3d(std::cos(s) * std::cos(h), std::cos(s) * std::sin(h), std::sin(s));
+  f.up = Eigen::Vector3d(-std::sin(s) * std::cos(h), -std::sin(s) * std::sin(h), std::cos(s));
+  out.entry = f;
+  PipeFrame entry_out = f;
+  entry_out.tangent = -f.tangent;
+  out.open_ends.push_back(entry_out);
+  if (first.type == PipeSegment::Type::Straight) out.entry_straight_m = first.length_m;
+
+  for (size_t k = 0; k < spec.segments.size(); ++k) {
+    const PipeSegment& g = spec.segments[k];
+    const int seg = static_cast<int>(k);
+    if (k > 0 && !std::isnan(g.slope_deg))
+      throw PipeLayoutError(seg, "slope_deg is only allowed on the first segment (change the "
+                                 "direction with an elbow)");
+    const Eigen::Vector3d bend_dir =
+        std::cos(g.direction_deg * kDeg) * f.up + std::sin(g.direction_deg * kDeg) * left_of(f);
+    switch (g.type) {
+      case PipeSegment::Type::Straight: {
+        if (!(g.length_m > 0) || !std::isfinite(g.length_m))
+          throw PipeLayoutError(seg, "length_m must be > 0 (is " + num(g.length_m) + ")");
+        out.pieces.push_back(straight(f, g.length_m, radius, seg));
+        f.point += g.length_m * f.tangent;
+        break;
+      }
+      case PipeSegment::Type::Elbow: {
+        if (!(g.bend_radius_m > radius) || !std::isfinite(g.bend_radius_m))
+          throw PipeLayoutError(seg, "bend_radius_m must be larger than the inner radius " +
+                                         num(radius) + " m (is " + num(g.bend_radius_m) + ")");
+        if (!(g.angle_deg > 0 && g.angle_deg <= 180))
+          throw PipeLayoutError(seg, "angle_deg must be in (0, 180] (is " + num(g.angle_deg) + ")");
+        PipePiece p;
+        p.kind = PipePiece::Kind::Elbow;
+        p.radius_m = radius;
+        p.segment = seg;
+        p.start = f;
+        p.bend_radius_m = g.bend_radius_m;
+        p.angle_rad = g.angle_deg * kDeg;
+        p.centre = f.point + g.bend_radius_m * bend_dir;
+        p.u = -bend_dir;
+        p.v = f.tangent;
+        p.normal = p.u.cross(p.v).normalized();
+        out.pieces.push_back(p);
+        const PipeFrame end = pipe_piece_frame(p, 1.0);
+        f = end;
+        break;
+      }
+      case PipeSegment::Type::Tee: {
+        if (!(g.run_length_m > 2 * radius) || !std::isfinite(g.run_length_m))
+          throw PipeLayoutError(seg, "run_length_m must be larger than the inner diameter " +
+                                         num(2 * radius) + " m (is " + num(g.run_length_m) + ")");
+        if (!(g.branch_length_m > radius) || !std::isfinite(g.branch_length_m))
+          throw PipeLayoutError(seg, "branch_length_m must be larger than the inner radius " +
+                                         num(radius) + " m (is " + num(g.branch_length_m) + ")");
+        const int run = static_cast<int>(out.pieces.size());
+        out.pieces.push_back(straight(f, g.run_length_m, radius, seg));
+        PipeFrame b;
+        b.point = f.point + 0.5 * g.run_length_m * f.tangent;
+        b = turned(PipeFrame{b.point, f.tangent, f.up}, f.tangent.cross(bend_dir), kPi / 2);
+        out.pieces.push_back(straight(b, g.branch_length_m, radius, seg));
+        out.pieces[run].holes[0] = run + 1;
+        out.pieces[run + 1].holes[0] = run;
+        PipeFrame run_end = f;
+        run_end.point = f.point + g.run_length_m * f.tangent;
+        PipeFrame branch_end = b;
+        branch_end.point = b.point + g.branch_length_m * b.tangent;
+        out.open_ends.push_back(g.follow_branch ? run_end : branch_end);
+        f = g.follow_branch ? branch_end : run_end;
+        break;
+      }
+    }
+  }
+  out.exit = f;
+  out.open_ends.push_back(f);
+  return out;
+}
+
+PipeFrame pipe_piece_frame(const PipePiece& p, double f) {
+  if (p.kind == PipePiece::Kind::Straight) {
+    PipeFrame out = p.start;
+    out.point = p.start.point + f * p.length_m * p.start.tangent;
+    return out;
+  }
+  const double a = f * p.angle_rad;
+  PipeFrame out = turned(p.start, p.normal, a);
+  out.point = p.centre + p.bend_radius_m * (std::cos(a) * p.u + std::sin(a) * p.v);
+  return out;
+}
+
+double pipe_piece_axis_length(const PipePiece& p) {
+  return p.kind == PipePiece::Kind::Straight ? p.length_m : p.bend_radius_m * p.angle_rad;
+}
+
+namespace {
+
+// distance vector from piece p's axis to x, or false if x is beyond the piece's ends
+bool radial(const PipePiece& p, const Eigen::Vector3d& x, Eigen::Vector3d* d, bool strict) {
+  if (p.kind == PipePiece::Kind::Straight) {
+    const Eigen::Vector3d q = x - p.start.point;
+    const double s = q.dot(p.start.tangent);
+    if (strict ? (s <= 0 || s >= p.length_m) : (s < 0 || s > p.length_m)) return false;
+    *d = q - s * p.start.tangent;
+    return true;
+  }
+  const Eigen::Vector3d q = x - p.centre;
+  const Eigen::Vector3d qp = q - q.dot(p.normal) * p.normal;
+  const double rho = qp.norm();
+  if (rho < 1e-12) return false;
+  const double a = elbow_angle(p, qp);
+  if (strict ? (a <= 0 || a >= p.angle_rad) : (a > p.angle_rad + 1e-12)) return false;
+  *d = x - (p.centre + (p.bend_radius_m / rho) * qp);
+  return true;
+}
+
+}  // namespace
+
+bool pipe_piece_bore_contains(const PipePiece& p, const Eigen::Vector3d& x, double margin_m) {
+  Eigen::Vector3d d;
+  return radial(p, x, &d, true) && d.norm() < p.radius_m - margin_m;
+}
+
+double pipe_piece_depth(const PipeLayout& layout, int k, const Eigen::Vector3d& x, double r,
+                        Eigen::Vector3d* dir_out) {
+  const PipePiece& p = layout.pieces[k];
+  Eigen::Vector3d d;
+  if (!radial(p, x, &d, false)) return kInf * -1;
+  const double dist = d.norm();
+  if (dist > 2 * p.radius_m) return -kInf;
+  // on the axis: any direction; the depth is negative for any body that fits
+  const Eigen::Vector3d dir = dist > 1e-12 ? Eigen::Vector3d(d / dist) : p.start.up;
+  for (int h : p.holes) {
+    if (h < 0) continue;
+    const Eigen::Vector3d wall = x - d + p.radius_m * dir;
+    if (pipe_piece_bore_contains(layout.pieces[h], wall, 0.0)) return -kInf;
+  }
+  if (dir_out) *dir_out = dir;
+  return dist + r - p.radius_m;
+}
+
+double pipe_depth(const PipeLayout& layout, const Eigen::Vector3d& p, double r) {
+  double best = -kInf;
+  for (int k = 0; k < static_cast<int>(layout.pieces.size()); ++k)
+    best = std::max(best, pipe_piece_depth(layout, k, p, r, nullptr));
+  return best;
+}
+
+}  // namespace chainsim

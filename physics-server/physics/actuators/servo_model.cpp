@@ -1,0 +1,171 @@
+// DC servomotor model: see servo_model.h for the equations and the scheme.
+#include "physics/actuators/servo_model.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace chainsim {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}
+
+ServoModel::ServoModel(const ServoParams& params) : p_(params) {
+  engaged_ = !(p_.backlash_deg > 0.0);  // backlash: start in the middle of the play
+  applied_ = setpoint_;
+}
+
+void ServoModel::update_constants(double h) {
+  h_ = h;
+  const double tau_e = p_.l / p_.r;
+  if (tau_e > 0.0) {
+    const double x = h / tau_e;
+    e_ = std::exp(-x);
+    // (1 - e^-x)/x, with its series near 0 to avoid cancellation
+    phi_ = x < 1e-6 ? 1.0 - x / 2.0 : -std::expm1(-x) / x;
+  } else {  // no inductance: the current follows the voltage at once
+    e_ = 0.0;
+    phi_ = 0.0;
+  }
+  ef_ = p_.current_filter_tau_s > 0.0 ? std::exp(-h / p_.current_filter_tau_s) : 0.0;
+}
+
+ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
+  if (h != h_) update_constants(h);
+  drive_ = enabled_;
+  // pwm_frame_delay: the set-point is latched at the pulse frames only
+  if (p_.pwm_frame_s > 0.0) {
+    const long long k = static_cast<long long>(std::floor(time_s_ / p_.pwm_frame_s + 1e-9));
+    if (k != frame_) {
+      frame_ = k;
+      applied_ = setpoint_;
+    }
+  } else {
+    applied_ = setpoint_;
+  }
+  time_s_ += h;
+  const bool backlash = p_.backlash_deg > 0.0 && p_.j > 0.0;
+  if (!backlash) engaged_ = true;
+  // backlash: the step after the gap closed is the (plastic) impact: the rotor
+  // still has its own rate wm_ and its momentum J wm_ joins the joint's (rather
+  // than being lost); the gap does not reopen within that step
+  const bool impact = closed_;
+  closed_ = false;
+  // the rotor's rate now: the joint's, or its own while it crosses the gap
+  // and in the impact step
+  const double wr = engaged_ && !impact ? w : wm_;
+  const double w_rotor = impact ? wm_ : w;
+  StepLaw law;
+  // rotor inertia, implicit on the joint rate: -J (w' - w)/h
+  const double jh = p_.j / h;
+  // step-average current = i0 - ci w' (affine in the end-of-step rate w')
+  double i0, ci;
+  if (drive_) {
+    double err = applied_ - theta;
+    if (p_.deadband_deg > 0.0) {  // deadband: errors within +-width/2 are ignored
+      const double half = 0.5 * p_.deadband_deg * kPi / 180.0;
+      err = std::fabs(err) <= half ? 0.0 : err - std::copysign(half, err);
+    }
+    ea_ = std::clamp(p_.kp * err, -p_.supply_v, p_.supply_v);
+    if (p_.supply_sag_ohm > 0.0 && p_.supply_v > 0.0)  // supply_sag: duty x (Vs - Rs |i|)
+      ea_ *= std::max(0.0, 1.0 - p_.supply_sag_ohm * std::fabs(i_) / p_.supply_v);
+    if (p_.current_limit_a > 0.0) {  // current_limit: |ea - Km w| <= R I_lim
+      const double lim = p_.r * p_.current_limit_a;
+      ea_ = std::clamp(ea_, p_.km * wr - lim, p_.km * wr + lim);
+    }
+    i0 = (1.0 - phi_) * ea_ / p_.r + phi_ * i_;
+    ci = p_.km * (1.0 - phi_) / p_.r;
+  } else {
+    ea_ = 0.0;
+    i0 = phi_ * i_;   // free-wheeling current, no back-EMF path
+    ci = 0.0;
+  }
+  if (p_.i_threshold_a > 0.0) {
+    // static friction: torque Kt dz(i_avg); the branch of dz from the
+    // prediction w' = w, then affine (implicit) within it
+    const double i_pred = i0 - ci * wr;
+    if (i_pred > p_.i_threshold_a) {
+      i0 -= p_.i_threshold_a;
+    } else if (i_pred < -p_.i_threshold_a) {
+      i0 += p_.i_threshold_a;
+    } else {
+      i0 = 0.0;
+      ci = 0.0;
+    }
+  }
+  // coulomb_friction on the output: -Tc tanh(w'/ws) ~ tc0 - dc w'
+  double tc0 = 0.0, dc = 0.0;
+  if (p_.coulomb_nm > 0.0) {
+    const double th = std::tanh(w / kCoulombRate);
+    dc = p_.coulomb_nm * (1.0 - th * th) / kCoulombRate;
+    tc0 = -p_.coulomb_nm * th + dc * w;
+  }
+  gap_step_ = false;
+  if (backlash) {
+    const double g = 0.5 * p_.backlash_deg * kPi / 180.0;
+    const double tq = i0 - ci * wr;  // sign of the motor torque about to act
+    if (engaged_ && !impact && tq * delta_ < 0.0) {  // pulls away from the contact side: the gap opens
+      engaged_ = false;
+      wm_ = w;
+    }
+    if (!engaged_) {
+      // the rotor alone: J (wm' - wm)/h = Kt (i0 - ci wm') - B wm'
+      gap_step_ = true;
+      const double wm_next = (jh * wm_ + p_.kt * i0) / (jh + p_.b + p_.kt * ci);
+      delta_ += (wm_next - w) * h;
+      wm_ = wm_next;
+      if (std::fabs(delta_) >= g) {  // the gap closes (inelastic)
+        delta_ = std::copysign(g, delta_);
+        engaged_ = true;
+        closed_ = true;
+      }
+      law.damping = dc + 1e-9;
+      law.target_rate = tc0 / law.damping;
+      return law;
+    }
+  }
+  // step-average electromagnetic torque = t0 - c_emf w'
+  const double t0 = p_.kt * i0, c_emf = p_.kt * ci;
+  law.damping = c_emf + p_.b + jh + dc;
+  law.target_rate = (t0 + tc0 + jh * w_rotor) / law.damping;
+  return law;
+}
+
+void ServoModel::end_step(double w_next) {
+  const double wr = gap_step_ ? wm_ : w_next;  // the rotor's rate (back-EMF)
+  if (!gap_step_) wm_ = w_next;
+  const double i_inf = drive_ ? (ea_ - p_.km * wr) / p_.r : 0.0;
+  i_mean_ = (1.0 - phi_) * i_inf + phi_ * i_;
+  i_ = i_inf + (i_ - i_inf) * e_;
+  // RC filter of |i|, exact for the step-average |i| held over the step
+  i_f_ = std::fabs(i_mean_) + (i_f_ - std::fabs(i_mean_)) * ef_;
+}
+
+double ServoModel::dead_zone(double i) const {
+  const double th = p_.i_threshold_a;
+  if (!(th > 0.0)) return i;
+  if (i > th) return i - th;
+  if (i < -th) return i + th;
+  return 0.0;
+}
+
+uint16_t ServoModel::adc_counts() const {
+  if (!(p_.adc_full_scale_a > 0.0)) return 0;
+  const double c = std::floor(i_f_ / p_.adc_full_scale_a * 1023.0 + 0.5);
+  return static_cast<uint16_t>(std::clamp(c, 0.0, 1023.0));
+}
+
+void ServoModel::reset_state() {
+  i_ = 0.0;
+  i_f_ = 0.0;
+  i_mean_ = 0.0;
+  ea_ = 0.0;
+  time_s_ = 0.0;
+  frame_ = -1;
+  delta_ = 0.0;
+  wm_ = 0.0;
+  engaged_ = !(p_.backlash_deg > 0.0);
+  closed_ = false;
+}
+
+}  // namespace chainsim

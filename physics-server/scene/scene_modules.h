@@ -1,0 +1,24 @@
+// Scene keys of module types: `module_types: {<name>: <file>}` adds a scene's
+// own types (module definition files, docs/module-format.md; a name may also
+// replace a built-in type for this scene), and the check that every type the
+// chain names exists. Errors are SceneErrors naming file:line:column.
+#pragma once
+
+#include <yaml-cpp/yaml.h>
+
+#include <string>
+
+#include "scene/scene.h"
+
+namespace chainsim {
+
+// appends the types of `module_types` (may be absent) to world->module_types;
+// relative paths are resolved against base_dir (the scene file's directory;
+// empty = the working directory)
+void load_scene_module_types(const std::string& file, const std::string& base_dir,
+                             const YAML::Node& module_types, WorldConfig* world);
+
+// every type of `chain` (the scene's chain node) is a scene type or a built-in
+void check_scene_chain_types(const std::string& file, const YAML::Node& chain, const Scene& scene);
+
+}  // namespace chainsim

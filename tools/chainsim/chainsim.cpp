@@ -1,0 +1,219 @@
+// chainsim: the command line of the co-simulator.
+//   chainsim run [SCENE.yaml]        run a scene (default: the built-in one)
+//   chainsim view RUN_DIR            replay.html of a run (--png: a picture); run --live: live view
+//   chainsim bench                   one servo on a test stand (set-points in, angle and current out)
+//   chainsim calibrate               find what the servo model misses against a measurement
+//   chainsim bench-lockstep          price of processes and sockets vs physics only
+#include <CLI/CLI.hpp>
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <iostream>
+#include <sstream>
+
+#include "chainsim/bench_command.h"
+#include "chainsim/calibrate_command.h"
+#include "viewer/live_view.h"
+#include "cosim/lockstep_server.h"
+#include "scene/scene.h"
+#include "chainsim/view_command.h"
+
+using namespace chainsim;
+
+namespace {
+
+std::string default_out_dir(const Scene& s) {
+  char stamp[32];
+  const std::time_t now = std::time(nullptr);
+  std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", std::localtime(&now));
+  return "runs/" + s.name + "-" + stamp;
+}
+
+struct RunArgs {
+  std::string scene;
+  std::string out;
+  double duration = -1;
+  int64_t seed = -1;
+  std::string fault = "stop";
+  double timeout = 10.0;
+  std::vector<int> attach;
+  std::string firmware_dir;
+  bool quiet = false;
+  bool live = false;       // --live: serve the live view while running
+  int live_port = 0;
+  double live_wait = 0;
+};
+
+int cmd_run(const RunArgs& a) {
+  Scene scene;
+  try {
+    scene = a.scene.empty() ? default_scene() : load_scene_file(a.scene);
+  } catch (const SceneError& e) {
+    std::fprintf(stderr, "chainsim: %s\n", e.what());
+    return kExitBadInput;
+  }
+  if (a.duration > 0) scene.duration_s = a.duration;
+  if (a.seed >= 0) {
+    scene.seed = static_cast<uint64_t>(a.seed);
+    scene.world.seed = scene.seed;
+  }
+  RunOptions opt;
+  opt.out_dir = a.out.empty() ? default_out_dir(scene) : a.out;
+  opt.on_fault = a.fault == "limp" ? FaultMode::Limp : FaultMode::Stop;
+  opt.module_timeout_s = a.timeout;
+  opt.firmware_dir = a.firmware_dir;
+  opt.quiet = a.quiet;
+  opt.progress = !a.quiet && isatty(2);
+  for (int i : a.attach) {
+    if (i < 0 || i > static_cast<int>(scene.modules.size())) {
+      std::fprintf(stderr, "chainsim: --attach %d: the scene has modules 0..%zu and the central control %zu\n", i,
+                   scene.modules.size() - 1, scene.modules.size());
+      return kExitBadInput;
+    }
+    opt.attach.insert(i);
+  }
+  std::unique_ptr<LiveView> live;
+  if (a.live && !(live = start_live_view(scene.name, a.live_port, a.live_wait))) return kExitBadInput;
+  opt.observer = live.get();
+  RunResult r;
+  try {
+    r = run_scene(scene, opt);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "chainsim: %s\n", e.what());
+    return kExitInternal;
+  }
+  if (r.exit_code != kExitOk) std::fprintf(stderr, "chainsim: run stopped: %s\n", r.message.c_str());
+  if (!a.quiet) {
+    const auto& s = r.summary;
+    std::fprintf(stderr,
+                 "chainsim: %s: %.3f s simulated in %.3f s (%.2fx real time); chain moved %.4f m (%.4f m/s)\n"
+                 "chainsim: run directory: %s\n",
+                 scene.name.c_str(), s["sim_time_s"].get<double>(), s["wall_time_s"].get<double>(),
+                 s["real_time_factor"].get<double>(), s["chain"]["distance_m"].get<double>(),
+                 s["chain"]["speed_m_s"].get<double>(), opt.out_dir.c_str());
+  }
+  if (live) live->wait_until_seen(3.0);
+  return r.exit_code;
+}
+
+struct BenchArgs {
+  std::vector<int> sizes{2, 8, 32};
+  double duration = 5.0;
+  int64_t control_ms = -1;
+  int repeat = 3;
+  std::string out = "runs/bench-lockstep";
+};
+
+int cmd_bench_lockstep(const BenchArgs& a) {
+  std::printf("# lockstep price: co-simulation (processes + sockets + firmware) vs physics only\n");
+  std::printf("# (the same servo commands replayed into the same world with no processes)\n");
+  std::printf("%8s %10s %12s %14s %10s %12s %12s\n", "modules", "sim_s", "cosim_rtf", "physics_rtf", "ratio",
+              "exch/tick", "same_trace");
+  int rc = 0;
+  for (int n : a.sizes) {
+    Scene scene = default_scene();
+    scene.name = "bench-" + std::to_string(n);
+    scene.duration_s = a.duration;
+    scene.modules.clear();
+    scene.world.chain.clear();
+    for (int i = 0; i < n; ++i) {
+      scene.modules.push_back({"rotation", default_firmware("rotation"), {}});
+      if (a.control_ms > 0) scene.modules.back().params["control_ms"] = static_cast<int32_t>(a.control_ms);
+      scene.world.chain.push_back("rotation");
+    }
+    RunOptions opt;
+    opt.out_dir = a.out + "/" + std::to_string(n);
+    opt.quiet = true;
+    // best of a.repeat for each side: wall-clock figures on a shared machine are noisy
+    double cosim_wall = 1e300, phys_wall = 1e300;
+    RunResult r;
+    bool same = true;
+    for (int rep = 0; rep < a.repeat; ++rep) {
+      std::vector<ServoCommand> rec;
+      r = run_scene(scene, opt, &rec);
+      if (r.exit_code != kExitOk) break;
+      cosim_wall = std::min(cosim_wall, r.wall_time_s);
+      std::string sha;
+      phys_wall = std::min(phys_wall, replay_physics(scene, rec, &sha));
+      same &= sha == r.summary["trace_sha256"].get<std::string>();
+    }
+    if (r.exit_code != kExitOk) {
+      std::fprintf(stderr, "chainsim: bench run with %d modules failed: %s\n", n, r.message.c_str());
+      rc = kExitModuleFault;
+      continue;
+    }
+    const double ticks = a.duration * 1e6 / scene.tick_us;
+    std::printf("%8d %10.2f %12.2f %14.2f %10.3f %12.2f %12s\n", n, a.duration, a.duration / cosim_wall,
+                a.duration / phys_wall, cosim_wall / phys_wall, r.exchanges / ticks, same ? "yes" : "NO");
+    std::fflush(stdout);
+  }
+  return rc;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"chainsim: firmware-in-the-loop co-simulator for chained modular robots"};
+  app.require_subcommand(1);
+
+  RunArgs ra;
+  auto* run = app.add_subcommand("run", "run a scene: one process per module, lockstep with the ODE world");
+  run->add_option("scene", ra.scene, "scene file (YAML); default: the built-in snake in open air")
+      ->check(CLI::ExistingFile);
+  run->add_option("--out,-o", ra.out, "run directory to write (default: runs/<scene>-<date>-<time>)");
+  run->add_option("--duration", ra.duration, "simulated seconds (default: the scene's)")->check(CLI::PositiveNumber);
+  run->add_option("--seed", ra.seed, "random seed (default: the scene's)")->check(CLI::NonNegativeNumber);
+  run->add_option("--on-module-fault", ra.fault, "stop the run, or go on with the module powered off")
+      ->check(CLI::IsMember({"stop", "limp"}));
+  run->add_option("--module-timeout", ra.timeout, "wall-clock seconds a module may take to answer")
+      ->check(CLI::PositiveNumber);
+  run->add_option("--attach", ra.attach,
+                  "do not spawn this module (index; the central control is the last index): wait for it "
+                  "to be started by hand, e.g. under gdb")
+      ->expected(0, -1);
+  run->add_option("--firmware-dir", ra.firmware_dir, "where the fw-* programs are (default: next to chainsim)");
+  run->add_flag("--quiet,-q", ra.quiet, "print only errors");
+  run->add_flag("--live", ra.live, "show the run as it happens: serve the viewer on 127.0.0.1 (URL printed)");
+  run->add_option("--live-port", ra.live_port, "port of the live view (default 0: any free port)")
+      ->check(CLI::Range(0, 65535));
+  run->add_option("--live-wait", ra.live_wait, "seconds to wait for a page to connect before the run starts")
+      ->check(CLI::NonNegativeNumber);
+
+  ViewArgs va;
+  auto* view = app.add_subcommand("view", "write RUN_DIR/replay.html, a replay of a run that opens from disk "
+                                          "(or, with --png, a picture of the scene at a time)");
+  view->add_option("run_dir", va.run_dir, "run directory (of chainsim run --out)")->required()
+      ->check(CLI::ExistingDirectory);
+  view->add_option("--png", va.png_time, "render a PNG of the scene at this time (s) with headless Chromium")
+      ->check(CLI::NonNegativeNumber);
+  view->add_option("--out,-o", va.out, "file to write (default RUN_DIR/replay.html; required with --png)");
+  view->add_option("--size", va.size, "picture size WIDTHxHEIGHT (default 960x540)");
+  view->add_option("--page-options", va.hash, "more options for the pictured page, e.g. follow=0");
+
+  BenchArgs ba;
+  auto* bench = app.add_subcommand("bench-lockstep",
+                                   "real-time factor of the co-simulation vs physics only, for chains of rotation modules");
+  bench->add_option("--modules", ba.sizes, "chain lengths to measure")->expected(1, -1);
+  bench->add_option("--duration", ba.duration, "simulated seconds per run")->check(CLI::PositiveNumber);
+  bench->add_option("--control-ms", ba.control_ms, "firmware control step of the rotation modules (default: theirs)");
+  bench->add_option("--out", ba.out, "where the bench runs are written");
+  bench->add_option("--repeat", ba.repeat, "runs per figure; the fastest counts")->check(CLI::PositiveNumber);
+
+  add_bench_command(app);
+  add_calibrate_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int rc = app.exit(e);  // prints help, or the error and a hint
+    return rc == 0 ? 0 : kExitBadInput;
+  }
+  if (const int rc = bench_command_exit_code(); rc >= 0) return rc;
+  if (const int rc = calibrate_command_exit_code(); rc >= 0) return rc;
+  if (*run) return cmd_run(ra);
+  if (*view) return cmd_view(va);
+  if (*bench) return cmd_bench_lockstep(ba);
+  return kExitBadInput;
+}
