@@ -1,4 +1,4 @@
-// `chainsim calibrate --robot` (tools/chainsim/robot_calibration.h) on the paper's
+// `chainsim calibrate --robot` (physics-server/analysis/robot_calibration) on the paper's
 // Table 2 (scenes/measured/helicoidal_speed_vs_slope.csv) with the shipped
 // helicoidal scenes, runs of 2.5 s: the fit must cut the gap, name an effect
 // of the robot-level catalogue, and beat the paper's simulator.

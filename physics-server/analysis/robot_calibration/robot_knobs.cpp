@@ -1,0 +1,39 @@
+// The robot-level catalogue (robot_knobs.h).
+#include "analysis/robot_calibration/robot_knobs.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace chainsim {
+
+const std::vector<Knob>& robot_knobs() {
+  static const std::vector<Knob> k = {
+      {"screw_drive_thrust", "fmax_n", "helicoidal",
+       "the screw drive's stall thrust (force-speed line F = fmax (u - v / v_free))", 0.5, 2.0},
+      {"screw_drive_free_speed", "v_free_m_s", "helicoidal", "the screw drive's no-load speed", 0.7, 1.4},
+      {"arm_grip_torque", "kt (all support arm servos)", "support",
+       "the support arms' servo torque constant: how hard the arms press the wall (slip of the grip)", 0.1, 1.5},
+      {"wall_friction", "environment.material.mu", "", "module-pipe Coulomb friction", 0.2, 5.0},
+  };
+  return k;
+}
+
+int robot_knob(const std::string& name) {
+  for (size_t k = 0; k < robot_knobs().size(); ++k)
+    if (name == robot_knobs()[k].name) return static_cast<int>(k);
+  throw std::invalid_argument("no robot knob '" + name + "'");
+}
+
+std::string setting_key(const KnobSetting& st) {
+  std::ostringstream s;
+  for (const auto& [k, v] : st) s << k << "=" << std::llround(v * 1e6) << ";";
+  return s.str();
+}
+
+double factor_of(const KnobSetting& st, int knob) {
+  const auto it = st.find(knob);
+  return it == st.end() ? 1.0 : it->second;
+}
+
+}  // namespace chainsim
