@@ -25,7 +25,6 @@
 #define ENUM_REPLY_TIMEOUT_MS 200u
 #define SYNC_SETTLE_MS 2u   /* let Sout reach module 0's Sin before the first offer */
 #define LONG_SLEEP_MS 60000UL
-#define LOG_LINES_PER_WAIT 4u /* the simulator's per-wait limit; more are dropped */
 #define ROLL_SHIFT_MRAD 1571   /* default shift_mrad of the roll (pi/2); 0 for the others */
 #define BIAS_DEFAULT_CDEG 1000 /* default bias_cdeg: yaw offset of the turns */
 
@@ -56,7 +55,7 @@ static uint8_t wait_event(uint16_t timeout_ms, uint8_t mask)
  * instead of being dropped */
 static void log_line(const char *line)
 {
-    if (log_lines >= LOG_LINES_PER_WAIT)
+    if (log_lines >= HAL_LOG_LINES_PER_WAIT)
         tick_wait();
     hal_log(line);
     log_lines++;
@@ -64,7 +63,7 @@ static void log_line(const char *line)
 
 static void send_frame(uint8_t addr, const uint8_t *data, uint8_t len)
 {
-    /* at most CS_I2C_FRAMES_MAX frames leave per wait: wait a tick when full */
+    /* the send queue holds only a few frames per wait: wait a tick when full */
     while (hal_i2c_send(addr, data, len) == HAL_ERR_FULL)
         tick_wait();
 }
@@ -333,20 +332,20 @@ int main(void)
     discover();
 
     gait = (uint8_t)param_clamped("gait", GAIT_FORWARD, 0, 255);
-    amp = (int16_t)param_clamped("amplitude_cdeg", 4000, 0, 18000);
+    amp = (int16_t)param_clamped("amplitude_cdeg", 4000, 0, HAL_SERVO_CDEG_MAX);
     omega = (int16_t)param_clamped("omega_mrad_s", 6000, -32767, 32767);
     phase = (int16_t)param_clamped("phase_mrad", 1000, -32767, 32767);
     axis = (uint8_t)param_clamped("axis", CC_AXIS_PITCH, CC_AXIS_PITCH, CC_AXIS_YAW);
-    posture = (int16_t)param_clamped("posture_cdeg", 0, -9000, 9000);
+    posture = (int16_t)param_clamped("posture_cdeg", 0, -CC_QUARTER_TURN_CDEG, CC_QUARTER_TURN_CDEG);
     /* the two-axis gaits and the turns (docs/firmware.md) */
-    amp2 = (int16_t)param_clamped("amplitude2_cdeg", amp, 0, 18000);
+    amp2 = (int16_t)param_clamped("amplitude2_cdeg", amp, 0, HAL_SERVO_CDEG_MAX);
     shift = (int16_t)param_clamped("shift_mrad", gait == GAIT_ROLL ? ROLL_SHIFT_MRAD : 0,
                                    -32767, 32767);
-    bias = (int16_t)param_clamped("bias_cdeg", BIAS_DEFAULT_CDEG, 0, 9000);
+    bias = (int16_t)param_clamped("bias_cdeg", BIAS_DEFAULT_CDEG, 0, CC_QUARTER_TURN_CDEG);
     /* gait 9 (helicoidal drive) and gait 8 (inchworm) */
     drive_pm = (int16_t)param_clamped("drive_permille", 1000, -1000, 1000);
     step = (int16_t)param_clamped("step_ms", 1000, 40, 30000);
-    grip = (int16_t)param_clamped("grip_cdeg", 9000, 0, 9000);
+    grip = (int16_t)param_clamped("grip_cdeg", CC_QUARTER_TURN_CDEG, 0, CC_QUARTER_TURN_CDEG);
     stroke = (int16_t)param_clamped("stroke_um", 15000, 0, 15000);
     start_ms = (uint32_t)param_clamped("start_ms", 0, 0, 0x7FFFFFFFL);
     stop_ms = (uint32_t)param_clamped("stop_ms", 0, 0, 0x7FFFFFFFL);
@@ -354,7 +353,7 @@ int main(void)
     /* elbows: which way the pipe turns, relative to the chain (0 up, 90 left,
      * 180 down, 270 right; -1 = off), how far and how long to bend */
     elbow_dir = (int16_t)param_clamped("elbow_dir_deg", -1, -1, 359);
-    bend = (int16_t)param_clamped("bend_cdeg", 4500, 0, 9000);
+    bend = (int16_t)param_clamped("bend_cdeg", 4500, 0, CC_QUARTER_TURN_CDEG);
     bend_ms = (uint16_t)param_clamped("bend_ms", 1500, 0, 30000L);
     if (elbow_dir >= 0) {
         /* direction in mrad = deg * 17.453; a positive pitch bends the

@@ -428,6 +428,10 @@ TEST_F(HalSim, ExtraLogLinesAreDroppedWithOneNotice)
         hal_log_int("", 0);
         hal_log_int("neg ", -5);
         hal_tick_wait();
+        // a prefix too long for the line is cut so that the whole number fits
+        hal_log_int(std::string(200, 'p').c_str(), INT32_MIN);
+        hal_log_int(std::string(HAL_LOG_LINE_MAX - HAL_LOG_INT_CHARS_MAX, 'q').c_str(), 7);
+        hal_tick_wait();
         tick_forever();
     });
     handshake();
@@ -442,6 +446,12 @@ TEST_F(HalSim, ExtraLogLinesAreDroppedWithOneNotice)
     tick_end(te);
     EXPECT_EQ(logs_of(te), (std::vector<std::string>{std::string(CS_LOG_LINE_MAX - 1, 'x'),
                                                       "v=-2147483648", "0", "neg -5"}));
+    ASSERT_TRUE(conn_.send(make_tick(3000)));
+    tick_end(te);
+    EXPECT_EQ(logs_of(te),
+              (std::vector<std::string>{std::string(84, 'p') + "-2147483648",
+                                        std::string(84, 'q') + "7"}));
+    EXPECT_EQ(logs_of(te)[0].size(), size_t(HAL_LOG_LINE_MAX));
     EXPECT_EQ(shutdown_and_wait(), 0);
 }
 
