@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Build the PIC18 toolchain for hal-pic (docs: hal-pic/README.md, DESIGN.md 7):
+# Build the PIC18 toolchain for hal-pic (docs: hal-pic/README.md, "Toolchain and build"):
 #
 #   1. Debian packages: gputils (gpasm/gplink/gplib, .inc and .lkr files),
 #      gpsim, and the build dependencies of SDCC
