@@ -1,4 +1,5 @@
-/* Log lines: the simulator stores them per module; the board may drop them. */
+/* Log lines: the simulator stores them per module; the board writes them to
+ * its UART (hal-pic/README.md). */
 #ifndef HAL_LOG_H
 #define HAL_LOG_H
 
