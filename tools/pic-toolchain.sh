@@ -105,8 +105,11 @@ SDCC_BIN="$SDCC_PREFIX/bin/sdcc"
 COMP_STAMP="$CACHE/stamps/compiler"
 RT="$CACHE/rt"
 RT_STAMP="$CACHE/stamps/runtime"
-# the runtime is rebuilt when this script or the header generator changes
-RT_KEY=$(cat "${BASH_SOURCE[0]}" "$HERE/pic-devhdr.py" "$INC_FILE" | sha256sum | cut -c1-16)
+# the runtime is rebuilt when this script or the header generator changes;
+# not for an edit of the script's comment lines (the cache is shared by every
+# checkout on the machine, and each would rebuild it for the other)
+RT_KEY=$({ grep -vE '^[[:space:]]*#( |$)' "${BASH_SOURCE[0]}"; cat "$HERE/pic-devhdr.py" "$INC_FILE"; } |
+  sha256sum | cut -c1-16)
 need_compiler=0
 need_runtime=0
 if [ ! -f "$COMP_STAMP" ] || [ ! -x "$SDCC_BIN" ] || [ ! -x "$SDCC_PREFIX/bin/sdcpp" ]; then
