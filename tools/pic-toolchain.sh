@@ -42,6 +42,14 @@ trap 'rc=$?; [ $rc -eq 0 ] || printf "[pic-toolchain] FAILED (exit %s); logs: %s
 
 mkdir -p "$CACHE/logs" || die "cannot create the cache directory $CACHE (set CHAINSIM_PIC_CACHE)"
 
+# one writer at a time: checkouts on the same machine share the cache, and
+# pic-build.sh holds the lock shared while it links against the runtime
+exec 9>"$CACHE/lock"
+if ! flock -n 9; then
+  say "waiting for another user of $CACHE"
+  flock 9
+fi
+
 # run a command with its output in a log file; show the log's tail on failure
 run_logged() {
   local log="$CACHE/logs/$1"
