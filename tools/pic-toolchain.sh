@@ -13,7 +13,7 @@
 # Everything goes to a cache outside the repo:
 #   ${CHAINSIM_PIC_CACHE:-$HOME/.cache/chainsim-pic}
 # Each step has a stamp file and is skipped when done; the runtime step also
-# re-runs when the generator or the toolchain script changes. The source
+# re-runs when the generator or the toolchain script's code changes. The source
 # (src/, 175 MB) is only used to build; it may be deleted afterwards.
 # Idempotent; takes about 2 minutes on 2 cores the first time, <1 s cached.
 #
