@@ -12,12 +12,12 @@
 #include <stdexcept>
 
 #include "model/module_file.h"
+#include "physics/units.h"
 
 namespace chainsim {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 [[noreturn]] void invalid(const ModuleDef& d, const std::string& what) {
   throw std::invalid_argument("module type '" + d.type + "': " + what);
