@@ -270,8 +270,8 @@ RunResult Server::run() {
     if (opt_.progress && now - last_progress > std::chrono::seconds(1)) {
       last_progress = now;
       const double wall = std::chrono::duration<double>(now - wall0).count();
-      std::fprintf(stderr, "\rchainsim: t=%.2f/%.2f s, %.2fx real time ", now_us_ * 1e-6, end_us * 1e-6,
-                   now_us_ * 1e-6 / wall);
+      std::fprintf(stderr, "\rchainsim: t=%s/%s s, %sx real time ", fixed_text(now_us_ * 1e-6, 2).c_str(),
+                   fixed_text(end_us * 1e-6, 2).c_str(), fixed_text(now_us_ * 1e-6 / wall, 2).c_str());
     }
   }
   if (opt_.progress) std::fprintf(stderr, "\n");

@@ -1,4 +1,4 @@
-// Built-in module types and ModuleDef helpers. See module_library.h. The
+// Built-in module types and ModuleDef helpers. See module_def.h. The
 // built-in types are the files scenes/modules/*.yaml, compiled in
 // (builtin_modules.cpp.in) and parsed on first use (module_file.h).
 #include "model/module_def.h"
