@@ -143,9 +143,17 @@ class Server : public BarrierSink {
     return s + ")";
   }
 
+  // a name is looked up in firmware_dir (DIR[:DIR...]) first, then next to chainsim
   std::string program_path(const std::string& program) const {
     if (program.find('/') != std::string::npos) return program;
-    return (opt_.firmware_dir.empty() ? executable_dir() : opt_.firmware_dir) + "/" + program;
+    const std::string& dirs = opt_.firmware_dir;
+    for (size_t b = 0; b < dirs.size();) {
+      const size_t e = std::min(dirs.find(':', b), dirs.size());
+      const std::string p = dirs.substr(b, e - b) + "/" + program;
+      if (e > b && access(p.c_str(), X_OK) == 0) return p;
+      b = e + 1;
+    }
+    return executable_dir() + "/" + program;
   }
 
   void start_processes();
