@@ -30,7 +30,7 @@ void testcase(std::ostringstream& x, const TestCaseResult& r) {
   for (const std::string& a : r.artefacts) property(x, "artefact", a);
   x << "      </properties>\n";
   if (r.status == TestCaseResult::Status::error || r.status == TestCaseResult::Status::interrupted) {
-    const std::string msg = r.status == TestCaseResult::Status::interrupted ? "interrupted" : r.error;
+    const std::string msg = r.error.empty() ? "interrupted" : r.error;
     x << "      <error message=\"" << xml_escape(msg) << "\" type=\"error\">" << xml_escape(msg) << "</error>\n";
   }
   for (const CheckOutcome& c : r.checks) {

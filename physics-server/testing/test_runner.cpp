@@ -289,6 +289,11 @@ int run_tests(const TestRunOptions& o, const FailureViewer& viewer, FILE* out) {
   int failed = 0, errored = 0, passed = 0;
   for (Case& c : cases) {
     TestCaseResult& r = c.result;
+    if (c.started == Clock::time_point{}) {  // never started: interrupted first
+      r.status = TestCaseResult::Status::interrupted;
+      r.error = "not run (interrupted)";
+      c.dir.clear();
+    }
     if (r.status == TestCaseResult::Status::failed && !g_interrupted) {
       double t = r.sim_s;
       for (const CheckOutcome& ch : r.checks)
