@@ -40,8 +40,8 @@ std::string expectation_where(const SceneYaml& y, const YAML::Node& n, const std
   size_t col = start + offset;
   const std::string probe = text.substr(std::min(offset, text.size()), 8);
   if (!probe.empty()) {
-    // the first occurrence at or after where the decoded prefix would put it
-    const size_t guess = raw.find(probe, start);
+    // escapes only lengthen the written text: the token is at or after start + offset
+    const size_t guess = raw.find(probe, start + offset);
     if (guess != std::string::npos) col = guess;
   }
   return y.file + ":" + std::to_string(m.line + 1) + ":" + std::to_string(col + 1);

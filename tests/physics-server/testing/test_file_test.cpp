@@ -105,6 +105,8 @@ TEST(TestFile, ExpectationErrorsPointIntoTheLine) {
             "\"chain.distance_m => 0.2\"");
   EXPECT_EQ(error_of(head + "  - \"trace.m0.s0.current_a maxx < 0.35\"\n").rfind("dir/t.test.yaml:5:28: ", 0), 0u);
   EXPECT_EQ(error_of(head + "  - 'log m0 /contact before 8'\n").rfind("dir/t.test.yaml:5:13: ", 0), 0u);
+  // the same text twice in the line: the second one is at fault
+  EXPECT_EQ(error_of(head + "  - \"trace.m0.x > 0.1 before 0.1 0.1\"\n").rfind("dir/t.test.yaml:5:34: unexpected", 0), 0u);
   EXPECT_EQ(error_of(head + "  - {a: 1}\n"),
             "dir/t.test.yaml:5:5: an expectation must be one line of text, e.g. \"chain.distance_m >= 0.2\"");
 }
