@@ -1,7 +1,8 @@
-// The programs of the other module types (issue 5): discovery of mixed
-// chains, STATUS, the helicoidal drive (gait 9), the inchworm (gait 8), the
-// touch module's contact report and the traveller's distance estimate, each
-// with the real firmware on the real physics server.
+// The programs of the other module types (issue 5): READ_SENSORS, the
+// helicoidal drive (gait 9), the inchworm (gait 8) and the traveller's
+// distance estimate, each with the real firmware on the real physics server.
+// Discovery of mixed chains and the touch module's contact report are test
+// files (discovery/, modules/; chainsim test).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -35,23 +36,7 @@ double advance(const std::map<std::string, std::vector<double>>& tr, const std::
 
 }  // namespace
 
-// ---- discovery and STATUS -----------------------------------------------------
-
-class MixedChain : public ::testing::TestWithParam<std::string> {};
-
-TEST_P(MixedChain, CentralControlLearnsEveryModuleType) {
-  const std::string chain = GetParam();
-  const int n = static_cast<int>(chain.size());
-  const std::string dir = temp_dir("mixed");
-  const std::string scene = write_file(dir, "s.yaml", "chain: " + chain + "\nduration_s: 0.3\n");
-  const Outcome o = run({scene}, dir);
-  ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
-  const std::string log = central_log(o, n);
-  EXPECT_NE(log.find("chain: " + chain + " (" + std::to_string(n) + " modules)"), std::string::npos) << log;
-}
-
-INSTANTIATE_TEST_SUITE_P(Chains, MixedChain,
-                         ::testing::Values("THRH", "SES", "RWRP", "THRHRHRHH", "TWHSEP"));
+// ---- READ_SENSORS (discovery of mixed chains: the test files in discovery/)
 
 // poll_ms makes the central control send READ_SENSORS to every module: each
 // program answers with its own values (and none of them flags a bad frame)
@@ -111,31 +96,7 @@ TEST(Inchworm, AdvancesInAHorizontalPipe) {
 
 // ---- touch and traveller ------------------------------------------------------
 
-// a touch module pushed by two helicoidal modules along a pipe that turns
-// sharply: the head meets the wall of the elbow (at about 3 s) and the
-// central control gets a TOUCH frame
-TEST(Touch, RegistersThePipeWall) {
-  const std::string dir = temp_dir("touch");
-  const std::string scene = write_file(dir, "s.yaml", R"(duration_s: 4
-environment:
-  type: pipe
-  pipe:
-    inner_diameter_m: 0.04
-    segments:
-      - {type: straight, length_m: 0.2}
-      - {type: elbow, bend_radius_m: 0.03, angle_deg: 90, direction_deg: 90}
-      - {type: straight, length_m: 0.1}
-  material: {mu: 0.05}
-chain: THH
-placement: {at: pipe_entry, inset_m: 0.01}
-central:
-  params: {gait: 9, drive_permille: 1000}
-)");
-  const Outcome o = run({scene}, dir);
-  ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
-  const std::string log = central_log(o, 3);
-  EXPECT_NE(log.find("touch 0x20: contact"), std::string::npos) << log;
-}
+// (the touch module's contact report: modules/touch-pipe-wall.test.yaml)
 
 // the traveller, pushed by helicoidal modules along a level pipe of 31 mm
 // (its three wheels on the wall), estimates the distance within 10 %
