@@ -162,7 +162,7 @@ int run_optimize(const OptimizeArgs& a) {
   SearchSummary s;
   try {
     if (!a.quiet)
-      std::fprintf(stderr, "optimize: %s: %zu genes (%lld gene vectors), %s, population %d, %d generations, seed %llu, "
+      std::fprintf(stderr, "optimize: %s: %zu genes (%lld gene vectors), %s, population %d, generations 0..%d, seed %llu, "
                            "%s; writing %s\n",
                    pr.name.c_str(), pr.genome.gene_count(), static_cast<long long>(pr.genome.gene_space_size()),
                    pr.exhaustive ? "exhaustive" : "pagmo sga", pr.ga.population, last_generation(pr),
