@@ -105,15 +105,15 @@ Evaluation::Evaluation(const EvalContext& ctx, EvalTask task, const std::string&
   }
   std::ofstream(dir_ + "/scene.yaml") << text;
   ChildSpec spec;
-  spec.program = ctx_.chainsim_exe;
+  spec.program = ctx_.evaluator_exe;
   char timeout[32];
   std::snprintf(timeout, sizeof timeout, "%g", pr.evaluation.module_timeout_s);
-  spec.args = {"run", dir_ + "/scene.yaml", "--out", dir_ + "/run", "--quiet", "--module-timeout", timeout};
+  spec.args = {dir_ + "/scene.yaml", dir_ + "/run", timeout};
   spec.stdout_path = dir_ + "/chainsim.out";
   try {
     child_.spawn(spec);
   } catch (const std::exception& e) {
-    fail_now(std::string("cannot start chainsim run: ") + e.what());
+    fail_now(std::string("cannot start " + ctx_.evaluator_exe + ": ") + e.what());
   }
 }
 
@@ -138,7 +138,7 @@ void Evaluation::finish(const ExitStatus& st) {
   } catch (const RunRecordError& e) {
     // no usable outputs: say what the process said
     s = failed_score(pr.measures.size(), pr.objective,
-                     "chainsim run ended with " + st.text() + ": " + last_lines(dir_ + "/chainsim.out", 600));
+                     "the run ended with " + st.text() + ": " + last_lines(dir_ + "/chainsim.out", 600));
   }
   result_ = {s.fitness, s.measures, s.failed, deterministic_fault_text(s.why), wall};
   done_ = true;

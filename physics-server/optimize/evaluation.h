@@ -1,6 +1,6 @@
 // One individual's evaluation: its scene written to a work directory, a real
-// `chainsim run` child process simulating it (the same machinery as the
-// command), and the score read from the run directory it leaves. Local
+// co-simulation in a child process (chainsim-evaluate: the run_scene of
+// `chainsim run`), and the score read from the run directory it leaves. Local
 // workers and MPI ranks both run evaluations through this.
 #pragma once
 
@@ -49,7 +49,7 @@ std::string deterministic_fault_text(const std::string& text);
 
 struct EvalContext {
   const Problem* problem = nullptr;
-  std::string chainsim_exe;   // the program that runs a scene (this chainsim)
+  std::string evaluator_exe;  // the program that runs a scene: chainsim-evaluate SCENE OUT_DIR TIMEOUT_S
   std::string work_dir;       // where evaluations write their runs
   bool keep_runs = false;     // keep each run directory (else removed once scored)
 };
@@ -69,7 +69,7 @@ class Evaluation {
   const EvalTask& task() const { return task_; }
   const EvalResult& result() const { return result_; }
   pid_t pid() const { return child_.pid(); }
-  // the run directory chainsim run writes (removed once scored unless kept)
+  // the run directory the run writes (removed once scored unless kept)
   std::string run_dir() const { return dir_ + "/run"; }
 
  private:

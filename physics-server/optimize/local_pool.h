@@ -1,4 +1,4 @@
-// Local workers: up to N evaluations at once, each a `chainsim run` child
+// Local workers: up to N evaluations at once, each a chainsim-evaluate child
 // process; results collected by task index.
 #pragma once
 

@@ -1,6 +1,6 @@
 // MPI mode (`mpirun -np K chainsim optimize ...`): rank 0 runs the search and
 // hands evaluations to ranks 1..K-1, each of which runs them as local
-// `chainsim run` children and sends the results back. Tasks and results are
+// chainsim-evaluate children and sends the results back. Tasks and results are
 // small JSON messages; every rank loads the problem file itself.
 //
 // A rank that dies: with OpenMPI 4.1 mpirun ends the whole job when a rank

@@ -36,7 +36,7 @@ std::string num(double v, const char* fmt = "%.6g") {
 // the fitness plot: one polyline per series over the generations
 std::string plot_svg(const Problem& pr, const std::vector<GenerationStats>& st) {
   if (st.empty()) return "<p>No generation finished yet.</p>";
-  const double W = 760, H = 340, L = 70, R = 150, T = 20, B = 45;
+  const double W = 780, H = 340, L = 90, R = 150, T = 20, B = 45;
   double lo = INFINITY, hi = -INFINITY;
   for (const auto& s : st)
     for (double v : {s.best, s.mean, s.worst}) {

@@ -78,12 +78,12 @@ std::vector<Genes> enumerate_individuals(const Problem& pr) {
 
 class Progress {
  public:
-  Progress(bool quiet, int last_gen, uint64_t per_gen, uint64_t done_before)
-      : quiet_(quiet), tty_(isatty(2)), last_gen_(last_gen), per_gen_(per_gen), done_before_(done_before),
-        t0_(Clock::now()) {}
+  Progress(bool quiet, int last_gen, uint64_t per_gen, uint64_t total, uint64_t done_before)
+      : quiet_(quiet), tty_(isatty(2)), last_gen_(last_gen), per_gen_(per_gen), total_(total),
+        done_before_(done_before), t0_(Clock::now()) {}
   void update(int gen, uint64_t done_in_gen, uint64_t hits, const BestSoFar& best, bool gen_end) {
     if (quiet_ || (!tty_ && !gen_end)) return;
-    const uint64_t total = per_gen_ * static_cast<uint64_t>(last_gen_ + 1);
+    const uint64_t total = total_;
     const uint64_t done = per_gen_ * static_cast<uint64_t>(gen) + done_in_gen;
     const double wall = std::chrono::duration<double>(Clock::now() - t0_).count();
     const uint64_t this_session = done > done_before_ ? done - done_before_ : 0;
@@ -101,7 +101,7 @@ class Progress {
  private:
   bool quiet_, tty_;
   int last_gen_;
-  uint64_t per_gen_, done_before_;
+  uint64_t per_gen_, total_, done_before_;
   Clock::time_point t0_;
 };
 
@@ -189,7 +189,8 @@ SearchSummary run_search(const Problem& pr, const SearchOptions& opt, EvaluatorP
   sum.cache_hits = cp.cache_hits;
   sum.generations_done = cp.generation;
   const uint64_t per_gen = static_cast<uint64_t>(pr.ga.population);
-  Progress progress(opt.quiet, last_gen, per_gen, per_gen * static_cast<uint64_t>(cp.generation + 1));
+  const uint64_t total = pr.exhaustive ? everyone.size() : per_gen * static_cast<uint64_t>(last_gen + 1);
+  Progress progress(opt.quiet, last_gen, per_gen, total, per_gen * static_cast<uint64_t>(cp.generation + 1));
 
   for (int gen = cp.generation + 1; gen <= last_gen; ++gen) {
     std::vector<Genes> genes;

@@ -128,7 +128,11 @@ int run_optimize(const OptimizeArgs& a) {
 
   EvalContext ctx;
   ctx.problem = &pr;
-  ctx.chainsim_exe = self_exe();
+  ctx.evaluator_exe = (std::filesystem::path(self_exe()).parent_path() / "chainsim-evaluate").string();
+  if (access(ctx.evaluator_exe.c_str(), X_OK) != 0) {
+    if (rank == 0) std::fprintf(stderr, "chainsim: %s is missing: build the target chainsim-evaluate\n", ctx.evaluator_exe.c_str());
+    return leave(kExitInternal, false);
+  }
   ctx.work_dir = a.out + "/work" + (rank > 0 ? "/rank-" + std::to_string(rank) : "");
   ctx.keep_runs = a.keep_runs;
   if (rank > 0) {
