@@ -8,7 +8,7 @@
 
 namespace chainsim {
 
-EvalCache::EvalCache(const std::string& journal_path) : path_(journal_path) {
+EvalCache::EvalCache(const std::string& journal_path, const std::string& fingerprint) : path_(journal_path) {
   std::string text;
   {
     std::ifstream in(path_, std::ios::binary);
@@ -17,6 +17,7 @@ EvalCache::EvalCache(const std::string& journal_path) : path_(journal_path) {
     text = s.str();
   }
   size_t pos = 0, line_no = 0;
+  bool have_header = false;
   while (pos < text.size()) {
     const size_t nl = text.find('\n', pos);
     const bool complete = nl != std::string::npos;
@@ -32,6 +33,13 @@ EvalCache::EvalCache(const std::string& journal_path) : path_(journal_path) {
     if (line.empty()) continue;
     try {
       const nlohmann::json j = nlohmann::json::parse(line);
+      if (line_no == 1) {
+        if (j.at("fingerprint").get<std::string>() != fingerprint)
+          throw CacheError(path_ + ": the evaluations of another search (another problem file, base scene or "
+                                   "settings); use another --out");
+        have_header = true;
+        continue;
+      }
       journaled_[j.at("key").get<std::string>()] = eval_result_from_json(j.at("result"));
     } catch (const nlohmann::json::exception& e) {
       throw CacheError(path_ + ":" + std::to_string(line_no) + ": not a journal line: " + e.what());
@@ -39,6 +47,12 @@ EvalCache::EvalCache(const std::string& journal_path) : path_(journal_path) {
   }
   journal_ = std::fopen(path_.c_str(), "ab");
   if (!journal_) throw CacheError(path_ + ": cannot open for writing: " + std::strerror(errno));
+  if (!have_header) write_line(nlohmann::json{{"fingerprint", fingerprint}}.dump() + "\n");
+}
+
+void EvalCache::write_line(const std::string& line) {
+  if (std::fwrite(line.data(), 1, line.size(), journal_) != line.size() || std::fflush(journal_) != 0)
+    throw CacheError(path_ + ": cannot write: " + std::strerror(errno));
 }
 
 EvalCache::~EvalCache() {
@@ -57,9 +71,7 @@ const EvalResult* EvalCache::journaled(const std::string& key) const {
 
 void EvalCache::record(const std::string& key, const EvalResult& r) {
   journaled_[key] = r;
-  const std::string line = nlohmann::json{{"key", key}, {"result", eval_result_to_json(r)}}.dump() + "\n";
-  if (std::fwrite(line.data(), 1, line.size(), journal_) != line.size() || std::fflush(journal_) != 0)
-    throw CacheError(path_ + ": cannot write: " + std::strerror(errno));
+  write_line(nlohmann::json{{"key", key}, {"result", eval_result_to_json(r)}}.dump() + "\n");
 }
 
 void EvalCache::commit(const std::string& key) {

@@ -27,10 +27,11 @@ struct CacheError : std::runtime_error {
 
 class EvalCache {
  public:
-  // opens journal_path (created if missing) and reads the results it holds;
-  // a torn last line (a kill while writing) is dropped, any other bad line
-  // is a CacheError naming file:line
-  explicit EvalCache(const std::string& journal_path);
+  // opens journal_path (created if missing) and reads the results it holds.
+  // Its first line names the search (fingerprint): a journal of another
+  // search is a CacheError. A torn last line (a kill while writing) is
+  // dropped, any other bad line is a CacheError naming file:line.
+  EvalCache(const std::string& journal_path, const std::string& fingerprint);
   ~EvalCache();
   EvalCache(const EvalCache&) = delete;
   EvalCache& operator=(const EvalCache&) = delete;
@@ -49,6 +50,7 @@ class EvalCache {
   size_t size() const { return cache_.size(); }
 
  private:
+  void write_line(const std::string& line);  // appended and flushed at once
   std::string path_;
   FILE* journal_ = nullptr;
   std::map<std::string, EvalResult> journaled_;

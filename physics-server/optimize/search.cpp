@@ -159,28 +159,34 @@ SearchSummary run_search(const Problem& pr, const SearchOptions& opt, EvaluatorP
   const std::vector<Genes> everyone = pr.exhaustive ? enumerate_individuals(pr) : std::vector<Genes>{};
 
   Checkpoint cp;
-  if (opt.resume) {
+  // resuming a search killed before its first generation ended: start it
+  // again, with whatever the journal kept
+  const bool resume = opt.resume && fs::exists(checkpoint_path(opt.out_dir));
+  if (resume) {
     cp = read_checkpoint(checkpoint_path(opt.out_dir));
     if (cp.fingerprint != fp)
       throw CheckpointError(checkpoint_path(opt.out_dir) +
                             ": the search there was started with another problem file, base scene, seed, "
                             "population or GA settings; resume it with the same ones, or use another --out");
+  } else if (opt.resume) {
+    if (!fs::exists(journal_path(opt.out_dir)))
+      throw CheckpointError(checkpoint_path(opt.out_dir) + ": cannot open (no search to resume here)");
   } else if (fs::exists(checkpoint_path(opt.out_dir)) || fs::exists(history_path(opt.out_dir))) {
     throw std::runtime_error(opt.out_dir + " already holds a search: continue it with --resume, or choose another --out");
   } else {
     std::error_code ec;
-    fs::remove(journal_path(opt.out_dir), ec);  // leftovers of a search that never finished a generation
+    fs::remove(journal_path(opt.out_dir), ec);
   }
   write_text_atomic(opt.out_dir + "/problem.yaml", pr.text);
 
-  EvalCache cache(journal_path(opt.out_dir));
+  EvalCache cache(journal_path(opt.out_dir), fp);
   std::vector<std::string> names;
   for (const auto& m : pr.measures) names.push_back(m.name);
-  HistoryFile history(history_path(opt.out_dir), names, opt.resume, cp.history_bytes);
-  if (opt.resume) cache.restore(cp.cache_keys);
+  HistoryFile history(history_path(opt.out_dir), names, resume, cp.history_bytes);
+  if (resume) cache.restore(cp.cache_keys);
 
   SgaStepper ga(pr.genome, pr.ga);
-  if (opt.resume && !pr.exhaustive) ga.set_population(cp.genes, cp.f);
+  if (resume && !pr.exhaustive) ga.set_population(cp.genes, cp.f);
 
   SearchSummary sum;
   sum.best = cp.best;

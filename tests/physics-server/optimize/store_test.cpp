@@ -51,7 +51,7 @@ TEST(EvalResultJson, RoundTripsNonFiniteNumbers) {
 TEST(EvalCache, TheJournalKeepsResultsAcrossProcesses) {
   const std::string j = fresh_dir() + "/evaluations.jsonl";
   {
-    EvalCache c(j);
+    EvalCache c(j, "fp");
     c.record("THRH", result(1.5));
     c.record("TRRH", result(2.5, true, "constraint: x = 0 < 1"));
     EXPECT_EQ(c.find("THRH"), nullptr);  // journaled, not yet in the cache proper
@@ -60,7 +60,7 @@ TEST(EvalCache, TheJournalKeepsResultsAcrossProcesses) {
     ASSERT_NE(c.find("THRH"), nullptr);
     EXPECT_EQ(c.keys(), (std::vector<std::string>{"THRH"}));
   }
-  EvalCache c(j);  // as after a kill: everything journaled is known, the cache proper is empty
+  EvalCache c(j, "fp");  // as after a kill: everything journaled is known, the cache proper is empty
   EXPECT_EQ(c.size(), 0u);
   ASSERT_NE(c.journaled("TRRH"), nullptr);
   EXPECT_EQ(*c.journaled("TRRH"), result(2.5, true, "constraint: x = 0 < 1"));
@@ -72,22 +72,28 @@ TEST(EvalCache, TheJournalKeepsResultsAcrossProcesses) {
 TEST(EvalCache, ATornLastLineIsDroppedADamagedOneIsAnError) {
   const std::string d = fresh_dir();
   {
-    EvalCache c(d + "/a.jsonl");
+    EvalCache c(d + "/a.jsonl", "fp");
     c.record("A", result(1));
   }
   { std::ofstream(d + "/a.jsonl", std::ios::app) << R"({"key": "B", "resu)"; }
   {
-    EvalCache c(d + "/a.jsonl");
+    EvalCache c(d + "/a.jsonl", "fp");
     EXPECT_NE(c.journaled("A"), nullptr);
     EXPECT_EQ(c.journaled("B"), nullptr);
     c.record("C", result(3));
   }
-  EvalCache again(d + "/a.jsonl");  // the torn line was cut off, C starts clean
+  EvalCache again(d + "/a.jsonl", "fp");  // the torn line was cut off, C starts clean
   EXPECT_NE(again.journaled("C"), nullptr);
+  try {
+    EvalCache other(d + "/a.jsonl", "another search");
+    FAIL();
+  } catch (const CacheError& e) {
+    EXPECT_NE(std::string(e.what()).find("the evaluations of another search"), std::string::npos) << e.what();
+  }
 
   std::ofstream(d + "/b.jsonl") << "{\"key\": \"A\"}\n" << eval_result_to_json(result(1)).dump() << "\n";
   try {
-    EvalCache bad(d + "/b.jsonl");
+    EvalCache bad(d + "/b.jsonl", "fp");
     FAIL();
   } catch (const CacheError& e) {
     EXPECT_EQ(std::string(e.what()).rfind(d + "/b.jsonl:1: not a journal line", 0), 0u) << e.what();

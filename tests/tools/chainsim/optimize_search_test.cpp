@@ -201,7 +201,7 @@ TEST(Optimize, ResumeAfterSigkillMidGenerationEqualsAnUninterruptedSearch) {
       [&] {
         const nlohmann::json cp = nlohmann::json::parse(scenario::read_file(out + "/checkpoint.json"), nullptr, false);
         if (!cp.is_object() || cp.value("generation", -1) < 1) return false;
-        const size_t journaled = lines(scenario::read_file(out + "/evaluations.jsonl")).size();
+        const size_t journaled = lines(scenario::read_file(out + "/evaluations.jsonl")).size() - 1;  // a header
         return journaled > cp["cache_keys"].size();
       },
       120);
@@ -220,6 +220,27 @@ TEST(Optimize, ResumeAfterSigkillMidGenerationEqualsAnUninterruptedSearch) {
   // and a second start without --resume refuses to overwrite it
   const std::string again = search(optimize_args(p, out, {"--population", "4"}), d + "/third.txt", 1);
   EXPECT_NE(again.find("already holds a search: continue it with --resume"), std::string::npos) << again;
+}
+
+TEST(Optimize, ResumeBeforeTheFirstGenerationEndedStartsOverAndKeepsTheJournal) {
+  const Reference& ref = reference();
+  const std::string d = scenario::temp_dir("opt-resume0");
+  const std::string p = write_problem(d, "gait");
+  const std::string out = d + "/out";
+  const std::vector<std::string> gens{"--population", "4", "--generations", "3"};
+  std::vector<std::string> one = gens;
+  one.insert(one.end(), {"--workers", "1"});
+  const Proc proc = start(optimize_args(p, out, one), d + "/first.txt");
+  const bool some = scenario::wait_until(
+      [&] { return lines(scenario::read_file(out + "/evaluations.jsonl")).size() >= 2; }, 120);
+  kill(proc.pid, SIGKILL);
+  wait_for(proc);
+  ASSERT_TRUE(some) << scenario::read_file(d + "/first.txt");
+  ASSERT_FALSE(std::filesystem::exists(out + "/checkpoint.json")) << "generation 0 ended before the kill";
+  std::vector<std::string> resume = gens;
+  resume.push_back("--resume");
+  search(optimize_args(p, out, resume), d + "/second.txt");
+  EXPECT_EQ(history_without_wall(out + "/history.csv"), ref.history);
 }
 
 TEST(Optimize, AnIndividualWhoseModuleCrashesGetsTheFailedFitnessAndTheSearchGoesOn) {
