@@ -73,6 +73,14 @@ EvalResult eval_result_from_json(const nlohmann::json& j) {
   return r;
 }
 
+uint64_t repeat_seed(uint64_t seed, int repeat) {
+  if (repeat == 0) return seed;
+  uint64_t x = seed + 0x9E3779B97F4A7C15ull * static_cast<uint64_t>(repeat);  // splitmix64
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return (x ^ (x >> 31)) >> 2;
+}
+
 std::string deterministic_fault_text(const std::string& text) {
   static const std::regex pid(", pid [0-9]+");
   return std::regex_replace(text, pid, "");
@@ -95,25 +103,42 @@ Evaluation::Evaluation(const EvalContext& ctx, EvalTask task, const std::string&
     fail_now("cannot create " + dir_ + ": " + ec.message());
     return;
   }
-  std::string text;
   try {
-    text = individual_scene_yaml(pr, task_.phenotype, task_.seed);
-    load_scene_text(text, dir_ + "/scene.yaml");  // a scene the genome spoils fails here, not in a child
+    // every repeat's scene, checked here: a scene the genome spoils fails here, not in a child
+    for (int r = 0; r < pr.evaluation.repeats; ++r) {
+      const std::string text = individual_scene_yaml(pr, task_.phenotype, repeat_seed(task_.seed, r));
+      load_scene_text(text, scene_path(r));
+      std::ofstream(scene_path(r)) << text;
+    }
   } catch (const SceneError& e) {
     fail_now(std::string("scene: ") + e.what());
     return;
   }
-  std::ofstream(dir_ + "/scene.yaml") << text;
+  start_repeat();
+}
+
+std::string Evaluation::scene_path(int r) const {
+  return dir_ + (r == 0 ? "/scene.yaml" : "/scene-" + std::to_string(r) + ".yaml");
+}
+
+std::string Evaluation::run_dir(int r) const { return dir_ + (r == 0 ? "/run" : "/run-" + std::to_string(r)); }
+
+void Evaluation::start_repeat() {
+  const Problem& pr = *ctx_.problem;
+  const int r = static_cast<int>(scores_.size());
   ChildSpec spec;
   spec.program = ctx_.evaluator_exe;
   char timeout[32];
   std::snprintf(timeout, sizeof timeout, "%g", pr.evaluation.module_timeout_s);
-  spec.args = {dir_ + "/scene.yaml", dir_ + "/run", timeout};
+  spec.args = {scene_path(r), run_dir(r), timeout};
   spec.stdout_path = dir_ + "/chainsim.out";
   try {
     child_.spawn(spec);
   } catch (const std::exception& e) {
-    fail_now(std::string("cannot start " + ctx_.evaluator_exe + ": ") + e.what());
+    const Score s = failed_score(pr.measures.size(), pr.objective,
+                                 std::string("cannot start " + ctx_.evaluator_exe + ": ") + e.what());
+    result_ = {s.fitness, s.measures, true, s.why, 0.0};
+    done_ = true;
   }
 }
 
@@ -130,17 +155,25 @@ void Evaluation::terminate() {
 
 void Evaluation::finish(const ExitStatus& st) {
   const Problem& pr = *ctx_.problem;
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+  const int r = static_cast<int>(scores_.size());
   Score s;
   try {
-    const RunRecord rec = read_run_record(dir_ + "/run");
+    const RunRecord rec = read_run_record(run_dir(r));
     s = score_run(pr.measures, pr.objective, pr.constraints, rec, pr.pipe.get());
   } catch (const RunRecordError& e) {
     // no usable outputs: say what the process said
     s = failed_score(pr.measures.size(), pr.objective,
                      "the run ended with " + st.text() + ": " + last_lines(dir_ + "/chainsim.out", 600));
   }
-  result_ = {s.fitness, s.measures, s.failed, deterministic_fault_text(s.why), wall};
+  scores_.push_back(s);
+  // a failed repeat fails the individual: no need to run the others
+  if (!s.failed && static_cast<int>(scores_.size()) < pr.evaluation.repeats) {
+    start_repeat();
+    return;
+  }
+  const Score all = combine_repeats(scores_, pr.objective);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+  result_ = {all.fitness, all.measures, all.failed, deterministic_fault_text(all.why), wall};
   done_ = true;
   if (!ctx_.keep_runs) {
     std::error_code ec;

@@ -14,6 +14,7 @@
 
 #include "cosim/child_process.h"
 #include "optimize/genome.h"
+#include "optimize/objective.h"
 
 namespace chainsim {
 
@@ -43,6 +44,9 @@ struct EvalResult {
 nlohmann::json eval_result_to_json(const EvalResult& r);
 EvalResult eval_result_from_json(const nlohmann::json& j);
 
+// the seed of repeat r of an individual whose run seed is seed (r = 0: seed itself)
+uint64_t repeat_seed(uint64_t seed, int repeat);
+
 // "module 1 (rotation, pid 4242) closed ..." -> "module 1 (rotation) closed ...":
 // a fault's words without what changes from run to run
 std::string deterministic_fault_text(const std::string& text);
@@ -54,7 +58,9 @@ struct EvalContext {
   bool keep_runs = false;     // keep each run directory (else removed once scored)
 };
 
-// a running evaluation: construct to start it, poll until done
+// a running evaluation: construct to start it, poll until done. With
+// evaluation.repeats > 1 it runs the individual that many times, one after
+// the other, each with its own seed (repeat_seed), and scores the mean.
 class Evaluation {
  public:
   // dir: where to run (default: a fresh directory under ctx.work_dir)
@@ -69,10 +75,12 @@ class Evaluation {
   const EvalTask& task() const { return task_; }
   const EvalResult& result() const { return result_; }
   pid_t pid() const { return child_.pid(); }
-  // the run directory the run writes (removed once scored unless kept)
-  std::string run_dir() const { return dir_ + "/run"; }
+  // the run directory of repeat r (removed once scored unless kept)
+  std::string run_dir(int r = 0) const;
 
  private:
+  std::string scene_path(int r) const;
+  void start_repeat();
   void finish(const ExitStatus& st);
 
   const EvalContext& ctx_;
@@ -81,6 +89,7 @@ class Evaluation {
   ChildProcess child_;
   std::chrono::steady_clock::time_point t0_;
   bool done_ = false;
+  std::vector<Score> scores_;   // of the repeats run so far
   EvalResult result_;
 };
 

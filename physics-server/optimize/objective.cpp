@@ -90,3 +90,23 @@ Score score_run(const std::vector<MeasureSpec>& measures, const ObjectiveSpec& o
 }
 
 }  // namespace chainsim
+
+namespace chainsim {
+
+Score combine_repeats(const std::vector<Score>& repeats, const ObjectiveSpec& objective) {
+  if (repeats.size() == 1) return repeats[0];
+  for (size_t r = 0; r < repeats.size(); ++r)
+    if (repeats[r].failed) {
+      Score s = repeats[r];
+      s.why = "repeat " + std::to_string(r + 1) + " of " + std::to_string(repeats.size()) + ": " + s.why;
+      return s;
+    }
+  Score s;
+  s.measures.assign(repeats[0].measures.size(), 0.0);
+  for (const auto& r : repeats)
+    for (size_t k = 0; k < s.measures.size(); ++k) s.measures[k] += r.measures[k] / static_cast<double>(repeats.size());
+  for (const auto& [k, w] : objective.weights) s.fitness += w * s.measures[static_cast<size_t>(k)];
+  return s;
+}
+
+}  // namespace chainsim

@@ -57,6 +57,10 @@ Score score_run(const std::vector<MeasureSpec>& measures, const ObjectiveSpec& o
 // the score of a run that could not be measured at all (bad scene, no outputs)
 Score failed_score(size_t n_measures, const ObjectiveSpec& objective, const std::string& why);
 
+// the score of repeated runs of one individual: the first failed one, else
+// the mean of each measure and the objective of those means
+Score combine_repeats(const std::vector<Score>& repeats, const ObjectiveSpec& objective);
+
 // true when fitness a is better than b in the objective's sense
 inline bool better_fitness(const ObjectiveSpec& o, double a, double b) { return o.maximize ? a > b : a < b; }
 

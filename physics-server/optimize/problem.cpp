@@ -315,10 +315,11 @@ Problem load(const std::string& text, const std::string& file) {
   if (root["constraints"]) load_constraints(y, root["constraints"], &pr);
   if (root["ga"]) load_ga(y, root["ga"], &pr.ga);
   if (const YAML::Node e = root["evaluation"]) {
-    y.keys(e, "evaluation", {"duration_s", "module_timeout_s"});
+    y.keys(e, "evaluation", {"duration_s", "module_timeout_s", "repeats"});
     pr.evaluation.duration_s = y.number(e, "duration_s", -1, 0.001, 86400, "evaluation");
     if (!e["duration_s"]) pr.evaluation.duration_s = -1;
     pr.evaluation.module_timeout_s = y.number(e, "module_timeout_s", 10, 0.001, 86400, "evaluation", true);
+    pr.evaluation.repeats = static_cast<int>(get_int(y, e, "repeats", 1, 1, 1000, "evaluation"));
   }
 
   // the genome must make valid scenes: try the first individual

@@ -38,6 +38,7 @@ struct GaSettings {
 struct EvaluationSettings {
   double duration_s = -1;            // < 0: the base scene's
   double module_timeout_s = 10;      // chainsim run --module-timeout
+  int repeats = 1;                   // runs per individual, each with its own seed; the mean is scored
 };
 
 struct Problem {

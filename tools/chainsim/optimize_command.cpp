@@ -57,9 +57,12 @@ std::string replay_best(const EvalContext& ctx, const Problem& pr, const BestSoF
   std::filesystem::remove_all(dir, ec);
   const EvalResult r = evaluate_now(ctx, individual_task(pr, best.genes, best.individual), dir);
   char b[256];
-  if (r.fitness == best.fitness && r.failed == best.failed)
+  if (r.fitness == best.fitness && r.failed == best.failed && pr.evaluation.repeats == 1)
     std::snprintf(b, sizeof b, "Run again from best.yaml, it gave the same fitness (%.10g) in %.1f s.", r.fitness,
                   r.wall_s);
+  else if (r.fitness == best.fitness && r.failed == best.failed)
+    std::snprintf(b, sizeof b, "Run again (its %d repeats; best.yaml is the first), it gave the same fitness (%.10g) "
+                  "in %.1f s.", pr.evaluation.repeats, r.fitness, r.wall_s);
   else
     std::snprintf(b, sizeof b, "WARNING: best.yaml run again gave fitness %.10g, the search recorded %.10g: "
                                "the run is not deterministic.", r.fitness, best.fitness);

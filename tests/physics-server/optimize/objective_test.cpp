@@ -153,3 +153,24 @@ TEST(PipeProgress, ATeesBranchCountsFromTheMiddleOfItsRun) {
   EXPECT_NEAR(p.exit_m(), 0.2 + 0.05 + 0.06 + 0.2, 1e-9);
   EXPECT_NEAR(p.at({0.25, 0.03, 0}), 0.2 + 0.05 + 0.03, 1e-9);  // in the branch
 }
+
+TEST(Objective, RepeatsScoreTheMeanAndFailWithTheFirstFailedOne) {
+  ObjectiveSpec o;
+  o.weights = {{0, 2.0}, {1, 1.0}};
+  o.failed_fitness = -5;
+  Score a, b, c;
+  a.measures = {1.0, 10.0};
+  b.measures = {3.0, 20.0};
+  a.fitness = 12;
+  b.fitness = 26;
+  const Score m = combine_repeats({a, b}, o);
+  EXPECT_FALSE(m.failed);
+  EXPECT_EQ(m.measures, (std::vector<double>{2.0, 15.0}));
+  EXPECT_DOUBLE_EQ(m.fitness, 19.0);
+  c = failed_score(2, o, "constraint: x = 0 < 1");
+  const Score f = combine_repeats({a, c, b}, o);
+  EXPECT_TRUE(f.failed);
+  EXPECT_EQ(f.fitness, -5);
+  EXPECT_EQ(f.why, "repeat 2 of 3: constraint: x = 0 < 1");
+  EXPECT_EQ(combine_repeats({b}, o).fitness, 26);  // one run: as it is
+}

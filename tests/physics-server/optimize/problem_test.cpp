@@ -80,7 +80,7 @@ objective:
 constraints:
   - {measure: x, min: 0}
 ga: {population: 10, generations: 3, seed: 7, crossover: exponential}
-evaluation: {duration_s: 0.5}
+evaluation: {duration_s: 0.5, repeats: 3}
 )";
 
 }  // namespace
@@ -104,6 +104,7 @@ TEST(Problem, LoadsEverySection) {
   EXPECT_EQ(pr.ga.seed, 7u);
   EXPECT_EQ(pr.ga.crossover, "exponential");
   EXPECT_EQ(pr.evaluation.duration_s, 0.5);
+  EXPECT_EQ(pr.evaluation.repeats, 3);
   EXPECT_FALSE(pr.pipe);
 }
 

@@ -44,6 +44,9 @@ EvalResult result(double f, bool failed = false, const std::string& why = "") {
 TEST(EvalResultJson, RoundTripsNonFiniteNumbers) {
   const EvalResult r = result(0.1 + 0.2, true, "module 1 (rotation) closed its socket");
   EXPECT_EQ(eval_result_from_json(nlohmann::json::parse(eval_result_to_json(r).dump())), r);
+  EXPECT_EQ(repeat_seed(42, 0), 42u);  // one run per individual: its own seed
+  EXPECT_NE(repeat_seed(42, 1), repeat_seed(42, 2));
+  EXPECT_EQ(repeat_seed(42, 1), repeat_seed(42, 1));
   EXPECT_EQ(deterministic_fault_text("module 1 (rotation, pid 4242) closed its socket (signal 11)"),
             "module 1 (rotation) closed its socket (signal 11)");
 }
