@@ -167,8 +167,8 @@ std::string MpiPool::describe() const {
 int MpiPool::lost_ranks() const { return impl_->lost; }
 
 void MpiPool::stop_workers(bool finalize) {
-  for (auto& r : impl_->ranks)
-    if (r.live) impl_->out.send(r.rank, kStop, finalize ? "finalize" : "exit");
+  // also to ranks given up: one that was only slow is still waiting for work
+  for (auto& r : impl_->ranks) impl_->out.send(r.rank, kStop, finalize && r.live ? "finalize" : "exit");
   // let the messages leave before this rank does (sends to a dead rank never complete)
   const auto t0 = Clock::now();
   while (!impl_->out.empty() && since(t0) < 1.0) {
