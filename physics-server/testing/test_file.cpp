@@ -44,7 +44,7 @@ std::string expectation_where(const SceneYaml& y, const YAML::Node& n, const std
     const size_t guess = raw.find(probe, start + offset);
     if (guess != std::string::npos) col = guess;
   }
-  return y.file + ":" + std::to_string(m.line + 1) + ":" + std::to_string(col + 1);
+  return y.file() + ":" + std::to_string(m.line + 1) + ":" + std::to_string(col + 1);
 }
 
 // leaves of the overrides map: nested maps are merged key by key

@@ -5,6 +5,7 @@
 //   chainsim calibrate               find what the servo model misses against a measurement
 //   chainsim test PATH...            run test files (scene + expectations); JUnit XML for CI
 //   chainsim bench-lockstep          price of processes and sockets vs physics only
+//   chainsim optimize PROBLEM.yaml   design search: GA over chains and parameters (local workers or MPI)
 #include <CLI/CLI.hpp>
 
 #include <unistd.h>
@@ -18,6 +19,7 @@
 #include "chainsim/bench_command.h"
 #include "chainsim/calibrate_command.h"
 #include "chainsim/test_command.h"
+#include "chainsim/optimize_command.h"
 #include "viewer/live_view.h"
 #include "cosim/lockstep_server.h"
 #include "scene/scene.h"
@@ -204,6 +206,7 @@ int main(int argc, char** argv) {
   add_bench_command(app);
   add_calibrate_command(app);
   add_test_command(app);
+  add_optimize_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -213,6 +216,7 @@ int main(int argc, char** argv) {
   if (const int rc = bench_command_exit_code(); rc >= 0) return rc;
   if (const int rc = calibrate_command_exit_code(); rc >= 0) return rc;
   if (const int rc = test_command_exit_code(); rc >= 0) return rc;
+  if (const int rc = optimize_command_exit_code(); rc >= 0) return rc;
   if (*run) return cmd_run(ra);
   if (*view) return cmd_view(va);
   if (*bench) return cmd_bench_lockstep(ba);
