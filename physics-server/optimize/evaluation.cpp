@@ -10,7 +10,7 @@
 
 #include "optimize/individual_scene.h"
 #include "optimize/problem.h"
-#include "optimize/run_record.h"
+#include "optimize/run_outcome.h"
 #include "scene/scene.h"
 
 namespace chainsim {
@@ -158,9 +158,9 @@ void Evaluation::finish(const ExitStatus& st) {
   const int r = static_cast<int>(scores_.size());
   Score s;
   try {
-    const RunRecord rec = read_run_record(run_dir(r));
+    const RunOutcome rec = read_run_outcome(run_dir(r));
     s = score_run(pr.measures, pr.objective, pr.constraints, rec, pr.pipe.get());
-  } catch (const RunRecordError& e) {
+  } catch (const RunOutcomeError& e) {
     // no usable outputs: say what the process said
     s = failed_score(pr.measures.size(), pr.objective,
                      "the run ended with " + st.text() + ": " + last_lines(dir_ + "/chainsim.out", 600));

@@ -10,7 +10,7 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-const std::vector<Eigen::Vector3d>& track(const MeasureSpec& m, const RunRecord& r) {
+const std::vector<Eigen::Vector3d>& track(const MeasureSpec& m, const RunOutcome& r) {
   return m.of == MeasureSpec::Of::Tail ? r.tail : r.head;
 }
 
@@ -19,7 +19,7 @@ double along(const MeasureSpec& m, const Eigen::Vector3d& p, const PipeProgress*
   return m.along_pipe ? pipe->at(p) : p.dot(m.axis);
 }
 
-double distance(const MeasureSpec& m, const RunRecord& r, const PipeProgress* pipe) {
+double distance(const MeasureSpec& m, const RunOutcome& r, const PipeProgress* pipe) {
   if (m.of == MeasureSpec::Of::Chain) return r.chain_displacement.dot(m.axis);
   const auto& tr = track(m, r);
   if (tr.empty()) return 0;
@@ -34,7 +34,7 @@ std::string num(double v) {
 
 }  // namespace
 
-double measure_value(const MeasureSpec& m, const RunRecord& r, const PipeProgress* pipe) {
+double measure_value(const MeasureSpec& m, const RunOutcome& r, const PipeProgress* pipe) {
   switch (m.kind) {
     case MeasureSpec::Kind::Distance: return distance(m, r, pipe);
     case MeasureSpec::Kind::Speed: return r.sim_time_s > 0 ? distance(m, r, pipe) / r.sim_time_s : 0.0;
@@ -64,7 +64,7 @@ Score failed_score(size_t n_measures, const ObjectiveSpec& objective, const std:
 }
 
 Score score_run(const std::vector<MeasureSpec>& measures, const ObjectiveSpec& objective,
-                const std::vector<ConstraintSpec>& constraints, const RunRecord& run,
+                const std::vector<ConstraintSpec>& constraints, const RunOutcome& run,
                 const PipeProgress* pipe) {
   Score s;
   for (const auto& m : measures) s.measures.push_back(measure_value(m, run, pipe));

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "optimize/pipe_progress.h"
-#include "optimize/run_record.h"
+#include "optimize/run_outcome.h"
 
 namespace chainsim {
 
@@ -47,11 +47,11 @@ struct Score {
 };
 
 // the value of one measure; pipe is needed for along_pipe measures
-double measure_value(const MeasureSpec& m, const RunRecord& run, const PipeProgress* pipe);
+double measure_value(const MeasureSpec& m, const RunOutcome& run, const PipeProgress* pipe);
 
 // measures, constraints and fitness of a run
 Score score_run(const std::vector<MeasureSpec>& measures, const ObjectiveSpec& objective,
-                const std::vector<ConstraintSpec>& constraints, const RunRecord& run,
+                const std::vector<ConstraintSpec>& constraints, const RunOutcome& run,
                 const PipeProgress* pipe);
 
 // the score of a run that could not be measured at all (bad scene, no outputs)

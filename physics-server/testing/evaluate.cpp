@@ -159,7 +159,7 @@ CheckResult trace_when(const Expectation& e, RunRecord& run) {
   return timed(e.timing, 0, 0, "", run.end_s());
 }
 
-int endpoint(const Endpoint& who, RunRecord& run) {
+int endpoint(const EndpointName& who, RunRecord& run) {
   const int n = run.module_count();
   if (!who.central && who.module >= n)
     throw EvaluationError(who.text() + ": the chain has " + std::to_string(n) + " modules (m0.." +

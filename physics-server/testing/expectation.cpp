@@ -137,9 +137,9 @@ class Parser {
     return tm;
   }
 
-  Endpoint endpoint(const std::string& what) {
+  EndpointName endpoint(const std::string& what) {
     const Token& t = next(what);
-    Endpoint e;
+    EndpointName e;
     if (t.text == "central") {
       e.central = true;
       return e;

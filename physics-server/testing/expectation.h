@@ -36,7 +36,7 @@ struct Timing {
 };
 
 // a run's endpoint: module k (`m<k>`) or the central control (`central`)
-struct Endpoint {
+struct EndpointName {
   bool central = false;
   int module = 0;
   std::string text() const { return central ? "central" : "m" + std::to_string(module); }
@@ -63,11 +63,11 @@ struct Expectation {
   Comparison cmp;    // summary, motion, trace_stat, trace_when
   Timing timing;     // trace_when, log, bus, touch
 
-  Endpoint who;             // log, touch; bus addr/sout
+  EndpointName who;             // log, touch; bus addr/sout
   std::string pattern;      // log: the regex as written
   std::regex regex;         // log
   std::string event;        // bus: i2c, i2c-drop, addr, sout
-  std::optional<Endpoint> from;  // bus i2c, i2c-drop: sender
+  std::optional<EndpointName> from;  // bus i2c, i2c-drop: sender
   std::optional<int> address;    // bus i2c, i2c-drop: `to`; addr: the address taken
   std::string data_prefix;       // bus i2c: `data` hex prefix, lower case
   std::optional<int> level;      // bus sout: 0 or 1

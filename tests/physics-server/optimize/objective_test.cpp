@@ -5,7 +5,7 @@
 
 #include "optimize/objective.h"
 #include "optimize/pipe_progress.h"
-#include "optimize/run_record.h"
+#include "optimize/run_outcome.h"
 
 using namespace chainsim;
 
@@ -41,26 +41,26 @@ MeasureSpec measure(MeasureSpec::Kind k, MeasureSpec::Of of = MeasureSpec::Of::H
 
 }  // namespace
 
-TEST(RunRecord, ReadsTracksEnergyAndHowTheRunEnded) {
-  const RunRecord r = parse_run_record(summary(0), kTrace, "run");
+TEST(RunOutcome, ReadsTracksEnergyAndHowTheRunEnded) {
+  const RunOutcome r = parse_run_outcome(summary(0), kTrace, "run");
   EXPECT_TRUE(r.finished);
   EXPECT_EQ(r.modules, 2);
   EXPECT_DOUBLE_EQ(r.energy_j, 4.0);
   ASSERT_EQ(r.t_s.size(), 3u);  // the torn row is dropped
   EXPECT_DOUBLE_EQ(r.head[2].x(), 0.4);
   EXPECT_DOUBLE_EQ(r.tail[2].x(), 0.3);  // the last module's last body
-  const RunRecord f = parse_run_record(summary(2, "module 1 (rotation, pid 7) closed its socket"), kTrace, "run");
+  const RunOutcome f = parse_run_outcome(summary(2, "module 1 (rotation, pid 7) closed its socket"), kTrace, "run");
   EXPECT_FALSE(f.finished);
   EXPECT_EQ(f.fault, "module 1 (rotation, pid 7) closed its socket");
-  const RunRecord limp = parse_run_record(summary(0, "", "crashed"), kTrace, "run");
+  const RunOutcome limp = parse_run_outcome(summary(0, "", "crashed"), kTrace, "run");
   EXPECT_FALSE(limp.finished);  // finished its time, but with a module powered off
   EXPECT_EQ(limp.fault, "crashed");
-  EXPECT_THROW(parse_run_record("{", kTrace, "run"), RunRecordError);
-  EXPECT_THROW(parse_run_record(summary(0), "t_s,a\n1,2\n", "run"), RunRecordError);
+  EXPECT_THROW(parse_run_outcome("{", kTrace, "run"), RunOutcomeError);
+  EXPECT_THROW(parse_run_outcome(summary(0), "t_s,a\n1,2\n", "run"), RunOutcomeError);
 }
 
 TEST(Objective, MeasuresAlongAnAxis) {
-  const RunRecord r = parse_run_record(summary(0), kTrace, "run");
+  const RunOutcome r = parse_run_outcome(summary(0), kTrace, "run");
   EXPECT_NEAR(measure_value(measure(MeasureSpec::Kind::Distance), r, nullptr), 0.4, 1e-12);
   EXPECT_NEAR(measure_value(measure(MeasureSpec::Kind::Speed, MeasureSpec::Of::Tail), r, nullptr), 0.2, 1e-12);
   EXPECT_NEAR(measure_value(measure(MeasureSpec::Kind::Distance, MeasureSpec::Of::Chain), r, nullptr), 0.3, 1e-12);
@@ -77,7 +77,7 @@ TEST(Objective, MeasuresAlongAnAxis) {
 }
 
 TEST(Objective, WeightedSumConstraintsAndFailures) {
-  const RunRecord r = parse_run_record(summary(0), kTrace, "run");
+  const RunOutcome r = parse_run_outcome(summary(0), kTrace, "run");
   std::vector<MeasureSpec> ms = {measure(MeasureSpec::Kind::Distance), measure(MeasureSpec::Kind::Energy)};
   ms[0].name = "x";
   ms[1].name = "e";
@@ -97,7 +97,7 @@ TEST(Objective, WeightedSumConstraintsAndFailures) {
   EXPECT_EQ(s.fitness, -99);
   EXPECT_EQ(s.why, "constraint: x = 0.4 < 0.5");
   EXPECT_NEAR(s.measures[0], 0.4, 1e-12);  // measured all the same
-  const RunRecord crashed = parse_run_record(summary(2, "module 1 (rotation) closed its socket"), kTrace, "run");
+  const RunOutcome crashed = parse_run_outcome(summary(2, "module 1 (rotation) closed its socket"), kTrace, "run");
   s = score_run(ms, o, {}, crashed, nullptr);
   EXPECT_TRUE(s.failed);
   EXPECT_EQ(s.fitness, -99);

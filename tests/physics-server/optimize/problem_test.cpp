@@ -124,7 +124,7 @@ TEST(Problem, TheGenomeMakesTheIndividualsScene) {
   const Problem pr = load_problem_file(problem(kGood));
   const std::string text = individual_scene_yaml(pr, {"", {2500, 15}}, 42);
   const Scene s = load_scene_text(text, "individual");
-  EXPECT_EQ(s.seed, 42u);
+  EXPECT_EQ(s.world.seed, 42u);
   EXPECT_EQ(s.duration_s, 0.5);
   EXPECT_EQ(s.central.params.at("amplitude_cdeg"), 2500);
   EXPECT_EQ(s.central.params.at("gait"), 1);           // the base scene's stay

@@ -11,7 +11,7 @@
 
 namespace chainsim {
 
-struct RunRecord {
+struct RunOutcome {
   bool finished = false;         // ran to its duration with no fault
   std::string fault;             // why not (the run's own words), empty when finished
   int modules = 0;
@@ -22,16 +22,16 @@ struct RunRecord {
   double energy_j = 0;           // summed over the modules
 };
 
-struct RunRecordError : std::runtime_error {
+struct RunOutcomeError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// reads run_dir/summary.json and run_dir/trace.csv; throws RunRecordError
+// reads run_dir/summary.json and run_dir/trace.csv; throws RunOutcomeError
 // naming the file when one is missing or malformed
-RunRecord read_run_record(const std::string& run_dir);
+RunOutcome read_run_outcome(const std::string& run_dir);
 
 // the same from the files' text (tests); source names them in errors
-RunRecord parse_run_record(const std::string& summary_json, const std::string& trace_csv,
+RunOutcome parse_run_outcome(const std::string& summary_json, const std::string& trace_csv,
                            const std::string& source);
 
 }  // namespace chainsim

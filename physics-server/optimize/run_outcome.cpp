@@ -1,4 +1,4 @@
-#include "optimize/run_record.h"
+#include "optimize/run_outcome.h"
 
 #include <nlohmann/json.hpp>
 
@@ -12,7 +12,7 @@ namespace {
 
 std::string slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw RunRecordError(path + ": cannot open");
+  if (!in) throw RunOutcomeError(path + ": cannot open");
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
@@ -50,9 +50,9 @@ int body_x_column(const std::vector<std::string>& cols, int k, bool last) {
 
 }  // namespace
 
-RunRecord parse_run_record(const std::string& summary_json, const std::string& trace_csv,
+RunOutcome parse_run_outcome(const std::string& summary_json, const std::string& trace_csv,
                            const std::string& source) {
-  RunRecord r;
+  RunOutcome r;
   nlohmann::json s;
   try {
     s = nlohmann::json::parse(summary_json);
@@ -76,17 +76,17 @@ RunRecord parse_run_record(const std::string& summary_json, const std::string& t
       r.fault = module_fault;
     r.finished = r.fault.empty();
   } catch (const nlohmann::json::exception& e) {
-    throw RunRecordError(source + "/summary.json: " + e.what());
+    throw RunOutcomeError(source + "/summary.json: " + e.what());
   }
 
   std::istringstream in(trace_csv);
   std::string line;
-  if (!std::getline(in, line)) throw RunRecordError(source + "/trace.csv: empty");
+  if (!std::getline(in, line)) throw RunOutcomeError(source + "/trace.csv: empty");
   const std::vector<std::string> cols = split(line, ',');
   const int hx = body_x_column(cols, 0, false);
   const int tx = body_x_column(cols, r.modules - 1, true);
   if (hx < 0 || tx < 0)
-    throw RunRecordError(source + "/trace.csv: no body position columns for modules 0 and " +
+    throw RunOutcomeError(source + "/trace.csv: no body position columns for modules 0 and " +
                          std::to_string(r.modules - 1));
   int row = 1;
   while (std::getline(in, line)) {
@@ -96,7 +96,7 @@ RunRecord parse_run_record(const std::string& summary_json, const std::string& t
     if (v.size() != cols.size()) {
       // a run stopped by a fault may end in a torn row; anything else is damage
       if (in.peek() == EOF) break;
-      throw RunRecordError(source + "/trace.csv:" + std::to_string(row) + ": " + std::to_string(v.size()) +
+      throw RunOutcomeError(source + "/trace.csv:" + std::to_string(row) + ": " + std::to_string(v.size()) +
                            " fields, the header has " + std::to_string(cols.size()));
     }
     auto num = [&](int i) { return std::strtod(v[static_cast<size_t>(i)].c_str(), nullptr); };
@@ -107,8 +107,8 @@ RunRecord parse_run_record(const std::string& summary_json, const std::string& t
   return r;
 }
 
-RunRecord read_run_record(const std::string& run_dir) {
-  return parse_run_record(slurp(run_dir + "/summary.json"), slurp(run_dir + "/trace.csv"), run_dir);
+RunOutcome read_run_outcome(const std::string& run_dir) {
+  return parse_run_outcome(slurp(run_dir + "/summary.json"), slurp(run_dir + "/trace.csv"), run_dir);
 }
 
 }  // namespace chainsim
