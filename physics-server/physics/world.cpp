@@ -45,8 +45,11 @@
 #include <stdexcept>
 
 #include "environment/environment_geoms.h"
+#include "environment/pipe_wall_probe.h"
 #include "model/module_def.h"
+#include "physics/contact_force_log.h"
 #include "physics/sensors/sensors.h"
+#include "physics/wheels/wheel_contacts.h"
 
 namespace chainsim {
 
@@ -57,6 +60,7 @@ constexpr double kMotorFMax = 10.0;   // N m; far above any servo torque (stall 
 constexpr double kPi = 3.14159265358979323846;
 constexpr unsigned kStepReserveBytes = 4u << 20;  // ODE stepper working memory, reserved
 constexpr int kWarmContactsPerGeom = 8;           // contact joints pre-allocated per geom
+constexpr double kSurfaceLayer = 1e-4;            // m, ODE's allowed contact penetration
 
 Eigen::Isometry3d to_iso(const Pose& p) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
@@ -90,11 +94,12 @@ struct World::Impl {
     std::string name;
     bool touched = false;      // had a contact in the last step
   };
-  // a firmware-driven actuator: rotary servo, linear servo or screw drive
+  // a firmware-driven actuator: rotary servo, linear servo, screw drive or
+  // DC motor (kind Screw: driven alike, -1..1; `hinge` set)
   struct Servo {
     ServoKind kind = ServoKind::Rotary;
     int module = -1;
-    dJointID hinge = nullptr;  // Rotary: the hinge; Linear: the slider
+    dJointID hinge = nullptr;  // Rotary, DC motor: the hinge; Linear: the slider
     // Rotary: one-axis angular motor realising the servo torque; Linear, Screw:
     // one-axis linear motor realising the force law's implicit part
     dJointID motor = nullptr;
@@ -141,6 +146,9 @@ struct World::Impl {
   std::vector<Servo> servos;
   std::vector<Module> modules;
   Sensors sensors;   // accelerometers, wheel encoders, joint friction (sensors.h)
+  std::unique_ptr<WallProbe> wall_probe;   // where wheel arms meet the wall
+  WheelContacts wheels;                    // wheel sets (wheel_contacts.h)
+  ContactForceLog force_log;               // WorldConfig::log_contact_forces
   dContactGeom contact_buf[kMaxContactsPerPair];
 
   static void near_callback(void* data, dGeomID a, dGeomID b) {
@@ -188,6 +196,12 @@ struct World::Impl {
       dJointID j = dJointCreateContact(world, contact_group, &c);
       dJointAttach(j, dGeomGetBody(c.geom.g1), dGeomGetBody(c.geom.g2));
       ++contact_count;
+      if (force_log.enabled()) {
+        const intptr_t t1 = reinterpret_cast<intptr_t>(dGeomGetData(c.geom.g1));
+        const intptr_t t2 = reinterpret_cast<intptr_t>(dGeomGetData(c.geom.g2));
+        force_log.add(j, t1 > 0 ? static_cast<int>(t1 - 1) : -1,
+                      t2 > 0 ? static_cast<int>(t2 - 1) : -1, c.geom.normal);
+      }
     }
   }
 
@@ -301,9 +315,14 @@ void World::Impl::add_module(int index, const ModuleDef& def, const Eigen::Isome
         break;
     }
     dBodySetMass(b.id, &m);
-    dGeomSetBody(b.geom, b.id);
-    // 1-based global body index; 0 marks the environment
-    dGeomSetData(b.geom, reinterpret_cast<void*>(static_cast<intptr_t>(bodies.size() + 1)));
+    if (bd.collides) {
+      dGeomSetBody(b.geom, b.id);
+      // 1-based global body index; 0 marks the environment
+      dGeomSetData(b.geom, reinterpret_cast<void*>(static_cast<intptr_t>(bodies.size() + 1)));
+    } else {  // the shape gave the mass; no contacts
+      dGeomDestroy(b.geom);
+      b.geom = nullptr;
+    }
     bodies.push_back(b);
   }
 
@@ -390,6 +409,7 @@ void World::Impl::add_module(int index, const ModuleDef& def, const Eigen::Isome
   std::vector<dBodyID> body_ids;
   for (int b = 0; b < md.nbody; ++b) body_ids.push_back(bodies[md.body0 + b].id);
   sensors.add_module(index, def, body_ids, joints, frame.linear());
+  wheels.add_module(index, def.wheels, def.pads, body_ids, frame);
 
   md.front_body = md.body0 + def.front.body;
   md.back_body = md.body0 + def.back.body;
@@ -423,6 +443,24 @@ void World::Impl::add_force_actuator(int index, Module& md, const ModuleDef& def
   s.l0 = ad.l0_m;
   s.v_free = ad.v_free_m_s;
   s.stall_a = ad.stall_current_a > 0 ? ad.stall_current_a : cfg.servo.supply_v / cfg.servo.r;
+  if (ad.type == ActuatorType::DcMotor) {
+    // a one-axis angular motor on the hinge, as the rotary servo's
+    const JointDef& jd = def.joints[ad.joint];
+    s.kind = ServoKind::Screw;
+    s.hinge = joints[ad.joint];
+    s.lo = -1.0;
+    s.hi = 1.0;
+    s.motor = dJointCreateAMotor(world, nullptr);
+    dJointAttach(s.motor, bodies[md.body0 + jd.child].id, bodies[md.body0 + jd.parent].id);
+    dJointSetAMotorMode(s.motor, dAMotorUser);
+    dJointSetAMotorNumAxes(s.motor, 1);
+    const Eigen::Vector3d axis = frame.linear() * jd.axis.normalized();
+    dJointSetAMotorAxis(s.motor, 0, 1, axis.x(), axis.y(), axis.z());
+    dJointSetAMotorParam(s.motor, dParamFMax, 0.0);
+    md.all.push_back(static_cast<int>(servos.size()));
+    servos.push_back(std::move(s));
+    return;
+  }
   s.motor = dJointCreateLMotor(world, nullptr);
   dJointSetLMotorNumAxes(s.motor, 1);
   if (ad.type == ActuatorType::LinearServo) {
@@ -456,6 +494,7 @@ void World::Impl::add_force_actuator(int index, Module& md, const ModuleDef& def
 // body's velocity along its drive axis; m/s
 double World::Impl::actuator_rate(const Servo& s) const {
   if (s.kind == ServoKind::Linear) return dJointGetSliderPositionRate(s.hinge);
+  if (s.hinge) return dJointGetHingeAngleRate(s.hinge);  // DC motor: rad/s
   dVector3 ax;  // (dJointGetLMotorAxis would give the body-frame axis)
   dBodyVectorToWorld(s.body, s.dir.x(), s.dir.y(), s.dir.z(), ax);
   const dReal* v = dBodyGetLinearVel(s.body);
@@ -485,6 +524,12 @@ void World::Impl::begin_force_actuator(Servo& s) {
     } else {
       s.law_force = f0;
     }
+  }
+  if (s.hinge && s.kind == ServoKind::Screw) {  // DC motor: always has a speed term
+    dJointSetAMotorParam(s.motor, dParamVel, s.law_rate);
+    dJointSetAMotorParam(s.motor, dParamCFM, s.law_damping > 0 ? 1.0 / s.law_damping : 1.0);
+    dJointSetAMotorParam(s.motor, dParamFMax, s.law_damping > 0 ? s.fmax : 0.0);
+    return;
   }
   if (s.law_damping > 0) {
     dJointSetLMotorParam(s.motor, dParamVel, s.law_rate);
@@ -532,7 +577,7 @@ void World::Impl::build() {
   dWorldSetCFM(world, 1e-9);
   dWorldSetQuickStepNumIterations(world, std::max(1, cfg.solver_iterations));
   dWorldSetAutoDisableFlag(world, 0);
-  dWorldSetContactSurfaceLayer(world, 1e-4);
+  dWorldSetContactSurfaceLayer(world, kSurfaceLayer);
   space = dSimpleSpaceCreate(nullptr);
   env = std::make_unique<EnvironmentGeoms>(cfg.environment, space);
   for (const std::string& surface : env->surfaces())
@@ -541,6 +586,8 @@ void World::Impl::build() {
   cfg.module_contact = contact_material(cfg.environment, module_surface_name(),
                                         module_surface_name(), cfg.module_contact);
   contact_group = dJointGroupCreate(0);
+  wall_probe = std::make_unique<WallProbe>(env->pipe_layout(), env->geoms());
+  wheels.init(world, wall_probe.get(), h, kSurfaceLayer);
   rand_seed = static_cast<unsigned long>(cfg.seed);
   sensors.init(world, cfg.seed, cfg.gravity_m_s2);
 
@@ -578,7 +625,11 @@ void World::Impl::build() {
   reserve.reserve_minimum = kStepReserveBytes;
   dWorldSetStepMemoryReservationPolicy(world, &reserve);
   dContact dummy{};
-  const size_t warm = 64 + kWarmContactsPerGeom * bodies.size();
+  size_t n_wheels = 0;
+  for (size_t m = 0; m < modules.size(); ++m) n_wheels += wheels.count(static_cast<int>(m));
+  const size_t warm = 64 + kWarmContactsPerGeom * bodies.size() + n_wheels;
+  if (cfg.log_contact_forces)
+    force_log.init(static_cast<int>(bodies.size()), static_cast<int>(warm));
   for (size_t k = 0; k < warm; ++k) dJointCreateContact(world, contact_group, &dummy);
   dJointGroupEmpty(contact_group);
 }
@@ -670,9 +721,13 @@ void World::step() {
   for (Impl::Body& b : w.bodies) b.touched = false;
   w.contact_count = 0;
   dRandSetSeed(w.rand_seed);
+  w.force_log.begin_step();
   dSpaceCollide(w.space, &w, &Impl::near_callback);
+  w.contact_count += w.wheels.begin_step(w.contact_group);
   dWorldQuickStep(w.world, w.h);
   w.rand_seed = dRandGetSeed();
+  w.wheels.end_step();
+  if (w.force_log.enabled()) w.force_log.end_step();
   dJointGroupEmpty(w.contact_group);
   for (Impl::Servo& s : w.servos) {
     if (s.kind == ServoKind::Rotary)
@@ -819,6 +874,28 @@ double World::max_docking_error_m() const {
 
 int World::last_contact_count() const { return impl_->contact_count; }
 
+int World::wheel_count(int module) const { return impl_->wheels.count(module); }
+const std::string& World::wheel_name(int module, int wheel) const {
+  return impl_->wheels.name(module, wheel);
+}
+World::ContactForce World::body_contact_force(int module, int body) const {
+  if (!impl_->force_log.enabled())
+    throw std::logic_error("body_contact_force needs WorldConfig::log_contact_forces");
+  const ContactForceLog::Sum& s = impl_->force_log.body(impl_->body_index(module, body));
+  return ContactForce{s.normal_n, s.force, s.contacts};
+}
+
+World::WheelState World::wheel_state(int module, int wheel) const {
+  const WheelContacts::State& s = impl_->wheels.state(module, wheel);
+  WheelState out;
+  out.on = s.on;
+  out.reach_m = s.reach_m;
+  out.normal_n = s.normal_n;
+  out.across_n = s.across_n;
+  out.point = s.point;
+  return out;
+}
+
 std::string World::trace_header() const {
   std::string out = "t_s";
   static const char* kBodyCols[] = {"x", "y", "z", "qw", "qx", "qy", "qz"};
@@ -829,14 +906,18 @@ std::string World::trace_header() const {
       for (const char* c : kBodyCols) out += "," + pre + impl_->bodies[md.body0 + b].name + "." + c;
     for (size_t s = 0; s < md.driven.size(); ++s) {
       const std::string sp = pre + "s" + std::to_string(s) + ".";
-      switch (impl_->servos[md.driven[s]].kind) {
+      const Impl::Servo& sv = impl_->servos[md.driven[s]];
+      switch (sv.kind) {
         case ServoKind::Rotary: out += "," + sp + "setpoint_deg," + sp + "angle_deg"; break;
         case ServoKind::Linear: out += "," + sp + "setpoint_mm," + sp + "position_mm"; break;
-        case ServoKind::Screw: out += "," + sp + "command," + sp + "speed_mm_s"; break;
+        case ServoKind::Screw:
+          out += "," + sp + "command," + sp + (sv.hinge ? "speed_rad_s" : "speed_mm_s");
+          break;
       }
       out += "," + sp + "current_a";
     }
     out += "," + pre + "supply_a";
+    impl_->wheels.append_header(static_cast<int>(m), pre, &out);
   }
   out += "\n";
   return out;
@@ -869,15 +950,16 @@ void World::append_trace_row(std::string* out) const {
           std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.5f", sv.cmd * 1e3,
                         dJointGetSliderPosition(sv.hinge) * 1e3, sv.i_motor);
           break;
-        case ServoKind::Screw:
-          std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.5f", sv.cmd, impl_->actuator_rate(sv) * 1e3,
-                        sv.i_motor);
+        case ServoKind::Screw:  // screw drive: mm/s; DC motor: rad/s
+          std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.5f", sv.cmd,
+                        impl_->actuator_rate(sv) * (sv.hinge ? 1.0 : 1e3), sv.i_motor);
           break;
       }
       *out += buf;
     }
     std::snprintf(buf, sizeof buf, ",%.5f", module_supply_current_a(static_cast<int>(m)));
     *out += buf;
+    impl_->wheels.append_row(static_cast<int>(m), out);
   }
   *out += "\n";
 }

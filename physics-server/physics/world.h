@@ -38,6 +38,8 @@ struct WorldConfig {
   // more module types (e.g. test fixtures, types loaded from files): `chain`
   // names are looked up here first, then among the built-ins
   std::vector<ModuleDef> module_types;
+  // diagnostics: read every contact's force back (World::body_contact_force)
+  bool log_contact_forces = false;
 };
 
 // what one module's sensors read at a sample time; what TickBegin carries
@@ -142,6 +144,25 @@ class World {
   double max_docking_error_m() const;
   // contact joints created in the last step
   int last_contact_count() const;
+  // the wheels of module m's wheel sets (model/wheel_def.h), in file order:
+  // name (set name + index), and in the last step whether it touched the
+  // wall, its reach, normal force and friction across it (N)
+  struct WheelState {
+    bool on = false;
+    double reach_m = 0, normal_n = 0, across_n = 0;
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();  // wall point, world
+  };
+  int wheel_count(int module) const;
+  const std::string& wheel_name(int module, int wheel) const;
+  WheelState wheel_state(int module, int wheel) const;
+  // the ordinary contacts' forces on a body in the last step (needs
+  // WorldConfig::log_contact_forces; wheel contacts are in wheel_state)
+  struct ContactForce {
+    double normal_n = 0;                              // sum of the normal force magnitudes, N
+    Eigen::Vector3d force = Eigen::Vector3d::Zero();  // total, world frame, N
+    int contacts = 0;
+  };
+  ContactForce body_contact_force(int module, int body) const;
 
   // trace: one CSV header line, then one row per call; fixed formatting so
   // that equal states give equal bytes
