@@ -594,12 +594,11 @@ class Parser {
   PadDef pad(const YAML::Node& n, const std::string& p) const {
     if (!n.IsMap()) fail(n, "'" + p + "' must be a mapping");
     check_keys(n, p,
-               {"name", "body", "holds", "position_m", "direction", "reach_m", "stiffness_n_m",
+               {"name", "body", "position_m", "direction", "reach_m", "stiffness_n_m",
                 "damping_n_s_m", "mu"});
     PadDef d;
     d.name = name_of(need(n, "name", p), p + ".name");
     d.body = ref(n, "body", p, bodies_);
-    if (n["holds"]) d.holds = ref(n, "holds", p, bodies_);
     d.position_m = vec3(need(n, "position_m", p, "[x, y, z] in the module frame"), p + ".position_m");
     d.direction = direction(need(n, "direction", p, "[x, y, z] in the module frame"),
                             p + ".direction").normalized();

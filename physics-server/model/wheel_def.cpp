@@ -32,7 +32,6 @@ void validate_pad(const PadDef& p, int n_bodies) {
   };
   if (p.name.empty()) bad("no name");
   if (p.body < 0 || p.body >= n_bodies) bad("bad body index");
-  if (p.holds < -1 || p.holds >= n_bodies) bad("bad holding body index");
   if (!p.position_m.allFinite() || !p.direction.allFinite() || !(p.direction.norm() > 1e-9))
     bad("bad position or direction");
   if (!(p.reach_m > 0) || !std::isfinite(p.reach_m)) bad("reach_m must be > 0");

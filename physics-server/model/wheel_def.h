@@ -60,7 +60,6 @@ struct WheelSetDef {
 struct PadDef {
   std::string name;            // trace columns m<i>.<name>.n_N, .f_N (friction magnitude)
   int body = -1;               // the arm
-  int holds = -1;              // the body the grip acts on (the arm's hinge parent); -1 = body
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();   // the line's origin, module frame
   Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();   // towards the pad, module frame
   double reach_m = 0.0;        // origin to the pad's face, > 0

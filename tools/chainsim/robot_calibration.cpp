@@ -117,11 +117,17 @@ struct Knob {
 
 const std::vector<Knob>& knobs() {
   static const std::vector<Knob> k = {
-      {"screw_drive_thrust", "fmax_n", "helicoidal",
-       "the screw drive's stall thrust (force-speed line F = fmax (u - v / v_free))", 0.5, 2.0},
-      {"screw_drive_free_speed", "v_free_m_s", "helicoidal", "the screw drive's no-load speed", 0.7, 1.4},
+      {"drive_stall", "stall_torque_nm (dc_motor) or fmax_n (screw_drive)", "helicoidal",
+       "the helicoidal drive's stall torque or thrust (force-speed line)", 0.5, 2.0},
+      {"drive_free_speed", "free_speed_rad_s (dc_motor) or v_free_m_s (screw_drive)", "helicoidal",
+       "the helicoidal drive's no-load speed", 0.7, 1.4},
+      {"wheel_preload", "preload_n (every wheel set)", "helicoidal",
+       "the wheels' spring force on the wall (their grip and centring)", 0.25, 4.0},
+      {"wheel_friction", "mu (every wheel set)", "helicoidal",
+       "the tyres' friction across the wheel (how much thrust each wheel grips)", 0.3, 2.0},
       {"arm_grip_torque", "kt (all support arm servos)", "support",
        "the support arms' servo torque constant: how hard the arms press the wall (slip of the grip)", 0.1, 1.5},
+      {"pad_friction", "mu (every pad)", "support", "the support arms' pads' friction on the wall", 0.2, 2.0},
       {"wall_friction", "environment.material.mu", "", "module-pipe Coulomb friction", 0.2, 5.0},
   };
   return k;
@@ -197,14 +203,29 @@ Scenes load_scenes(const std::string& tmpl, const std::vector<Row>& rows) {
   s.nominal["wall_friction"] = mu;
   if (s.type_text.count("helicoidal")) {
     YAML::Node d = YAML::Load(s.type_text["helicoidal"]);
-    for (const auto& a : d["actuators"])
-      if (a["type"] && a["type"].as<std::string>() == "screw_drive") {
-        s.nominal["screw_drive_thrust"] = a["fmax_n"] ? a["fmax_n"].as<double>() : 0;
-        s.nominal["screw_drive_free_speed"] = a["v_free_m_s"] ? a["v_free_m_s"].as<double>() : 0;
-        break;
-      }
+    for (const auto& a : d["actuators"]) {
+      const std::string t = a["type"] ? a["type"].as<std::string>() : "";
+      const bool motor = t == "dc_motor";
+      if (t != "screw_drive" && !motor) continue;
+      const char* stall = motor ? "stall_torque_nm" : "fmax_n";
+      const char* free = motor ? "free_speed_rad_s" : "v_free_m_s";
+      s.nominal["drive_stall"] = a[stall] ? a[stall].as<double>() : 0;
+      s.nominal["drive_free_speed"] = a[free] ? a[free].as<double>() : 0;
+      break;
+    }
+    // wheel knobs scale every set's own value; nominal = the first set's
+    if (d["wheels"] && d["wheels"].IsSequence() && d["wheels"].size() > 0) {
+      const YAML::Node w = d["wheels"][0];
+      s.nominal["wheel_preload"] = w["preload_n"] ? w["preload_n"].as<double>() : 0;
+      s.nominal["wheel_friction"] = w["mu"] ? w["mu"].as<double>() : 0;
+    }
   }
-  if (s.type_text.count("support")) s.nominal["arm_grip_torque"] = 0.14;  // servo_model.h default kt, N m/A
+  if (s.type_text.count("support")) {
+    s.nominal["arm_grip_torque"] = 0.14;  // servo_model.h default kt, N m/A
+    YAML::Node d = YAML::Load(s.type_text["support"]);
+    if (d["pads"] && d["pads"].IsSequence() && d["pads"].size() > 0 && d["pads"][0]["mu"])
+      s.nominal["pad_friction"] = d["pads"][0]["mu"].as<double>();
+  }
   for (size_t k = 0; k < knobs().size(); ++k) {
     const std::string m = knobs()[k].module;
     if (!m.empty() && !s.type_text.count(m)) continue;
@@ -243,7 +264,7 @@ std::string make_scene(const Scenes& sc, size_t i, const Setting& st, const std:
     tag += std::string(name) + buf;
     if (name == "wall_friction") {
       root["environment"]["material"]["mu"] = v;
-    } else if (name == "screw_drive_thrust" || name == "screw_drive_free_speed") {
+    } else if (name == "drive_stall" || name == "drive_free_speed") {
       // edited below, together
     }
   }
@@ -252,14 +273,21 @@ std::string make_scene(const Scenes& sc, size_t i, const Setting& st, const std:
       if (std::string(knobs()[k].name) == name) return f;
     return 1.0;
   };
-  const double ft = factor("screw_drive_thrust"), fv = factor("screw_drive_free_speed"), fg = factor("arm_grip_torque");
+  const double ft = factor("drive_stall"), fv = factor("drive_free_speed"), fg = factor("arm_grip_torque");
+  const double fp = factor("wheel_preload"), fm = factor("wheel_friction"), fpad = factor("pad_friction");
   std::hash<std::string> h;
-  if ((ft != 1.0 || fv != 1.0) && sc.type_text.count("helicoidal")) {
+  if ((ft != 1.0 || fv != 1.0 || fp != 1.0 || fm != 1.0) && sc.type_text.count("helicoidal")) {
     YAML::Node d = YAML::Load(sc.type_text.at("helicoidal"));
-    for (auto a : d["actuators"])
-      if (a["type"] && a["type"].as<std::string>() == "screw_drive") {
-        a["fmax_n"] = ft * sc.nominal.at("screw_drive_thrust");
-        a["v_free_m_s"] = fv * sc.nominal.at("screw_drive_free_speed");
+    for (auto a : d["actuators"]) {
+      const std::string t = a["type"] ? a["type"].as<std::string>() : "";
+      if (t != "screw_drive" && t != "dc_motor") continue;
+      a[t == "dc_motor" ? "stall_torque_nm" : "fmax_n"] = ft * sc.nominal.at("drive_stall");
+      a[t == "dc_motor" ? "free_speed_rad_s" : "v_free_m_s"] = fv * sc.nominal.at("drive_free_speed");
+    }
+    if (d["wheels"])
+      for (auto w : d["wheels"]) {
+        if (w["preload_n"]) w["preload_n"] = fp * w["preload_n"].as<double>();
+        if (w["mu"]) w["mu"] = fm * w["mu"].as<double>();
       }
     YAML::Emitter e;
     e << d;
@@ -267,8 +295,11 @@ std::string make_scene(const Scenes& sc, size_t i, const Setting& st, const std:
     std::ofstream(file) << e.c_str() << "\n";
     root["module_types"]["helicoidal"] = file;
   }
-  if (fg != 1.0 && sc.type_text.count("support")) {
+  if ((fg != 1.0 || fpad != 1.0) && sc.type_text.count("support")) {
     YAML::Node d = YAML::Load(sc.type_text.at("support"));
+    if (d["pads"])
+      for (auto p : d["pads"])
+        if (p["mu"]) p["mu"] = fpad * p["mu"].as<double>();
     for (auto a : d["actuators"])
       if (a["type"] && a["type"].as<std::string>() == "servo") {
         const double kt = a["servo"] && a["servo"]["kt"] ? a["servo"]["kt"].as<double>() : 0.14;

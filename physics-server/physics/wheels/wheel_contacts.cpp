@@ -83,7 +83,6 @@ void WheelContacts::add_module(int module, const std::vector<WheelSetDef>& sets,
     w.module = module;
     w.name = d.name;
     w.body = body;
-    w.hold = bodies.at(d.holds >= 0 ? d.holds : d.body);
     w.pad = true;
     w.pivot_b = to_body * (frame * d.position_m);
     w.radial_b = to_body.linear() * (frame.linear() * d.direction.normalized());
@@ -97,50 +96,6 @@ void WheelContacts::add_module(int module, const std::vector<WheelSetDef>& sets,
     wheels_.push_back(w);
   }
   module_first_.push_back(static_cast<int>(wheels_.size()));
-}
-
-// A pad's grip: a contact on the holding body at the pad's point whose
-// normal is inert (huge CFM, no depth: the arm's own contact carries the
-// normal force) and whose friction rows have a fixed bound, mu times the
-// pad's normal force low-passed over kPadFilterS (no dContactApprox1).
-// Measured (support module, vertical pipe, pulled down until it slips):
-// pressed through the arm's own contact with dContactApprox1 the grip
-// depends on QuickStep's iterations (0.4 / 13 / 3.9 N at 30 / 100 / 300;
-// Coulomb's mu sum N is 4.1 N): the light arm between its servo and the wall
-// does not converge. The bound taken from the normal force of the steps
-// before, on the 4.5 g core, does. What is lost: the wedge effect (friction
-// at the tip turning the arm about its hinge).
-void WheelContacts::make_grip(Wheel& w, dJointGroupID group, const Eigen::Vector3d& point,
-                              const Eigen::Vector3d& n, const Eigen::Vector3d& along) {
-  dVector3 v;
-  dBodyGetPointVel(w.hold, point.x(), point.y(), point.z(), v);
-  Eigen::Vector3d d(v[0], v[1], v[2]);
-  d -= d.dot(n) * n;
-  if (d.norm() > 1e-6) {
-    d.normalize();
-  } else if (along.norm() > 0.5) {
-    d = along;
-  } else {
-    dVector3 pp, qq;
-    const dVector3 nn = {n.x(), n.y(), n.z(), 0};
-    dPlaneSpace(nn, pp, qq);
-    d = Eigen::Vector3d(pp[0], pp[1], pp[2]);
-  }
-  dContact c{};
-  for (int i = 0; i < 3; ++i) {
-    c.geom.pos[i] = point[i];
-    c.geom.normal[i] = n[i];
-    c.fdir1[i] = d[i];
-  }
-  c.geom.depth = 0;
-  c.surface.mode = dContactSoftERP | dContactSoftCFM | dContactMu2 | dContactFDir1;
-  c.surface.soft_erp = 0;
-  c.surface.soft_cfm = 1e6;
-  c.surface.mu = c.surface.mu2 = w.mu * std::max(0.0, w.n_filtered);
-  dJointID j = dJointCreateContact(world_, group, &c);
-  dJointAttach(j, w.hold, nullptr);
-  w.fb_grip = dJointFeedback{};
-  dJointSetFeedback(j, &w.fb_grip);
 }
 
 int WheelContacts::begin_step(dJointGroupID group) {
@@ -184,11 +139,16 @@ int WheelContacts::begin_step(dJointGroupID group) {
     c.surface.mu = 0;
     c.surface.mu2 = 0;
     if (w.pad) {
-      // the pad's normal on its own body (the arm: its servo and lever set
-      // N); its friction on the body that holds the arm (see make_grip)
+      // Coulomb friction in any direction along the wall (fdir1 along the
+      // sliding), bounded by mu times the pad's normal force low-passed over
+      // the steps before (not dContactApprox1's iterated normal: pressed by
+      // a light servo-driven arm that did not converge in 30 iterations)
       across = len > 1e-6 ? Eigen::Vector3d(across / len) : Eigen::Vector3d::Zero();
-      make_grip(w, group, hit.point, n, across);
-      ++made;
+      if (w.mu > 0 && len > 1e-6) {
+        c.surface.mode |= dContactFDir1;
+        for (int i = 0; i < 3; ++i) c.fdir1[i] = across[i];
+        c.surface.mu = c.surface.mu2 = w.mu * std::max(0.0, w.n_filtered);
+      }
     } else if (len > 1e-6 && w.mu > 0) {
       across /= len;
       c.surface.mode |= dContactApprox1 | dContactFDir1;
@@ -232,8 +192,7 @@ void WheelContacts::end_step() {
     const Eigen::Vector3d f(w.fb.f1[0], w.fb.f1[1], w.fb.f1[2]);
     w.st.normal_n = f.dot(w.normal);
     if (w.pad) {
-      const Eigen::Vector3d g(w.fb_grip.f1[0], w.fb_grip.f1[1], w.fb_grip.f1[2]);
-      w.st.across_n = (g - g.dot(w.normal) * w.normal).norm();
+      w.st.across_n = (f - w.st.normal_n * w.normal).norm();
       w.n_filtered += (std::max(0.0, w.st.normal_n) - w.n_filtered) * pad_filter_;
     } else {
       w.st.across_n = f.dot(w.across);

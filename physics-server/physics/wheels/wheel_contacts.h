@@ -17,11 +17,11 @@
 //    normal force.
 // A contact joint's force is read back (dJointFeedback) after the step: the
 // normal force and the force across the wheel (along fdir1) on the body.
-// Pads (the support module's arm tips): the line from the pad's origin to
-// its face is cast; within reach, a frictionless soft contact on the pad's
-// body (the arm) and a grip contact on the holding body (make_grip in the
-// .cpp: Coulomb friction bounded by mu times the pad's normal force, in any
-// direction along the wall); across_n is then the grip's friction magnitude.
+// Pads (arm tips): the line from the pad's origin to its face is cast;
+// within reach, one soft contact on the pad's body whose normal force is
+// whatever presses the pad, and Coulomb friction in any direction along the
+// wall bounded by mu times that normal force (low-passed over 5 ms); across_n
+// is then the friction's magnitude.
 // Wheel contacts are not collisions: they set no touch sensor.
 // No allocation in a step (the feedback records are made at assembly).
 #pragma once
@@ -81,17 +81,13 @@ class WheelContacts {
     double erp = 0, cfm = 0;
     bool pad = false;         // friction in every direction along the wall
     bool st_prev_on = false;  // on the wall in the step before
-    dBodyID hold = nullptr;   // pad: the body its friction acts on
     double n_filtered = 0;    // pad: normal force, low-passed
-    dJointFeedback fb_grip{};
     int hint = -1;            // pipe piece of the last hit
     State st;
     Eigen::Vector3d normal = Eigen::Vector3d::Zero(), across = Eigen::Vector3d::Zero();
     dJointFeedback fb{};
   };
   const Wheel* first(int module, int* n) const;
-  void make_grip(Wheel& w, dJointGroupID group, const Eigen::Vector3d& point,
-                 const Eigen::Vector3d& n, const Eigen::Vector3d& along);
 
   dWorldID world_ = nullptr;
   const WallProbe* probe_ = nullptr;

@@ -175,3 +175,68 @@ TEST(WheelDrive, ThrustIsLimitedByMuTimesEachWheelsNormalForce) {
 
 }  // namespace
 }  // namespace chainsim
+
+namespace chainsim {
+namespace {
+
+// a 50 g plate (40 x 40 x 4 mm) standing on four friction pads at its
+// corners (no collision shape of its own) on the floor
+ModuleDef padded_plate(double mu) {
+  ModuleDef d;
+  d.type = "padded_plate";
+  BodyDef b;
+  b.name = "plate";
+  b.shape = Shape::Box;
+  b.box_m = Eigen::Vector3d(0.04, 0.04, 0.004);
+  b.mass_kg = 0.05;
+  b.collides = false;
+  d.bodies = {b};
+  for (int k = 0; k < 4; ++k) {
+    PadDef p;
+    p.name = "pad" + std::to_string(k);
+    p.body = 0;
+    p.position_m = Eigen::Vector3d(k % 2 ? 0.015 : -0.015, k / 2 ? 0.015 : -0.015, 0);
+    p.direction = -Eigen::Vector3d::UnitZ();
+    p.reach_m = 0.003;
+    p.stiffness_n_m = 5000;
+    p.damping_n_s_m = 2;
+    p.mu = mu;
+    d.pads.push_back(p);
+  }
+  d.front.body = d.back.body = 0;
+  return d;
+}
+
+// pushed sideways, it holds below mu m g and slides above; the pads' normal
+// forces carry its weight
+TEST(Pads, GripHoldsBelowMuNAndSlipsAbove) {
+  const double mu = 0.5, weight = 0.05 * 9.81;
+  for (const auto& [factor, holds] : {std::pair<double, bool>{0.8, true}, {1.2, false}}) {
+    WorldConfig c;
+    c.module_types = {padded_plate(mu)};
+    c.chain = {"padded_plate"};
+    c.head_position = Eigen::Vector3d(0.02, 0, 0.0029);
+    World w(c);
+    run(w, 0.3);
+    double n = 0;
+    for (int k = 0; k < 4; ++k) {
+      ASSERT_TRUE(w.wheel_state(0, k).on) << k;
+      n += w.wheel_state(0, k).normal_n;
+    }
+    EXPECT_NEAR(n, weight, 0.02 * weight);
+    const double x0 = w.body_state(0, 0).position.x();
+    for (int k = 0; k < 1000; ++k) {
+      w.add_body_force(0, 0, Eigen::Vector3d(factor * mu * weight, 0, 0));
+      w.step();
+    }
+    const double moved = w.body_state(0, 0).position.x() - x0;
+    std::printf("pads: push %.2f mu N: moved %.5f m in 0.5 s\n", factor, moved);
+    if (holds)
+      EXPECT_LT(std::fabs(moved), 1e-4);
+    else
+      EXPECT_GT(moved, 0.01);
+  }
+}
+
+}  // namespace
+}  // namespace chainsim
