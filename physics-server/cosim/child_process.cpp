@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cstring>
 #include <stdexcept>
@@ -72,21 +73,52 @@ void ChildProcess::spawn(const ChildSpec& spec) {
   status_.reset();
 }
 
+namespace {
+
+ExitStatus decode(int st) {
+  ExitStatus s;
+  if (WIFEXITED(st)) {
+    s.exited = true;
+    s.code = WEXITSTATUS(st);
+  } else if (WIFSIGNALED(st)) {
+    s.signal = WTERMSIG(st);
+  }
+  return s;
+}
+
+}  // namespace
+
 const std::optional<ExitStatus>& ChildProcess::poll() {
   if (pid_ <= 0 || status_) return status_;
   int st = 0;
   const pid_t r = waitpid(pid_, &st, WNOHANG);
-  if (r == pid_) {
-    ExitStatus s;
-    if (WIFEXITED(st)) {
-      s.exited = true;
-      s.code = WEXITSTATUS(st);
-    } else if (WIFSIGNALED(st)) {
-      s.signal = WTERMSIG(st);
-    }
-    status_ = s;
-  }
+  if (r == pid_) status_ = decode(st);
   return status_;
+}
+
+const ExitStatus& ChildProcess::wait() {
+  if (pid_ <= 0) throw std::logic_error("ChildProcess::wait: no process was spawned");
+  while (!status_) {
+    int st = 0;
+    const pid_t r = waitpid(pid_, &st, 0);
+    if (r == pid_) status_ = decode(st);
+    else if (r < 0 && errno != EINTR)
+      throw std::runtime_error(std::string("waitpid failed: ") + strerror(errno));
+  }
+  return *status_;
+}
+
+int wait_any(const std::vector<ChildProcess*>& children) {
+  for (;;) {
+    bool any = false;
+    for (size_t i = 0; i < children.size(); ++i) {
+      if (!children[i]->running()) continue;
+      any = true;
+      if (children[i]->poll()) return static_cast<int>(i);
+    }
+    if (!any) return -1;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
 }
 
 const std::optional<ExitStatus>& ChildProcess::wait_for(int timeout_ms) {

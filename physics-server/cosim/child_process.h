@@ -43,6 +43,9 @@ class ChildProcess {
   const std::optional<ExitStatus>& poll();
   // wait up to timeout_ms for the process to end
   const std::optional<ExitStatus>& wait_for(int timeout_ms);
+  // wait for the process to end, however long it takes; throws
+  // std::logic_error when nothing was spawned
+  const ExitStatus& wait();
   // SIGTERM, then SIGKILL after grace_ms; always reaps
   void terminate(int grace_ms);
 
@@ -50,6 +53,10 @@ class ChildProcess {
   pid_t pid_ = -1;
   std::optional<ExitStatus> status_;
 };
+
+// wait until one of the running children has ended; its index (the lowest
+// when several have), or -1 when none of them is running
+int wait_any(const std::vector<ChildProcess*>& children);
 
 // end all of them: SIGTERM to each, then SIGKILL to those left after grace_ms
 void terminate_all(std::vector<ChildProcess*> children, int grace_ms);

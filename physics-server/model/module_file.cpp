@@ -7,24 +7,18 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <set>
-#include <sstream>
+
+#include "readers/strict_yaml.h"
+#include "physics/units.h"
 
 namespace chainsim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kBig = 1e6;  // bound for sizes and positions (m), forces (N), ...
 
 using Keys = std::set<std::string>;
-
-std::string join(const Keys& keys) {
-  std::string out;
-  for (const auto& k : keys) out += (out.empty() ? "" : ", ") + k;
-  return out;
-}
 
 bool is_identifier(const std::string& s) {
   if (s.empty() || s.size() > 63) return false;
@@ -48,7 +42,7 @@ struct Names {
 
 class Parser {
  public:
-  explicit Parser(const std::string& file) : file_(file) {}
+  explicit Parser(const StrictYaml& y) : y_(y) {}
 
   ModuleDef parse(const YAML::Node& root) {
     if (!root || !root.IsMap()) fail(root, "a module definition must be a YAML mapping");
@@ -137,26 +131,10 @@ class Parser {
   }
 
  private:
-  std::string where(const YAML::Node& n) const {
-    std::ostringstream s;
-    s << file_;
-    const YAML::Mark m = n.Mark();
-    if (m.line >= 0) s << ":" << (m.line + 1) << ":" << (m.column + 1);
-    return s.str();
-  }
-
-  [[noreturn]] void fail(const YAML::Node& n, const std::string& what) const {
-    throw ModuleFileError(where(n) + ": " + what);
-  }
+  [[noreturn]] void fail(const YAML::Node& n, const std::string& what) const { y_.fail(n, what); }
 
   void check_keys(const YAML::Node& map, const std::string& path, const Keys& allowed) const {
-    if (!map.IsMap()) fail(map, "'" + path + "' must be a mapping");
-    for (const auto& kv : map) {
-      const std::string key = kv.first.as<std::string>();
-      if (!allowed.count(key))
-        fail(kv.first,
-             "unknown key '" + key + "' in '" + path + "' (known: " + join(allowed) + ")");
-    }
+    y_.keys(map, path, allowed);
   }
 
   // after check_keys with all of a section's keys: the keys this entry's type uses
@@ -166,7 +144,7 @@ class Parser {
       const std::string key = kv.first.as<std::string>();
       if (!used.count(key))
         fail(kv.first, "'" + path + "." + key + "' does not apply to " + what +
-                           " (its keys: " + join(used) + ")");
+                           " (its keys: " + join_names(used) + ")");
     }
   }
 
@@ -178,10 +156,7 @@ class Parser {
     return n;
   }
 
-  std::string string_of(const YAML::Node& n, const std::string& path) const {
-    if (!n.IsScalar()) fail(n, "'" + path + "' must be a string");
-    return n.as<std::string>();
-  }
+  std::string string_of(const YAML::Node& n, const std::string& path) const { return y_.string_at(n, path); }
 
   std::string name_of(const YAML::Node& n, const std::string& path) const {
     const std::string s = string_of(n, path);
@@ -191,43 +166,17 @@ class Parser {
   }
 
   double number(const YAML::Node& n, const std::string& path, double lo, double hi) const {
-    double v = 0;
-    if (!n.IsScalar()) fail(n, "'" + path + "' must be a number");
-    try {
-      v = n.as<double>();
-    } catch (const YAML::Exception&) {
-      fail(n, "'" + path + "' must be a number");
-    }
-    if (!std::isfinite(v) || v < lo || v > hi) {
-      std::ostringstream s;
-      s << "'" << path << "' = " << n.as<std::string>() << " is out of range [" << lo << ", " << hi
-        << "]";
-      fail(n, s.str());
-    }
-    return v;
+    return y_.number_at(n, path, lo, hi);
   }
 
   double number(const YAML::Node& map, const std::string& key, const std::string& path, double dflt,
                 double lo, double hi) const {
-    const YAML::Node n = map[key];
-    return n ? number(n, path + "." + key, lo, hi) : dflt;
+    return y_.number(map, key, dflt, lo, hi, path);
   }
 
   int integer(const YAML::Node& map, const std::string& key, const std::string& path, int dflt,
               int lo, int hi) const {
-    const YAML::Node n = map[key];
-    if (!n) return dflt;
-    long long v = 0;
-    try {
-      if (!n.IsScalar()) throw YAML::Exception(n.Mark(), "");
-      v = n.as<long long>();
-    } catch (const YAML::Exception&) {
-      fail(n, "'" + path + "." + key + "' must be an integer");
-    }
-    if (v < lo || v > hi)
-      fail(n, "'" + path + "." + key + "' = " + std::to_string(v) + " is out of range [" +
-                  std::to_string(lo) + ", " + std::to_string(hi) + "]");
-    return static_cast<int>(v);
+    return static_cast<int>(y_.integer(map, key, dflt, lo, hi, path));
   }
 
   std::vector<double> numbers(const YAML::Node& n, const std::string& path, size_t count,
@@ -618,7 +567,7 @@ class Parser {
     return f;
   }
 
-  const std::string& file_;
+  const StrictYaml& y_;
   Names bodies_{"body", "bodies", {}, {}};
   Names joints_{"joint", "joints", {}, {}};
   Names actuators_{"actuator", "actuators", {}, {}};
@@ -627,23 +576,13 @@ class Parser {
 }  // namespace
 
 ModuleDef load_module_text(const std::string& text, const std::string& file) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::ParserException& e) {
-    std::ostringstream s;
-    s << file << ":" << (e.mark.line + 1) << ":" << (e.mark.column + 1) << ": " << e.msg;
-    throw ModuleFileError(s.str());
-  }
-  return Parser(file).parse(root);
+  const StrictYaml y(file, [](const std::string& message) { throw ModuleFileError(message); });
+  return Parser(y).parse(y.parse(text));
 }
 
 ModuleDef load_module_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ModuleFileError(path + ": cannot open module definition file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return load_module_text(ss.str(), path);
+  const StrictYaml y(path, [](const std::string& message) { throw ModuleFileError(message); });
+  return Parser(y).parse(y.parse(y.read_file("module definition file")));
 }
 
 }  // namespace chainsim

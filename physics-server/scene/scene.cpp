@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include "physics/units.h"
 #include "scene/scene_environment.h"
 #include "scene/scene_modules.h"
 #include "scene/scene_yaml.h"
@@ -16,32 +17,6 @@ namespace chainsim {
 namespace {
 
 using Ctx = SceneYaml;
-
-int64_t get_int(const Ctx& c, const YAML::Node& map, const std::string& key, int64_t dflt,
-                int64_t lo, int64_t hi, const std::string& path) {
-  const YAML::Node n = map[key];
-  if (!n) return dflt;
-  int64_t v = 0;
-  try {
-    v = n.as<int64_t>();
-  } catch (const YAML::Exception&) {
-    c.fail(n, "'" + path + "." + key + "' must be an integer");
-  }
-  if (v < lo || v > hi) {
-    std::ostringstream s;
-    s << "'" << path << "." << key << "' = " << v << " is out of range [" << lo << ", " << hi << "]";
-    c.fail(n, s.str());
-  }
-  return v;
-}
-
-std::string get_string(const Ctx& c, const YAML::Node& map, const std::string& key,
-                       const std::string& dflt, const std::string& path) {
-  const YAML::Node n = map[key];
-  if (!n) return dflt;
-  if (!n.IsScalar()) c.fail(n, "'" + path + "." + key + "' must be a string");
-  return n.as<std::string>();
-}
 
 std::map<std::string, int32_t> get_params(const Ctx& c, const YAML::Node& map,
                                           const std::string& path) {
@@ -54,7 +29,7 @@ std::map<std::string, int32_t> get_params(const Ctx& c, const YAML::Node& map,
     if (name.empty() || name.size() > 15)
       c.fail(kv.first, "parameter name '" + name + "' must have 1 to 15 characters");
     out[name] = static_cast<int32_t>(
-        get_int(c, n, name, 0, INT32_MIN, INT32_MAX, path + ".params"));
+        c.integer(n, name, 0, INT32_MIN, INT32_MAX, path + ".params"));
   }
   if (out.size() > 16) c.fail(n, "'" + path + ".params' has more than 16 parameters");
   return out;
@@ -81,8 +56,8 @@ void load_chain(const Ctx& c, const YAML::Node& root, Scene* s) {
       c.keys(m, p, {"type", "firmware", "params"});
       if (!m["type"]) c.fail(m, "'" + p + "' needs a 'type'");
       SceneModule sm;
-      sm.type = get_string(c, m, "type", "", p);
-      sm.firmware = get_string(c, m, "firmware", default_firmware(sm.type), p);
+      sm.type = c.string(m, "type", "", p);
+      sm.firmware = c.string(m, "firmware", default_firmware(sm.type), p);
       sm.params = get_params(c, m, p);
       s->modules.push_back(sm);
     }
@@ -91,10 +66,15 @@ void load_chain(const Ctx& c, const YAML::Node& root, Scene* s) {
     c.fail(n, "'chain' must be a string of module letters or a list of modules");
   }
   if (s->modules.size() > 64) c.fail(n, "'chain' has more than 64 modules");
-  for (const auto& m : s->modules) s->world.chain.push_back(m.type);
 }
 
 }  // namespace
+
+std::vector<std::string> Scene::chain_types() const {
+  std::vector<std::string> types;
+  for (const SceneModule& m : modules) types.push_back(m.type);
+  return types;
+}
 
 std::string module_type_for_letter(char letter) {
   switch (letter) {
@@ -113,14 +93,7 @@ std::string default_firmware(const std::string& type) { return "fw-" + type; }
 
 Scene load_scene_text(const std::string& text, const std::string& name) {
   const Ctx c{name};
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::ParserException& e) {
-    std::ostringstream s;
-    s << name << ":" << (e.mark.line + 1) << ":" << (e.mark.column + 1) << ": " << e.msg;
-    throw SceneError(s.str());
-  }
+  const YAML::Node root = c.parse(text);
   if (!root || !root.IsMap()) throw SceneError(name + ": a scene must be a YAML mapping");
   c.keys(root, "scene",
              {"name", "duration_s", "seed", "physics", "environment", "contacts", "module_types",
@@ -128,18 +101,17 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
 
   Scene s;
   s.source = name;
-  s.name = get_string(c, root, "name", "unnamed", "scene");
+  s.name = c.string(root, "name", "unnamed", "scene");
   s.duration_s = c.number(root, "duration_s", s.duration_s, 0.001, 86400.0, "scene");
-  s.seed = static_cast<uint64_t>(get_int(c, root, "seed", 1, 0, INT64_MAX, "scene"));
-  s.world.seed = s.seed;
+  s.world.seed = static_cast<uint64_t>(c.integer(root, "seed", 1, 0, INT64_MAX, "scene"));
 
   if (const YAML::Node p = root["physics"]) {
     c.keys(p, "physics", {"dt_us", "tick_us", "gravity_m_s2", "solver_iterations"});
-    s.world.dt_us = get_int(c, p, "dt_us", s.world.dt_us, 10, 100000, "physics");
-    s.tick_us = get_int(c, p, "tick_us", s.tick_us, 10, 1000000, "physics");
+    s.world.dt_us = c.integer(p, "dt_us", s.world.dt_us, 10, 100000, "physics");
+    s.tick_us = c.integer(p, "tick_us", s.tick_us, 10, 1000000, "physics");
     s.world.gravity_m_s2 = c.number(p, "gravity_m_s2", s.world.gravity_m_s2, 0.0, 100.0, "physics");
     s.world.solver_iterations =
-        static_cast<int>(get_int(c, p, "solver_iterations", s.world.solver_iterations, 1, 10000, "physics"));
+        static_cast<int>(c.integer(p, "solver_iterations", s.world.solver_iterations, 1, 10000, "physics"));
     if (s.tick_us % s.world.dt_us != 0)
       c.fail(p, "'physics.tick_us' (" + std::to_string(s.tick_us) +
                      ") must be a multiple of 'physics.dt_us' (" + std::to_string(s.world.dt_us) + ")");
@@ -167,14 +139,14 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
         }
       }
     }
-    s.world.heading_rad = c.number(p, "heading_deg", 0.0, -360.0, 360.0, "placement") * M_PI / 180.0;
-    load_scene_placement_at(name, p, &s.world);  // at: pipe_entry
+    s.world.heading_rad = deg_to_rad(c.number(p, "heading_deg", 0.0, -360.0, 360.0, "placement"));
+    load_scene_placement_at(name, p, s.chain_types(), &s.world);  // at: pipe_entry
   }
 
   s.central = {"central", "fw-central", {}};
   if (const YAML::Node ce = root["central"]) {
     c.keys(ce, "central", {"program", "params"});
-    s.central.firmware = get_string(c, ce, "program", "fw-central", "central");
+    s.central.firmware = c.string(ce, "program", "fw-central", "central");
     s.central.params = get_params(c, ce, "central");
   }
 
@@ -186,11 +158,7 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
 }
 
 Scene load_scene_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw SceneError(path + ": cannot open scene file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return load_scene_text(ss.str(), path);
+  return load_scene_text(SceneYaml{path}.read_file("scene file"), path);
 }
 
 Scene default_scene() { return load_scene_text(default_scene_text(), "<built-in default scene>"); }

@@ -1,8 +1,8 @@
-// `chainsim calibrate --bench B.yaml --measured M.csv --out DIR`: refits the
-// servo's base parameters to a bench measurement, localises where the model
-// disagrees, and adds effects from the servo model's catalogue (servo_model.h)
-// while held-out data agree. Writes DIR/report.json, DIR/report.md and SVG
-// plots. docs/calibration.md describes the method and the figures.
+// `chainsim calibrate --bench B.yaml --measured M.csv --out DIR`: servo
+// calibration (physics-server/analysis/calibration): refits the servo's base
+// parameters to a bench measurement, finds the catalogue effects it misses,
+// writes DIR/report.json, report.md and SVG plots. With --robot: robot-level
+// calibration (physics-server/analysis/robot_calibration). docs/calibration.md.
 #pragma once
 
 namespace CLI {

@@ -6,10 +6,11 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "physics/units.h"
+
 namespace chainsim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kPadFilterS = 0.005;  // low-pass of a pad's normal force for its grip bound
 
 Eigen::Isometry3d body_pose(dBodyID b) {
@@ -29,14 +30,17 @@ Eigen::Vector3d to_world(dBodyID b, const Eigen::Vector3d& v) {
 
 }  // namespace
 
-void WheelContacts::init(dWorldID world, const WallProbe* probe, double h, double surface_layer) {
-  world_ = world;
-  probe_ = probe;
-  h_ = h;
-  layer_ = surface_layer;
-  pad_filter_ = 1.0 - std::exp(-h / kPadFilterS);
-  wheels_.clear();
-  module_first_.assign(1, 0);
+WheelContacts::WheelContacts(dWorldID world, const WallProbe* probe, double h,
+                             double surface_layer)
+    : world_(world), group_(dJointGroupCreate(0)), probe_(probe), h_(h), layer_(surface_layer),
+      pad_filter_(1.0 - std::exp(-h / kPadFilterS)), module_first_(1, 0) {}
+
+WheelContacts::~WheelContacts() { dJointGroupDestroy(group_); }
+
+void WheelContacts::warm_up() {
+  dContact dummy{};
+  for (size_t k = 0; k < wheels_.size(); ++k) dJointCreateContact(world_, group_, &dummy);
+  dJointGroupEmpty(group_);
 }
 
 void WheelContacts::add_module(int module, const std::vector<WheelSetDef>& sets,
@@ -49,9 +53,9 @@ void WheelContacts::add_module(int module, const std::vector<WheelSetDef>& sets,
     const dBodyID body = bodies.at(s.body);
     const Eigen::Isometry3d to_body = body_pose(body).inverse();
     const Eigen::Vector3d axis_w = frame.linear() * Eigen::Vector3d::UnitX();
-    const double helix = s.helix_deg * kPi / 180.0;
+    const double helix = deg_to_rad(s.helix_deg);
     for (int k = 0; k < s.count; ++k) {
-      const double phi = (s.first_deg + 360.0 * k / s.count) * kPi / 180.0;
+      const double phi = deg_to_rad(s.first_deg + 360.0 * k / s.count);
       const Eigen::Vector3d radial_w =
           frame.linear() * Eigen::Vector3d(0, std::cos(phi), std::sin(phi));
       const Eigen::Vector3d circ_w = axis_w.cross(radial_w);
@@ -98,7 +102,7 @@ void WheelContacts::add_module(int module, const std::vector<WheelSetDef>& sets,
   module_first_.push_back(static_cast<int>(wheels_.size()));
 }
 
-int WheelContacts::begin_step(dJointGroupID group) {
+int WheelContacts::begin_step() {
   int made = 0;
   for (Wheel& w : wheels_) {
     w.st_prev_on = w.st.on;
@@ -168,7 +172,7 @@ int WheelContacts::begin_step(dJointGroupID group) {
     } else {
       across.setZero();
     }
-    dJointID j = dJointCreateContact(world_, group, &c);
+    dJointID j = dJointCreateContact(world_, group_, &c);
     dJointAttach(j, w.body, nullptr);
     w.fb = dJointFeedback{};
     dJointSetFeedback(j, &w.fb);
@@ -179,6 +183,7 @@ int WheelContacts::begin_step(dJointGroupID group) {
     w.across = across;
     ++made;
   }
+  made_ = made;
   return made;
 }
 
@@ -198,6 +203,7 @@ void WheelContacts::end_step() {
       w.st.across_n = f.dot(w.across);
     }
   }
+  dJointGroupEmpty(group_);
 }
 
 const WheelContacts::Wheel* WheelContacts::first(int module, int* n) const {

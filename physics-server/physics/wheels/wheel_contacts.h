@@ -49,19 +49,27 @@ class WheelContacts {
     Eigen::Vector3d point = Eigen::Vector3d::Zero();   // wall point (on), world
   };
 
-  // h: the physics step, s; surface_layer: dWorldSetContactSurfaceLayer's
-  void init(dWorldID world, const WallProbe* probe, double h, double surface_layer);
+  // h: the physics step, s; surface_layer: dWorldSetContactSurfaceLayer's.
+  // The contacts go into a joint group of their own.
+  WheelContacts(dWorldID world, const WallProbe* probe, double h, double surface_layer);
+  ~WheelContacts();
+  WheelContacts(const WheelContacts&) = delete;
+  WheelContacts& operator=(const WheelContacts&) = delete;
   // the wheel sets of module `module`; bodies = the module's bodies by index
   // (as placed); module_frame: module frame -> world at assembly
   void add_module(int module, const std::vector<WheelSetDef>& sets,
                   const std::vector<PadDef>& pads, const std::vector<dBodyID>& bodies,
                   const Eigen::Isometry3d& module_frame);
 
-  // before dWorldQuickStep: contact joints in group for the wheels on the
-  // wall; returns how many
-  int begin_step(dJointGroupID group);
-  // after dWorldQuickStep, before the group is emptied: the forces
+  // after the last add_module: fill the joint group once with a joint per
+  // wheel and empty it (it keeps its arenas: steps do not allocate)
+  void warm_up();
+  // before dWorldQuickStep: contact joints for the wheels on the wall;
+  // returns how many
+  int begin_step();
+  // after dWorldQuickStep: the forces; the contact joints go
   void end_step();
+  int on_count() const { return made_; }  // wheels and pads on the wall in the last step
 
   int count(int module) const;
   const State& state(int module, int wheel) const;
@@ -90,8 +98,10 @@ class WheelContacts {
   const Wheel* first(int module, int* n) const;
 
   dWorldID world_ = nullptr;
+  dJointGroupID group_ = nullptr;
   const WallProbe* probe_ = nullptr;
   double h_ = 0, layer_ = 0, pad_filter_ = 1;
+  int made_ = 0;                    // contacts of the last step
   std::vector<Wheel> wheels_;       // by module, in order
   std::vector<int> module_first_;   // index of a module's first wheel; size modules + 1
 };

@@ -51,6 +51,12 @@ std::string type_of(char c) {
   }
 }
 
+std::vector<std::string> chain_of(const Case& k) {
+  std::vector<std::string> out;
+  for (char m : k.chain) out.push_back(type_of(m));
+  return out;
+}
+
 WorldConfig scene(const Case& k) {
   WorldConfig c;
   c.environment.type = EnvironmentType::Pipe;
@@ -70,9 +76,8 @@ WorldConfig scene(const Case& k) {
     c.environment.pipe.segments.push_back(e);
     c.environment.pipe.segments.push_back(out);
   }
-  for (char m : k.chain) c.chain.push_back(type_of(m));
   c.ground.mu = k.chain.find('S') != std::string::npos ? 0.6 : 0.05;  // as the scenes
-  place_chain_at_pipe_entry(&c, 0.01);
+  place_chain_at_pipe_entry(&c, chain_of(k), 0.01);
   return c;
 }
 
@@ -90,7 +95,7 @@ int main(int argc, char** argv) {
   std::printf("%-18s %8s %10s %12s %10s %10s\n", "case", "bodies", "us/step", "us/step/H",
               "contacts", "moved mm");
   for (const Case& k : cases) {
-    World w(scene(k));
+    World w(scene(k), chain_of(k));
     int n_h = 0, bodies = 0;
     for (int m = 0; m < w.module_count(); ++m) {
       bodies += w.body_count(m);

@@ -9,18 +9,17 @@
 
 #include "model/module_def.h"
 #include "physics/placement.h"
+#include "physics/units.h"
 #include "physics/world.h"
 
 namespace chainsim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // the built-in helicoidal module in a straight pipe of `diameter`, `slope`
 WorldConfig pipe_scene(const ModuleDef& h, double diameter, double slope_deg, double gravity = 9.81) {
   WorldConfig c;
   c.module_types = {h};
-  c.chain = {h.type};
   c.gravity_m_s2 = gravity;
   c.environment.type = EnvironmentType::Pipe;
   c.environment.pipe.inner_diameter_m = diameter;
@@ -29,7 +28,7 @@ WorldConfig pipe_scene(const ModuleDef& h, double diameter, double slope_deg, do
   s.slope_deg = slope_deg;
   c.environment.pipe.segments = {s};
   c.ground.mu = 0.3;
-  place_chain_at_pipe_entry(&c, 0.1);
+  place_chain_at_pipe_entry(&c, {h.type}, 0.1);
   return c;
 }
 
@@ -59,10 +58,10 @@ TEST(WheelDrive, ModuleFileDeclaresAHeadOnAHingeWithWheels) {
   const ModuleDef h = builtin_module_def("helicoidal");
   EXPECT_EQ(h.wheels.size(), 2u);
   EXPECT_EQ(motor(h).type, ActuatorType::DcMotor);
-  World w(pipe_scene(h, 0.04, 0));
+  World w(pipe_scene(h, 0.04, 0), {h.type});
   EXPECT_EQ(w.wheel_count(0), 6);
   EXPECT_EQ(w.servo_count(0), 1);
-  EXPECT_EQ(w.servo_kind(0, 0), World::ServoKind::Screw);  // driven -1..1 like a screw drive
+  EXPECT_EQ(w.servo_kind(0, 0), ServoKind::DcMotor);  // driven -1..1 like a screw drive
 }
 
 // the module with arms too short to reach any wall (within its own
@@ -80,7 +79,7 @@ ModuleDef short_arms() {
 
 TEST(WheelDrive, WheelsOffTheWallGiveNoForceAndNoThrust) {
   const ModuleDef h = short_arms();
-  World w(pipe_scene(h, 0.04, 0));
+  World w(pipe_scene(h, 0.04, 0), {h.type});
   run(w, 0.5);
   const double x0 = along(w, 0);
   w.set_servo_setpoint(0, 0, 1.0);
@@ -90,12 +89,12 @@ TEST(WheelDrive, WheelsOffTheWallGiveNoForceAndNoThrust) {
     EXPECT_EQ(w.wheel_state(0, k).normal_n, 0.0);
   }
   EXPECT_NEAR(along(w, 0) - x0, 0.0, 0.2e-3);
-  EXPECT_GT(w.servo_angle_rad(0, 0), 0.5 * motor(h).v_free_m_s);
+  EXPECT_GT(w.servo_rate(0, 0), 0.5 * motor(h).v_free_m_s);
 }
 
 TEST(WheelDrive, ABodyPressedOnTheWallGetsNoThrust) {
   const ModuleDef h = short_arms();
-  World w(pipe_scene(h, 0.04, 0));
+  World w(pipe_scene(h, 0.04, 0), {h.type});
   run(w, 0.5);
   const double x0 = along(w, 0);
   w.set_servo_setpoint(0, 0, 1.0);
@@ -105,7 +104,7 @@ TEST(WheelDrive, ABodyPressedOnTheWallGetsNoThrust) {
   }
   EXPECT_NEAR(along(w, 0) - x0, 0.0, 0.2e-3);
   // the same module with its wheels on the wall does move
-  World on(pipe_scene(builtin_module_def("helicoidal"), 0.04, 0));
+  World on(pipe_scene(builtin_module_def("helicoidal"), 0.04, 0), {"helicoidal"});
   run(on, 0.5);
   const double y0 = along(on, 0);
   on.set_servo_setpoint(0, 0, 1.0);
@@ -116,7 +115,7 @@ TEST(WheelDrive, ABodyPressedOnTheWallGetsNoThrust) {
 // no gravity, no load: v = w_free r tan(helix) (r = 20 mm, the bore's radius)
 TEST(WheelDrive, FreeSpeedIsTheHelixTimesTheMotorsFreeSpeed) {
   const ModuleDef h = builtin_module_def("helicoidal");
-  World w(pipe_scene(h, 0.04, 0, 0.0));
+  World w(pipe_scene(h, 0.04, 0, 0.0), {h.type});
   w.set_servo_setpoint(0, 0, 1.0);
   run(w, 1.0);
   const double x0 = along(w, 0);
@@ -140,7 +139,7 @@ TEST(WheelDrive, ThrustIsLimitedByMuTimesEachWheelsNormalForce) {
   const WheelSetDef& head = head_wheels(h);
   const double cos_helix = std::cos(head.helix_deg * kPi / 180);
   auto climb = [&](double load_factor, double* grip_out) {
-    World w(pipe_scene(h, 0.04, 90));
+    World w(pipe_scene(h, 0.04, 90), {h.type});
     w.set_servo_setpoint(0, 0, 1.0);
     run(w, 0.3);
     // grip of the head's wheels (their normal forces barely depend on the load)
@@ -214,9 +213,8 @@ TEST(Pads, GripHoldsBelowMuNAndSlipsAbove) {
   for (const auto& [factor, holds] : {std::pair<double, bool>{0.8, true}, {1.2, false}}) {
     WorldConfig c;
     c.module_types = {padded_plate(mu)};
-    c.chain = {"padded_plate"};
     c.head_position = Eigen::Vector3d(0.02, 0, 0.0029);
-    World w(c);
+    World w(c, {"padded_plate"});
     run(w, 0.3);
     double n = 0;
     for (int k = 0; k < 4; ++k) {

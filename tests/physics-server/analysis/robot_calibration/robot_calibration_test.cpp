@@ -1,9 +1,9 @@
-// `chainsim calibrate --robot` (tools/chainsim/robot_calibration.h) on the paper's
-// Table 2 (scenes/measured/helicoidal_speed_vs_slope.csv), runs of 2.5 s: the
-// shipped helicoidal module (fitted on the table's 0 and 90 degree rows) needs
-// no effect; a module whose drive motor is 30 % too weak is found out: the
-// fit names the drive's stall torque, cuts the gap and beats the paper's
-// simulator.
+// `chainsim calibrate --robot` (physics-server/analysis/robot_calibration) on
+// the paper's Table 2 (scenes/measured/helicoidal_speed_vs_slope.csv), runs of
+// 2.5 s: the shipped helicoidal module (fitted on the table's 0 and 90 degree
+// rows) needs no effect; a module whose drive motor is 30 % too weak is found
+// out: the fit names the drive's stall torque, cuts the gap and beats the
+// paper's simulator.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 

@@ -1,0 +1,31 @@
+// Measured servo records (measured_record.h), read with the CSV reader.
+#include "analysis/calibration/measured_record.h"
+
+#include "readers/csv_table.h"
+
+namespace chainsim {
+
+MeasuredRecord read_measured(const std::string& file, size_t min_rows) {
+  const CsvTable tab =
+      CsvTable::read_file(file, "the measurement file", {{"t_s", "setpoint_deg", "angle_deg"}, {"current_a"}});
+  MeasuredRecord m;
+  m.has_current = tab.find("current_a") >= 0;
+  const int cols[4] = {tab.column("t_s"), tab.column("setpoint_deg"), tab.column("angle_deg"),
+                       tab.find("current_a")};
+  std::vector<double>* dst[4] = {&m.t, &m.sp, &m.angle, &m.current};
+  for (size_t r = 0; r < tab.rows(); ++r) {
+    for (int c = 0; c < 4; ++c) {
+      if (cols[c] < 0) continue;
+      const double v = tab.number(r, cols[c]);
+      if (c == 0 && r > 0 && !(v > m.t.back())) tab.fail_not_increasing(r, cols[c]);
+      dst[c]->push_back(v);
+    }
+  }
+  if (m.size() < min_rows)
+    tab.fail(tab.last_line(), 1,
+             "too few rows (" + std::to_string(m.size()) + "; at least " + std::to_string(min_rows) +
+                 " needed for the cross-validation blocks)");
+  return m;
+}
+
+}  // namespace chainsim

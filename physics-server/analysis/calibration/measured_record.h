@@ -1,0 +1,23 @@
+// A servo measurement to calibrate against: set-point, output angle and
+// optionally the filtered current, sampled at increasing times
+// (docs/calibration.md, "M.csv").
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace chainsim {
+
+struct MeasuredRecord {
+  std::vector<double> t, sp, angle, current;   // s, deg, deg, A
+  bool has_current = false;
+  size_t size() const { return t.size(); }
+};
+
+// reads t_s, setpoint_deg, angle_deg and the optional current_a (by name,
+// other columns ignored) with at least min_rows rows; throws CsvError
+// ("file:line:column: what")
+MeasuredRecord read_measured(const std::string& file, size_t min_rows);
+
+}  // namespace chainsim

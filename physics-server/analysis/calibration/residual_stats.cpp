@@ -1,0 +1,103 @@
+// Statistics of a calibration residual (residual_stats.h).
+#include "analysis/calibration/residual_stats.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace chainsim {
+
+BlockSplit split_blocks(const std::vector<double>& t, int blocks) {
+  BlockSplit s;
+  s.block.resize(t.size());
+  const double t0 = t.front(), span = t.back() - t0;
+  for (size_t k = 0; k < t.size(); ++k)
+    s.block[k] = std::min(blocks - 1, static_cast<int>((t[k] - t0) / span * blocks));
+  return s;
+}
+
+double stdev(const std::vector<double>& v) {
+  double m = 0, s = 0;
+  for (double x : v) m += x;
+  m /= v.size();
+  for (double x : v) s += (x - m) * (x - m);
+  return std::sqrt(s / v.size());
+}
+
+double nrmse(const Residual& r, const BlockSplit& s, Samples set, const std::vector<bool>* mask) {
+  if (!r.finite) return 1e6;
+  double sa = 0, si = 0;
+  size_t n = 0;
+  for (size_t k = 0; k < r.size(); ++k) {
+    if (!s.in(k, set) || (mask && !(*mask)[k])) continue;
+    sa += r.angle[k] * r.angle[k];
+    si += r.current[k] * r.current[k];
+    ++n;
+  }
+  if (n == 0) return 0.0;
+  return std::sqrt((sa + (r.has_current ? si : 0.0)) / n / (r.has_current ? 2.0 : 1.0));
+}
+
+double whiteness(const Residual& r, const BlockSplit& s, Samples set) {
+  double worst = 0;
+  for (int ch = 0; ch < r.channels(); ++ch) {
+    const std::vector<double>& v = ch == 0 ? r.angle : r.current;
+    double s2 = 0, d2 = 0, mean = 0;
+    size_t n = 0, nd = 0;
+    for (size_t k = 0; k < v.size(); ++k)
+      if (s.in(k, set)) mean += v[k], ++n;
+    if (n == 0) continue;
+    mean /= n;
+    for (size_t k = 0; k < v.size(); ++k) {
+      if (!s.in(k, set)) continue;
+      s2 += v[k] * v[k];
+      if (k > 0 && s.block[k - 1] == s.block[k]) d2 += (v[k] - v[k - 1]) * (v[k] - v[k - 1]), ++nd;
+    }
+    const double rms = std::sqrt(s2 / n), rd = nd ? std::sqrt(d2 / nd / 2.0) : 0.0;
+    worst = std::max(worst, rd > 0 ? rms / rd : 1e3);
+  }
+  return worst;
+}
+
+double structured_error(const Residual& r, const BlockSplit& s, Samples set) {
+  if (!r.finite) return 1e6;
+  double tot = 0;
+  const int nch = r.channels();
+  for (int ch = 0; ch < nch; ++ch) {
+    const std::vector<double>& v = ch == 0 ? r.angle : r.current;
+    double s2 = 0, d2 = 0;
+    size_t n = 0, nd = 0;
+    for (size_t k = 0; k < v.size(); ++k) {
+      if (!s.in(k, set)) continue;
+      s2 += v[k] * v[k], ++n;
+      if (k > 0 && s.block[k - 1] == s.block[k]) d2 += (v[k] - v[k - 1]) * (v[k] - v[k - 1]), ++nd;
+    }
+    if (n) tot += std::max(0.0, s2 / n - (nd ? d2 / nd / 2.0 : 0.0));
+  }
+  return std::sqrt(tot / nch);
+}
+
+std::vector<std::pair<double, double>> confidence_intervals(const Eigen::MatrixXd& J, const Eigen::VectorXd& r,
+                                                            size_t samples, const std::vector<double>& x,
+                                                            size_t first_nonnegative) {
+  const size_t n = x.size(), m = samples;
+  const double dof = std::max<double>(1.0, static_cast<double>(r.size()) - n);
+  const double s2 = r.squaredNorm() / dof;
+  // correlation length from the lag-1 autocorrelation of the angle residual
+  double c0 = 0, c1 = 0;
+  for (size_t k = 0; k + 1 < m; ++k) c0 += r(k) * r(k), c1 += r(k) * r(k + 1);
+  const double rho = c0 > 0 ? std::clamp(c1 / c0, 0.0, 0.999) : 0.0;
+  const double inflate = (1 + rho) / (1 - rho);
+  Eigen::MatrixXd JtJ = J.transpose() * J;
+  JtJ += 1e-12 * Eigen::MatrixXd::Identity(n, n) * std::max(1.0, JtJ.trace() / n);
+  const Eigen::MatrixXd cov = JtJ.inverse() * s2 * inflate;
+  std::vector<std::pair<double, double>> out(n);
+  for (size_t i = 0; i < n; ++i) {
+    const double sd = std::sqrt(std::max(0.0, cov(i, i)));
+    double a = x[i] - 1.96 * sd, b = x[i] + 1.96 * sd;
+    if (i >= first_nonnegative) a = std::max(a, 0.0);
+    out[i] = {a, b};
+  }
+  return out;
+}
+
+}  // namespace chainsim

@@ -1,0 +1,43 @@
+// Servo calibration: refit the servo's base parameters to a bench
+// measurement, localise where the model disagrees, add effects from the
+// servo model's catalogue while held-out data agree, and refit the final
+// model on all data with 95 % intervals. docs/calibration.md.
+//
+//   measured_record.h   the measurement (CSV)
+//   effect_catalogue.h  base factors and effects, applied to a BenchConfig
+//   servo_fit.h         the least-squares fits (NLopt)
+//   residual_stats.h    block split, NRMSE, gap, whiteness, intervals
+//   regimes.h           regimes, regions, signatures
+//   effect_search.h     the greedy search
+//   calibration_report.h  report.json, report.md, SVG plots
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "analysis/calibration/effect_search.h"
+
+namespace chainsim {
+
+// the smallest measurement: four samples per cross-validation block
+constexpr size_t kMinMeasuredRows = 4 * kCvBlocks;
+
+struct ServoCalibration {
+  FitProblem problem;
+  std::vector<int> regime;       // classify_regimes of the measurement
+  double nrmse_datasheet = 0;    // the datasheet model's held-out NRMSE
+  Fit base;                      // the refitted base (no effects)
+  EffectSearch search;           // search.model: base + accepted effects
+  std::string verdict;           // explained, no_missing_effect or unexplained
+  Fit final_fit;                 // search.model refitted on all data
+  std::vector<std::pair<double, double>> ci;   // 95 % intervals of final_fit.x
+  ModelRun before, after;        // base and search.model on all samples
+  double ode_check_max_angle_diff_deg = 0;     // final model: ODE stand vs the fast solver
+};
+
+// the whole calibration; say gets progress lines
+ServoCalibration calibrate_servo(const BenchConfig& datasheet, MeasuredRecord measured,
+                                 const CalibrationProgress& say);
+
+}  // namespace chainsim

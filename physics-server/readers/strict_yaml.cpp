@@ -1,0 +1,190 @@
+// The strict YAML reader (strict_yaml.h).
+#include "readers/strict_yaml.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <utility>
+
+namespace chainsim {
+namespace {
+
+[[noreturn]] void raise_yaml_error(const std::string& message) { throw YamlError(message); }
+
+// "'name'": how messages quote a key's path
+std::string quoted(const std::string& name) { return "'" + name + "'"; }
+
+std::string path_key(const std::string& path, const std::string& key) { return path + "." + key; }
+
+}  // namespace
+
+std::string join_names(const std::set<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+StrictYaml::StrictYaml(std::string file, YamlRaise raise)
+    : file_(std::move(file)), raise_(raise ? raise : &raise_yaml_error) {}
+
+std::string StrictYaml::read_file(const std::string& what) const {
+  std::ifstream in(file_, std::ios::binary);
+  if (!in) fail_file("cannot open " + what);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+YAML::Node StrictYaml::parse(const std::string& text) const {
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    std::ostringstream s;
+    s << file_;
+    if (e.mark.line >= 0) s << ":" << (e.mark.line + 1) << ":" << (e.mark.column + 1);
+    s << ": YAML syntax error: " << e.msg;
+    raise_(s.str());
+    throw YamlError(s.str());  // a raise that returned
+  }
+}
+
+std::string StrictYaml::where(const YAML::Node& n) const {
+  std::ostringstream s;
+  s << file_;
+  const YAML::Mark m = n.Mark();
+  if (m.line >= 0) s << ":" << (m.line + 1) << ":" << (m.column + 1);
+  return s.str();
+}
+
+void StrictYaml::fail(const YAML::Node& n, const std::string& what) const {
+  const std::string message = where(n) + ": " + what;
+  raise_(message);
+  throw YamlError(message);  // a raise that returned
+}
+
+void StrictYaml::fail_file(const std::string& what) const {
+  const std::string message = file_ + ": " + what;
+  raise_(message);
+  throw YamlError(message);
+}
+
+void StrictYaml::keys(const YAML::Node& map, const std::string& path,
+                      const std::set<std::string>& allowed) const {
+  if (!map.IsMap()) fail(map, quoted(path) + " must be a mapping");
+  for (const auto& kv : map) {
+    const std::string key = kv.first.Scalar();
+    if (!allowed.count(key))
+      fail(kv.first, "unknown key '" + key + "' in " + quoted(path) + " (known: " + join_names(allowed) + ")");
+  }
+}
+
+double StrictYaml::number_at(const YAML::Node& n, const std::string& name, double lo, double hi,
+                             bool lo_open) const {
+  if (!n.IsScalar()) fail(n, quoted(name) + " must be a number");
+  double v = 0;
+  try {
+    v = n.as<double>();
+  } catch (const YAML::Exception&) {
+    fail(n, quoted(name) + " must be a number, not '" + n.Scalar() + "'");
+  }
+  if (!std::isfinite(v)) fail(n, quoted(name) + " must be a finite number, not '" + n.Scalar() + "'");
+  const std::string is = quoted(name) + " = " + n.Scalar();
+  if (lo_open && lo == 0 && !(v > 0)) fail(n, is + " must be > 0");
+  if (v < lo || v > hi || (lo_open && v <= lo)) {
+    std::ostringstream s;
+    s << is << " is out of range " << (lo_open ? "(" : "[") << lo << ", " << hi << "]";
+    fail(n, s.str());
+  }
+  return v;
+}
+
+double StrictYaml::number(const YAML::Node& map, const std::string& key, double dflt, double lo, double hi,
+                          const std::string& path, bool lo_open) const {
+  const YAML::Node n = map[key];
+  return n ? number_at(n, path_key(path, key), lo, hi, lo_open) : dflt;
+}
+
+double StrictYaml::positive(const YAML::Node& map, const std::string& key, double dflt, double hi,
+                            const std::string& path) const {
+  return number(map, key, dflt, 0.0, hi, path, true);
+}
+
+int64_t StrictYaml::integer_at(const YAML::Node& n, const std::string& name, int64_t lo, int64_t hi) const {
+  if (!n.IsScalar()) fail(n, quoted(name) + " must be an integer");
+  int64_t v = 0;
+  try {
+    v = n.as<int64_t>();
+  } catch (const YAML::Exception&) {
+    fail(n, quoted(name) + " must be an integer, not '" + n.Scalar() + "'");
+  }
+  if (v < lo || v > hi)
+    fail(n, quoted(name) + " = " + n.Scalar() + " is out of range [" + std::to_string(lo) + ", " +
+                std::to_string(hi) + "]");
+  return v;
+}
+
+int64_t StrictYaml::integer(const YAML::Node& map, const std::string& key, int64_t dflt, int64_t lo, int64_t hi,
+                            const std::string& path) const {
+  const YAML::Node n = map[key];
+  return n ? integer_at(n, path_key(path, key), lo, hi) : dflt;
+}
+
+std::string StrictYaml::string_at(const YAML::Node& n, const std::string& name) const {
+  if (!n.IsScalar()) fail(n, quoted(name) + " must be a string");
+  return n.Scalar();
+}
+
+std::string StrictYaml::string(const YAML::Node& map, const std::string& key, const std::string& dflt,
+                               const std::string& path) const {
+  const YAML::Node n = map[key];
+  return n ? string_at(n, path_key(path, key)) : dflt;
+}
+
+std::string StrictYaml::text(const YAML::Node& map, const std::string& key, const std::string& dflt,
+                             const std::string& path) const {
+  const YAML::Node n = map[key];
+  if (!n) return dflt;
+  if (!n.IsScalar() || n.Scalar().empty()) fail(n, quoted(path_key(path, key)) + " must be a non-empty string");
+  return n.Scalar();
+}
+
+bool StrictYaml::flag(const YAML::Node& map, const std::string& key, bool dflt, const std::string& path) const {
+  const YAML::Node n = map[key];
+  if (!n) return dflt;
+  try {
+    return n.as<bool>();
+  } catch (const YAML::Exception&) {
+    fail(n, quoted(path_key(path, key)) + " must be true or false");
+  }
+}
+
+Eigen::Vector3d StrictYaml::vec3(const YAML::Node& map, const std::string& key, const Eigen::Vector3d& dflt,
+                                 const std::string& path) const {
+  const YAML::Node n = map[key];
+  if (!n) return dflt;
+  const std::string msg = quoted(path_key(path, key)) + " must be a list of 3 numbers [x, y, z]";
+  if (!n.IsSequence() || n.size() != 3) fail(n, msg);
+  Eigen::Vector3d v;
+  for (int i = 0; i < 3; ++i) {
+    try {
+      v[i] = n[i].as<double>();
+    } catch (const YAML::Exception&) {
+      fail(n[i], msg);
+    }
+    if (!std::isfinite(v[i])) fail(n[i], msg);
+  }
+  return v;
+}
+
+std::string StrictYaml::choice(const YAML::Node& map, const std::string& key, const std::string& dflt,
+                               const std::vector<std::string>& choices, const std::string& path) const {
+  const std::string v = text(map, key, dflt, path);
+  std::string known;
+  for (const auto& c : choices) {
+    if (c == v) return v;
+    known += (known.empty() ? "" : ", ") + c;
+  }
+  fail(map[key], quoted(path_key(path, key)) + " '" + v + "' is not known (known: " + known + ")");
+}
+
+}  // namespace chainsim

@@ -1,0 +1,115 @@
+// The robot calibration's fits and search on synthetic speed functions
+// (no runs): a knob that explains the table is found with its factor, one
+// that changes nothing is not accepted, n rows allow at most n - 2 knobs, two
+// knobs are fitted jointly.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "analysis/robot_calibration/robot_search.h"
+
+namespace chainsim {
+namespace {
+
+const int kThrust = robot_knob("drive_stall");
+const int kFreeSpeed = robot_knob("drive_free_speed");
+const int kFriction = robot_knob("wall_friction");
+
+std::vector<SpeedRow> table(const std::vector<double>& real) {
+  std::vector<SpeedRow> rows;
+  for (size_t i = 0; i < real.size(); ++i) rows.push_back({std::to_string(30 * i), real[i], NAN});
+  return rows;
+}
+
+const std::vector<SpeedRow> kRows = table({3.0, 2.1, 1.5, 1.2});
+
+// the real speeds when the thrust factor is 1.3, proportional to it, plus
+// `extra` per row that no knob changes
+SpeedFunction thrust_model(std::vector<double> extra = {}) {
+  return [extra](const KnobSetting& st) {
+    std::vector<double> v;
+    for (size_t i = 0; i < kRows.size(); ++i)
+      v.push_back(kRows[i].real / 1.3 * factor_of(st, kThrust) + (extra.empty() ? 0.0 : extra[i]));
+    return v;
+  };
+}
+
+void quiet(const std::string&) {}
+
+TEST(RobotFit, OneKnobFindsItsFactor) {
+  const KnobFit f = fit_one_knob(thrust_model(), kRows, {}, kThrust, {});
+  EXPECT_NEAR(f.st.at(kThrust), 1.3, 0.03);
+  EXPECT_LT(f.gap, 0.05);
+  EXPECT_EQ(f.evals, 7 + 2 + 6);  // grid, golden-section start, steps
+  // a masked row does not count
+  std::vector<double> sim = {3.0, 2.1, 1.5, 9.9};
+  EXPECT_GT(speed_gap(sim, kRows), 4.0);
+  EXPECT_DOUBLE_EQ(speed_gap(sim, kRows, {true, true, true, false}), 0.0);
+}
+
+TEST(RobotFit, TwoKnobsJointlyAndNeverWorseThanTheStart) {
+  // speed = a f_thrust + b f_friction, truth 1.2 and 0.8
+  const std::vector<double> a = {2.0, 1.0, 0.5, 0.2}, b = {1.0, 1.5, 1.0, 1.3};
+  std::vector<double> real;
+  for (size_t i = 0; i < 4; ++i) real.push_back(a[i] * 1.2 + b[i] * 0.8);
+  const std::vector<SpeedRow> rows = table(real);
+  const SpeedFunction model = [&](const KnobSetting& st) {
+    std::vector<double> v;
+    for (size_t i = 0; i < 4; ++i) v.push_back(a[i] * factor_of(st, kThrust) + b[i] * factor_of(st, kFriction));
+    return v;
+  };
+  const KnobSetting start = {{kThrust, 1.0}, {kFriction, 1.0}};
+  const double g0 = speed_gap(model(start), rows);
+  const KnobFit f = fit_knobs(model, rows, start, {});
+  std::printf("two knobs: gap %.4f -> %.4f (thrust %.3f, friction %.3f, %d evaluations)\n", g0, f.gap,
+              f.st.at(kThrust), f.st.at(kFriction), f.evals);
+  EXPECT_LT(f.gap, 0.1 * g0);
+  EXPECT_NEAR(f.st.at(kThrust), 1.2, 0.05);
+  EXPECT_NEAR(f.st.at(kFriction), 0.8, 0.05);
+  // started at the optimum, it stays there
+  const KnobFit at = fit_knobs(model, rows, {{kThrust, 1.2}, {kFriction, 0.8}}, {});
+  EXPECT_LT(at.gap, 1e-9);
+}
+
+TEST(RobotSearch, AcceptsTheKnobThatExplainsTheTable) {
+  const RobotSearch s = search_knobs(kRows, {kThrust, kFreeSpeed, kFriction}, thrust_model(), quiet);
+  EXPECT_EQ(s.verdict, "explained");
+  ASSERT_EQ(s.accepted, std::vector<int>{kThrust});
+  EXPECT_NEAR(s.model.at(kThrust), 1.3, 0.03);
+  EXPECT_NEAR(s.gap_before, std::sqrt((9.0 + 4.41 + 2.25 + 1.44) / 4) * 0.3 / 1.3, 1e-9);
+  EXPECT_LE(s.gap_after, kTableResolution);
+  ASSERT_EQ(s.candidates.size(), 3u);
+  EXPECT_EQ(s.candidates[0].knob, kThrust);
+  EXPECT_EQ(s.candidates[0].why, "accepted");
+  EXPECT_EQ(s.candidates[1].why, "not the best of the round");
+  // leave one row out: the other three rows fix the factor, the left-out row is predicted
+  for (size_t i = 0; i < kRows.size(); ++i) EXPECT_NEAR(s.leave_one_out[i], kRows[i].real, 0.1) << i;
+  EXPECT_LT(s.leave_one_out_gap, 0.1);
+  EXPECT_TRUE(std::isnan(s.paper_gap));  // no paper column
+}
+
+TEST(RobotSearch, AKnobThatChangesNothingIsNotAccepted) {
+  const SpeedFunction flat = [](const KnobSetting&) { return std::vector<double>{3.0, 2.6, 1.5, 1.2}; };
+  const RobotSearch s = search_knobs(kRows, {kFreeSpeed, kFriction}, flat, quiet);
+  EXPECT_EQ(s.verdict, "unexplained");
+  EXPECT_TRUE(s.accepted.empty());
+  ASSERT_FALSE(s.candidates.empty());
+  EXPECT_NE(s.candidates[0].why.find("cuts the gap by 0 % (< 30 %)"), std::string::npos) << s.candidates[0].why;
+  EXPECT_EQ(s.gap_after, s.gap_before);
+  EXPECT_TRUE(std::isnan(s.leave_one_out_gap));
+}
+
+TEST(RobotSearch, ThreeRowsAllowOneKnob) {
+  const std::vector<SpeedRow> rows(kRows.begin(), kRows.begin() + 3);
+  const SpeedFunction model = [&](const KnobSetting& st) {
+    return std::vector<double>{3.0 / 1.3 * factor_of(st, kThrust), 2.1 / 1.3 * factor_of(st, kThrust) + 0.5,
+                               1.5 / 1.3 * factor_of(st, kThrust) * factor_of(st, kFriction)};
+  };
+  const RobotSearch s = search_knobs(rows, {kThrust, kFriction}, model, quiet);
+  EXPECT_EQ(s.accepted.size(), 1u);            // n - 2 = 1, though the gap is still above the resolution
+  EXPECT_GT(s.gap_after, kTableResolution);
+  EXPECT_EQ(s.verdict, "unexplained");
+}
+
+}  // namespace
+}  // namespace chainsim
