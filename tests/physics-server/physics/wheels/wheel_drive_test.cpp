@@ -238,3 +238,51 @@ TEST(Pads, GripHoldsBelowMuNAndSlipsAbove) {
 
 }  // namespace
 }  // namespace chainsim
+
+namespace chainsim {
+namespace {
+
+// The support module (scenes/modules/support.yaml) gripping a level pipe of
+// 40 mm bore, arms driven fully open: pulled along the pipe by a force at
+// its core for 0.5 s, how far it slides. The grip is friction on normal
+// forces (the pads' and the core's own contact), so it has a limit: a pull
+// below it holds, one above slides, and a wall of lower friction holds less.
+double support_slide(double pull_n, double wall_mu, double pad_mu) {
+  ModuleDef s = builtin_module_def("support");
+  for (PadDef& p : s.pads) p.mu = pad_mu;
+  WorldConfig c;
+  c.module_types = {s};
+  c.environment.type = EnvironmentType::Pipe;
+  c.environment.pipe.inner_diameter_m = 0.04;
+  PipeSegment seg;
+  seg.length_m = 0.4;
+  c.environment.pipe.segments = {seg};
+  c.ground.mu = wall_mu;
+  place_chain_at_pipe_entry(&c, {"support"}, 0.1);
+  World w(c, {"support"});
+  w.set_servo_setpoint(0, 0, kPi / 2);
+  run(w, 1.0);  // the arms open (0.3 s) and the core settles on the wall
+  const double x0 = w.body_state(0, 0).position.x();
+  for (int k = 0; k < 1000; ++k) {
+    w.add_body_force(0, 0, Eigen::Vector3d(pull_n, 0, 0));
+    w.step();
+  }
+  return w.body_state(0, 0).position.x() - x0;
+}
+
+TEST(Pads, SupportGripHasAFrictionLimit) {
+  // the inchworm's chain weighs 0.29 N: pulled forwards by that it holds
+  // (backwards it creeps 2 mm in 0.5 s; unloaded 0.8 mm: docs/firmware.md)
+  EXPECT_LT(std::fabs(support_slide(0.3, 0.6, 0.6)), 1e-3);
+  // forwards (the arms' tips trail the hinges: the pull folds them) it slides
+  // away at 4 N; backwards the arms wedge and it creeps a little (2 cm)
+  EXPECT_GT(support_slide(4.0, 0.6, 0.6), 0.05);
+  const double back = support_slide(-4.0, 0.6, 0.6);
+  EXPECT_GT(back, -0.05);
+  // on a wall and pads of half the friction the same pull pulls it out
+  EXPECT_LT(support_slide(-4.0, 0.3, 0.3), -0.05);
+  std::printf("support: pulled back by 4 N: slides %.4f m\n", back);
+}
+
+}  // namespace
+}  // namespace chainsim
