@@ -8,7 +8,9 @@
 // without the steering jams.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 #include <tuple>
 #include <string>
@@ -47,6 +49,31 @@ Head head(const Outcome& o, double elbow_x) {
   return h;
 }
 
+// the times (s) of the log's "elbow: <what> at ms N" lines
+std::vector<double> log_times(const std::string& log, const std::string& what) {
+  std::vector<double> out;
+  const std::string key = "elbow: " + what + " at ms ";
+  for (size_t p = log.find(key); p != std::string::npos; p = log.find(key, p + 1))
+    out.push_back(std::atof(log.c_str() + p + key.size()) * 1e-3);
+  return out;
+}
+
+// whether a steering (bend, then straight) began with the head within 5 cm
+// of the elbow's start (a touch far from the elbow also steers)
+bool steered_at_elbow(const Outcome& o, const std::string& log, double elbow_x) {
+  auto tr = read_trace(o.dir + "/trace.csv");
+  const auto& t = tr.at("t_s");
+  const auto& x = tr.at("m0.cover.x");
+  const std::vector<double> straights = log_times(log, "straight");
+  for (double tb : log_times(log, "bend")) {
+    size_t i = 0;
+    while (i + 1 < t.size() && t[i] < tb) ++i;
+    const bool ended = std::any_of(straights.begin(), straights.end(), [&](double ts) { return ts > tb; });
+    if (x[i] > elbow_x - 0.05 && ended) return true;
+  }
+  return false;
+}
+
 std::string text(const Head& h) {
   std::ostringstream s;
   s << "head at x=" << h.x << " y=" << h.y << ", 5 cm into the outgoing leg at t=" << h.t_out << " s";
@@ -62,6 +89,7 @@ TEST(Elbow, TRRHPassesTheElbow) {
   const std::string log = central_log(o, 4);
   EXPECT_NE(log.find("touch 0x20: contact"), std::string::npos) << log;
   EXPECT_NE(log.find("elbow: bend at ms"), std::string::npos) << log;
+  EXPECT_TRUE(steered_at_elbow(o, log, 0.55)) << log;
   const Head h = head(o, 0.55);
   EXPECT_GT(h.t_out, 0) << text(h) << "\n" << log;
   EXPECT_GT(h.y, 0.13) << text(h);
@@ -84,8 +112,10 @@ TEST(Elbow, THAndTRHStayStuck) {
     const Outcome o = run_scene("elbow", "elbow-TRRH", seconds, {{"chain: TRRH", std::string("chain: ") + chain}});
     ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
     const std::string log = central_log(o, n);
-    // it reached the elbow and was steered, and did not get through
-    EXPECT_NE(log.find("elbow: straight at ms"), std::string::npos) << chain << "\n" << log;
+    // it reached the elbow and was steered there, and did not get through
+    // (T R H's touch cover also touches the pipe at the start, which steers
+    // it once on the way: docs/firmware.md)
+    EXPECT_TRUE(steered_at_elbow(o, log, 0.55)) << chain << "\n" << log;
     const Head h = head(o, 0.55);
     EXPECT_LT(h.t_out, 0) << chain << ": " << text(h);
     EXPECT_GT(h.x, 0.58) << chain << ": " << text(h);   // at the elbow (it starts at 0.55)
@@ -99,6 +129,7 @@ TEST(Elbow, THRHRHRHHPassesTheElbow) {
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
   const std::string log = central_log(o, 9);
   EXPECT_NE(log.find("elbow: bend at ms"), std::string::npos) << log;
+  EXPECT_TRUE(steered_at_elbow(o, log, 0.55)) << log;
   const Head h = head(o, 0.55);
   EXPECT_GT(h.t_out, 0) << text(h) << "\n" << log;
 }
