@@ -29,6 +29,8 @@ namespace chainsim {
 
 namespace asio = boost::asio;
 using Clock = std::chrono::steady_clock;
+// how often the run loop looks for signals (SIGINT, SIGTERM), wall clock
+constexpr std::chrono::milliseconds kSignalPollInterval{20};
 
 void say(const RunOptions& options, const std::string& message) {
   if (!options.quiet) std::fprintf(stderr, "chainsim: %s\n", message.c_str());
@@ -240,6 +242,7 @@ RunResult Server::run() {
   write_trace_row_if_due();
   auto last_progress = Clock::now();
   auto last_flush = last_progress;
+  auto last_signal_poll = last_progress;
   while (ok && now_us_ < end_us) {
     // The modules compute this tick while the physics steps through it: they
     // get the sensors at now, and their outputs (set-points) are in force
@@ -257,12 +260,18 @@ RunResult Server::run() {
     barrier_->apply(now_us_, this);
     now_us_ += scene_.tick_us;
     touch_.sample(world_, [this](const char* line) { bus_event(now_us_, line); });
-    io_.poll();
+    // signals arrive through the io_context; polling it costs a system call
+    // (epoll_wait), so it is polled every kSignalPollInterval of wall time
+    // rather than every tick (the clock is read without one)
+    const auto now = Clock::now();
+    if (now - last_signal_poll >= kSignalPollInterval) {
+      last_signal_poll = now;
+      io_.poll();
+    }
     if (interrupted_) {
       ok = false;
       break;
     }
-    const auto now = Clock::now();
     if (now - last_flush > std::chrono::seconds(1)) {
       out_->flush();
       last_flush = now;
