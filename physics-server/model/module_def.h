@@ -1,4 +1,4 @@
-// Module types as data (DESIGN.md section 5: "modules are data"). A ModuleDef
+// Module types as data: a module type is a definition file, not C++. A ModuleDef
 // says what a module is made of: rigid bodies (primitive shapes with the real
 // masses), the joints between them, the actuators on those joints, its
 // sensors, and its two docking faces. The World builds any ModuleDef
