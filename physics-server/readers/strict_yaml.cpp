@@ -2,6 +2,7 @@
 #include "readers/strict_yaml.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -29,6 +30,15 @@ StrictYaml::StrictYaml(std::string file, YamlRaise raise)
     : file_(std::move(file)), raise_(raise ? raise : &raise_yaml_error) {}
 
 std::string StrictYaml::read_file(const std::string& what) const {
+  // checked before opening: a FIFO would block the open, a device never end
+  std::error_code ec;
+  const auto st = std::filesystem::status(file_, ec);
+  if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
+    fail_file("cannot read " + what + ": not a regular file (a directory, FIFO or device)");
+  const auto size = std::filesystem::file_size(file_, ec);
+  if (!ec && size > kMaxFileBytes)
+    fail_file("cannot read " + what + ": " + std::to_string(size) + " bytes, over the limit of " +
+              std::to_string(kMaxFileBytes));
   std::ifstream in(file_, std::ios::binary);
   if (!in) fail_file("cannot open " + what);
   std::stringstream text;

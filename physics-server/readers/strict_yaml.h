@@ -33,13 +33,16 @@ class StrictYaml {
   static constexpr double kMaxCoordinateM = 1e4;
   static constexpr int kMaxDepth = 64;
   static constexpr size_t kMaxNodes = 1000000;
+  // a YAML file is a regular file of at most 16 MiB
+  static constexpr uintmax_t kMaxFileBytes = 16u << 20;
 
   // `file` is used in messages; `raise` throws the loader's error type
   explicit StrictYaml(std::string file, YamlRaise raise = nullptr);
 
   const std::string& file() const { return file_; }
 
-  // the whole text of a file; "file: cannot open <what>" when it cannot be read
+  // the whole text of a file; "file: cannot open <what>" when it cannot be
+  // read, an error too when it is not a regular file or over kMaxFileBytes
   std::string read_file(const std::string& what) const;
   // parses text; a syntax error is "file:line:column: YAML syntax error: ...";
   // a second document, a key given twice in one mapping, or more nesting or

@@ -80,3 +80,36 @@ TEST(Reliability, ModuleProcessesInheritOnlyStdinStdoutAndStderr) {
   }
   EXPECT_EQ(fds, (std::set<std::string>{"0", "1", "2"})) << listing;
 }
+
+// ODE aborts on a NaN position (dxNormalize4): the reader refuses it first,
+// naming the key, with exit 1 and no signal
+TEST(Reliability, NonFiniteStartPositionIsRefusedBeforeODE) {
+  const std::string dir = temp_dir("nan-pos");
+  const std::string scene =
+      write_file(dir, "s.yaml", "chain: RR\nplacement:\n  position_m: [0, .nan, 0.02]\n");
+  const Outcome o = run({scene, "--duration", "1"}, dir);
+  EXPECT_EQ(o.signal, 0);
+  EXPECT_EQ(o.exit_code, 1) << o.stderr_text;
+  EXPECT_NE(o.stderr_text.find(scene + ":3:19: 'placement.position_m[1]' must be a finite number"),
+            std::string::npos)
+      << o.stderr_text;
+}
+
+// a device read without end and a FIFO that blocks the reader are refused
+// before they are opened
+TEST(Reliability, InputFilesMustBeRegularFiles) {
+  const std::string dir = temp_dir("special-files");
+  const std::string types = write_file(dir, "t.yaml", "chain:\n  - {type: x}\nmodule_types: {x: /dev/zero}\n");
+  const Outcome a = run({types, "--duration", "1"}, temp_dir("special-a"));
+  EXPECT_EQ(a.exit_code, 1) << a.stderr_text;
+  EXPECT_NE(a.stderr_text.find("/dev/zero: cannot read module definition file: not a regular file"),
+            std::string::npos)
+      << a.stderr_text;
+  const std::string fifo = dir + "/pipe.stl";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  const std::string mesh =
+      write_file(dir, "m.yaml", "chain: R\nenvironment:\n  type: mesh\n  mesh: {file: pipe.stl}\n");
+  const Outcome b = run({mesh, "--duration", "1"}, temp_dir("special-b"));
+  EXPECT_EQ(b.exit_code, 1) << b.stderr_text;
+  EXPECT_NE(b.stderr_text.find("pipe.stl': not a regular file"), std::string::npos) << b.stderr_text;
+}
