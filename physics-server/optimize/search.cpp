@@ -1,6 +1,5 @@
 #include "optimize/search.h"
 
-#include <openssl/evp.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -15,25 +14,13 @@
 #include "optimize/history.h"
 #include "optimize/individual_scene.h"
 #include "optimize/sga_stepper.h"
+#include "output/sha256.h"
 
 namespace chainsim {
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-std::string sha256_hex(const std::string& data) {
-  unsigned char md[EVP_MAX_MD_SIZE];
-  unsigned int n = 0;
-  EVP_Digest(data.data(), data.size(), md, &n, EVP_sha256(), nullptr);
-  std::string hex;
-  char b[3];
-  for (unsigned i = 0; i < n; ++i) {
-    std::snprintf(b, sizeof b, "%02x", md[i]);
-    hex += b;
-  }
-  return hex;
-}
 
 // what must not change between a search and its resumption
 std::string fingerprint(const Problem& pr) {
@@ -43,7 +30,10 @@ std::string fingerprint(const Problem& pr) {
                 static_cast<unsigned long long>(g.seed), g.population, pr.exhaustive ? 1 : 0, g.crossover.c_str(),
                 g.crossover_probability, g.mutation.c_str(), g.mutation_probability, g.mutation_width,
                 g.selection.c_str(), g.selection_size);
-  return sha256_hex(pr.text + '\0' + pr.scene_text + '\0' + settings);
+  const std::string data = pr.text + '\0' + pr.scene_text + '\0' + settings;
+  Sha256 sha;
+  sha.update(data.data(), data.size());
+  return sha.hex();
 }
 
 // pagmo minimises

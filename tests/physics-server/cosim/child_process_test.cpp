@@ -20,23 +20,15 @@
 #include <thread>
 
 #include "cosim/child_process.h"
+#include "temp_dir.h"
 
 namespace chainsim {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "chainsim-child-XXXXXX").string();
-    path = mkdtemp(tmpl.data());
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string file(const std::string& name) const { return (path / name).string(); }
+struct TempDir : chainsim_test::TempDir {
+  TempDir() : chainsim_test::TempDir("chainsim-child") {}
 };
 
 std::string read_file(const std::string& p) {
