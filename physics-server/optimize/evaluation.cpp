@@ -12,6 +12,7 @@
 #include "optimize/problem.h"
 #include "optimize/run_outcome.h"
 #include "scene/scene.h"
+#include "physics/splitmix64.h"
 
 namespace chainsim {
 
@@ -75,10 +76,8 @@ EvalResult eval_result_from_json(const nlohmann::json& j) {
 
 uint64_t repeat_seed(uint64_t seed, int repeat) {
   if (repeat == 0) return seed;
-  uint64_t x = seed + 0x9E3779B97F4A7C15ull * static_cast<uint64_t>(repeat);  // splitmix64
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return (x ^ (x >> 31)) >> 2;
+  // the repeat-th output of splitmix64's sequence from seed
+  return splitmix64(seed + 0x9E3779B97F4A7C15ull * static_cast<uint64_t>(repeat - 1)) >> 2;
 }
 
 std::string deterministic_fault_text(const std::string& text) {

@@ -6,17 +6,11 @@
 
 #include "optimize/problem.h"
 #include "scene/scene.h"
+#include "physics/splitmix64.h"
 
 namespace chainsim {
 
 namespace {
-
-uint64_t splitmix64(uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
 
 // a file named relative to base (empty: the working directory), made absolute
 std::string absolute_from(const std::string& file, const std::filesystem::path& base) {

@@ -1,4 +1,5 @@
 #include "optimize/sga_stepper.h"
+#include "physics/splitmix64.h"
 
 #include <pagmo/algorithms/sga.hpp>
 #include <pagmo/population.hpp>
@@ -12,13 +13,6 @@
 namespace chainsim {
 
 namespace {
-
-uint64_t splitmix64(uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
 
 // what the problem answers sga: record the offspring asked for, or replay
 // their fitness in the order they were recorded

@@ -7,20 +7,12 @@
 #include <stdexcept>
 
 #include "physics/units.h"
+#include "physics/module_builder.h"
 
 namespace chainsim {
 namespace {
 
 constexpr double kPadFilterS = 0.005;  // low-pass of a pad's normal force for its grip bound
-
-Eigen::Isometry3d body_pose(dBodyID b) {
-  const dReal* p = dBodyGetPosition(b);
-  const dReal* q = dBodyGetQuaternion(b);
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.linear() = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).toRotationMatrix();
-  t.translation() = Eigen::Vector3d(p[0], p[1], p[2]);
-  return t;
-}
 
 Eigen::Vector3d to_world(dBodyID b, const Eigen::Vector3d& v) {
   dVector3 w;
@@ -51,7 +43,7 @@ void WheelContacts::add_module(int module, const std::vector<WheelSetDef>& sets,
     throw std::logic_error("WheelContacts::add_module: modules out of order");
   for (const WheelSetDef& s : sets) {
     const dBodyID body = bodies.at(s.body);
-    const Eigen::Isometry3d to_body = body_pose(body).inverse();
+    const Eigen::Isometry3d to_body = body_isometry(body).inverse();
     const Eigen::Vector3d axis_w = frame.linear() * Eigen::Vector3d::UnitX();
     const double helix = deg_to_rad(s.helix_deg);
     for (int k = 0; k < s.count; ++k) {
@@ -82,7 +74,7 @@ void WheelContacts::add_module(int module, const std::vector<WheelSetDef>& sets,
   }
   for (const PadDef& d : pads) {
     const dBodyID body = bodies.at(d.body);
-    const Eigen::Isometry3d to_body = body_pose(body).inverse();
+    const Eigen::Isometry3d to_body = body_isometry(body).inverse();
     Wheel w;
     w.module = module;
     w.name = d.name;
@@ -107,7 +99,7 @@ int WheelContacts::begin_step() {
   for (Wheel& w : wheels_) {
     w.st_prev_on = w.st.on;
     w.st.on = false;
-    const Eigen::Vector3d p = body_pose(w.body) * w.pivot_b;
+    const Eigen::Vector3d p = body_isometry(w.body) * w.pivot_b;
     const Eigen::Vector3d u = to_world(w.body, w.radial_b);
     WallHit hit;
     if (!probe_ || !probe_->cast(p, u, w.reach_max, &w.hint, &hit)) continue;
