@@ -205,6 +205,7 @@ static uint8_t await_tick_begin(const char *after)
     const cs_msg *m = recv_msg();
     if (m->type == CS_MSG_TICK_BEGIN) {
         apply_tick_begin(&m->u.tick_begin);
+        hs.owes_tick_end = 1;
         return m->u.tick_begin.wake_reason;
     }
     if (m->type == CS_MSG_SHUTDOWN)
@@ -252,6 +253,7 @@ void hs_handshake(uint16_t module_index, const char *type_name)
     memcpy(hs.params, m->u.welcome.params, sizeof hs.params);
 
     (void)await_tick_begin("WELCOME");
+    hs_install_crash_handlers();
 }
 
 /* ---- the lockstep exchange ----------------------------------------------- */
@@ -289,11 +291,34 @@ static void build_line(char *dst, const char *a, uint32_t n, const char *b)
     strcpy(dst, b);
 }
 
-uint8_t hs_exchange(uint64_t wake_time_us, uint8_t wake_events)
+/* the TICK_END of this wait into tx_msg: the persistent outputs, the queued
+ * log lines and, with_i2c, the queued I2C frames */
+static void fill_tick_end(uint64_t wake_time_us, uint8_t wake_events, int with_i2c)
 {
     cs_tick_end *te = &tx_msg.u.tick_end;
     uint8_t i;
 
+    tx_msg.type = CS_MSG_TICK_END;
+    te->wake_time_us = wake_time_us;
+    te->wake_events = (uint8_t)(wake_events & (CS_WAKE_I2C | CS_WAKE_SIN_EDGE));
+    te->sout_level = hs.sout_level;
+    te->i2c_address = hs.i2c_address;
+    te->n_servos = hs.n_servos;
+    te->servo_enable = (uint8_t)(hs.servo_enable & ((1u << hs.n_servos) - 1u));
+    for (i = 0; i < CS_SERVOS_MAX; i++)
+        te->servo_setpoint[i] = i < hs.n_servos ? hs.servo_setpoint[i] : 0;
+    te->n_i2c = with_i2c ? hs.n_i2c_tx : 0;
+    for (i = 0; i < te->n_i2c; i++)
+        te->i2c[i] = hs.i2c_tx[i];
+    te->n_log = hs.n_log;
+    for (i = 0; i < hs.n_log; i++)
+        memcpy(te->log[i], hs.log[i], CS_LOG_LINE_MAX);
+}
+
+uint8_t hs_exchange(uint64_t wake_time_us, uint8_t wake_events)
+{
+    hs.owes_tick_end = 0; /* from here on last words would interleave with this frame */
+    hs.early_returns = 0;
     if (hs.rx_dropped != 0) {
         char line[64];
         build_line(line, "i2c: ", hs.rx_dropped, " received frames dropped (ring full)");
@@ -312,24 +337,31 @@ uint8_t hs_exchange(uint64_t wake_time_us, uint8_t wake_events)
         hs.log_dropped = 0;
     }
 
-    tx_msg.type = CS_MSG_TICK_END;
-    te->wake_time_us = wake_time_us;
-    te->wake_events = (uint8_t)(wake_events & (CS_WAKE_I2C | CS_WAKE_SIN_EDGE));
-    te->sout_level = hs.sout_level;
-    te->i2c_address = hs.i2c_address;
-    te->n_servos = hs.n_servos;
-    te->servo_enable = (uint8_t)(hs.servo_enable & ((1u << hs.n_servos) - 1u));
-    for (i = 0; i < CS_SERVOS_MAX; i++)
-        te->servo_setpoint[i] = i < hs.n_servos ? hs.servo_setpoint[i] : 0;
-    te->n_i2c = hs.n_i2c_tx;
-    for (i = 0; i < hs.n_i2c_tx; i++)
-        te->i2c[i] = hs.i2c_tx[i];
-    te->n_log = hs.n_log;
-    for (i = 0; i < hs.n_log; i++)
-        memcpy(te->log[i], hs.log[i], CS_LOG_LINE_MAX);
+    fill_tick_end(wake_time_us, wake_events, 1);
     send_msg(&tx_msg);
     hs.n_i2c_tx = 0;
     hs.n_log = 0;
 
     return await_tick_begin("TICK_END");
+}
+
+void hs_send_last_words(void)
+{
+    const char *reason = "?";
+    size_t n, off = 0;
+
+    if (hs.fd < 0 || !hs.owes_tick_end || hs.n_log == 0)
+        return;
+    hs.owes_tick_end = 0;
+    fill_tick_end(hs.time_us + hs.tick_us, 0, 0);
+    n = cs_encode(&tx_msg, tx_buf, sizeof tx_buf, &reason);
+    while (off < n) {
+        ssize_t w = send(hs.fd, tx_buf + off, n - off, MSG_NOSIGNAL);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0)
+            return;
+        off += (size_t)w;
+    }
+    hs.n_log = 0;
 }

@@ -14,6 +14,11 @@
 
 #define HS_RX_RING 16u /* received I2C frames kept until hal_i2c_receive */
 
+/* hal_wait_event_ms returned at once this many times in a row (a frame
+ * waiting, unread): the module says so on stderr (CS_NOTICE_WAIT_SPINS),
+ * where the server's hang report finds it */
+#define HS_EARLY_RETURNS_NOTICE 1000000ul
+
 /* process exit codes */
 #define HS_EXIT_CONFIG 2   /* bad/missing environment, REJECT, hal_init not called */
 #define HS_EXIT_PROTOCOL 3 /* server unreachable, EOF, undecodable or unexpected frame */
@@ -55,6 +60,9 @@ typedef struct {
     uint8_t rx_head;  /* index of the oldest frame */
     uint8_t rx_count;
     uint32_t rx_dropped; /* oldest frames overwritten since the last report */
+
+    uint32_t early_returns; /* hal_wait_event_ms returns without a wait since the last one */
+    uint8_t owes_tick_end;  /* a TICK_BEGIN was applied and no TICK_END sent since */
 } hs_state;
 
 extern hs_state hs;
@@ -83,5 +91,16 @@ uint8_t hs_exchange(uint64_t wake_time_us, uint8_t wake_events);
 
 /* queue a log line (truncated); counts a drop when the queue is full */
 void hs_log_line(const char *line);
+
+/* A process about to die keeps its last words: the log lines queued since the
+ * last wait go out in one last TICK_END (no I2C frames), without waiting for
+ * an answer. Plain send(), failures ignored: safe in a signal handler and at
+ * exit. Does nothing when no TICK_END is owed or nothing is queued. */
+void hs_send_last_words(void);
+
+/* after the handshake: at exit and on a crash (SIGSEGV, SIGBUS, SIGFPE,
+ * SIGILL, SIGABRT) send the last words; on a crash also print a backtrace to
+ * stderr (the module's .out file), then die of the same signal */
+void hs_install_crash_handlers(void);
 
 #endif /* HAL_SIM_LINK_H */

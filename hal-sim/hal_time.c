@@ -5,6 +5,7 @@
 #include "hal_time.h"
 
 #include <errno.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -75,8 +76,16 @@ uint8_t hal_wait_event_ms(uint16_t timeout_ms, uint8_t mask)
 
     hs_require_init("hal_wait_event_ms");
     mask &= (uint8_t)(HAL_EV_I2C | HAL_EV_SIN_EDGE);
-    if ((mask & HAL_EV_I2C) && hs.rx_count != 0)
-        return HAL_EV_I2C; /* a frame is already waiting: no need to sleep */
+    if ((mask & HAL_EV_I2C) && hs.rx_count != 0) {
+        /* a frame is already waiting: no need to sleep, and no time passes.
+         * A loop that waits like this without reading the frame never
+         * reaches the server again: say so once, for its hang report. */
+        if (++hs.early_returns == HS_EARLY_RETURNS_NOTICE)
+            fprintf(stderr, "chainsim hal: %s %lu times in a row without reading "
+                            "the frame (hal_i2c_receive): no simulated time passes\n",
+                    CS_NOTICE_WAIT_SPINS, (unsigned long)HS_EARLY_RETURNS_NOTICE);
+        return HAL_EV_I2C;
+    }
 
     sin_before = hs.sin_level;
     reason = hs_exchange(wake_after((uint32_t)timeout_ms * 1000u), mask);

@@ -19,7 +19,12 @@ void hal_tick_wait(void);
 void hal_delay_ms(uint16_t ms);
 
 /* sleep until one of the events in mask happens or timeout_ms passes;
- * returns the events that happened, 0 on timeout */
+ * returns the events that happened, 0 on timeout.
+ * With HAL_EV_I2C in mask and a received frame not yet read, it returns
+ * HAL_EV_I2C at once, without sleeping: no time passes (in the simulator,
+ * no tick). Read the frame (hal_i2c_receive) before waiting again, or the
+ * loop spins; the simulator then reports the module as hung after
+ * --module-timeout, naming this cause. */
 uint8_t hal_wait_event_ms(uint16_t timeout_ms, uint8_t mask);
 
 /* milliseconds since start (wraps after ~49 days) */

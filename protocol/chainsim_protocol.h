@@ -23,6 +23,12 @@ extern "C" {
 #define CS_MAGIC 0x4D534843UL /* "CHSM" as little-endian bytes */
 #define CS_VERSION 1u
 
+/* Lines the simulated HAL prints on a module's stderr (its .out file) that
+ * the server looks for when it reports a fault: a wait that spins without
+ * sleeping, and a crash's backtrace. */
+#define CS_NOTICE_WAIT_SPINS "hal_wait_event_ms(HAL_EV_I2C) returned at once with an I2C frame waiting,"
+#define CS_NOTICE_BACKTRACE "chainsim hal: backtrace of "
+
 /* hard limits: the decoder rejects frames that exceed any of them */
 #define CS_BODY_MAX 2048u       /* bytes of body after the length prefix */
 #define CS_TYPE_NAME_MAX 16u    /* module type name buffer, NUL included */

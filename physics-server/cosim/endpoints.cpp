@@ -29,6 +29,15 @@ std::string last_line_of(const std::string& path) {
   return last;
 }
 
+// whether the file at path has a line containing text
+bool file_has(const std::string& path, const char* text) {
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.find(text) != std::string::npos) return true;
+  return false;
+}
+
 std::string make_socket_dir() {
   std::string tmpl = (std::filesystem::temp_directory_path() / "chainsim-XXXXXX").string();
   if (!mkdtemp(tmpl.data())) throw std::runtime_error("cannot create a private socket directory in /tmp");
@@ -205,10 +214,18 @@ std::string Endpoints::describe_end(Endpoint& e, const std::string& what, int64_
       if (dying) s = name_of(e) + " ended: " + st->text();
       else if (what.find(st->text()) == std::string::npos) s += " (then ended: " + st->text() + ")";
     }
-    const std::string last = last_line_of(out_->module_file(e.index, "out"));
+    const std::string out = out_->module_file(e.index, "out");
+    const std::string last = last_line_of(out);
     if (!last.empty()) s += "; its last output: \"" + last + "\"";
+    if (file_has(out, CS_NOTICE_BACKTRACE)) s += "; backtrace in " + out;
   }
   return s + " at t=" + fixed_text(now_us * 1e-6, 6) + " s";
+}
+
+std::string Endpoints::silence_cause(const Endpoint& e) const {
+  if (!e.attached && file_has(out_->module_file(e.index, "out"), CS_NOTICE_WAIT_SPINS))
+    return "busy in hal_wait_event_ms, which returns at once while an I2C frame waits unread";
+  return "hung, or busy without a HAL wait";
 }
 
 void Endpoints::cut_off(Endpoint& e) {

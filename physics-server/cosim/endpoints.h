@@ -65,8 +65,11 @@ class Endpoints {
   // stopped the run or *interrupted became non-zero
   bool handshake(const FaultHandler& on_fault, const int* interrupted);
   // e's name, what happened, how its process ended if it did, its last
-  // output line, and the simulated time
+  // output line, where its backtrace is if it printed one, and the
+  // simulated time
   std::string describe_end(Endpoint& e, const std::string& what, int64_t now_us);
+  // why e may not have answered in time, from what its process printed
+  std::string silence_cause(const Endpoint& e) const;
   // after a fault: e's link closed, its process ended
   void cut_off(Endpoint& e);
   // SHUTDOWN to every open link, a moment to exit, then every process ended

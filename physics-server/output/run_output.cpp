@@ -13,8 +13,8 @@
 namespace chainsim {
 
 namespace {
-FILE* open_or_throw(const std::string& path) {
-  FILE* f = std::fopen(path.c_str(), "we");  // close-on-exec: module processes must not inherit it
+FILE* open_or_throw(const std::string& path, const char* mode = "we") {
+  FILE* f = std::fopen(path.c_str(), mode);  // "e": close-on-exec, module processes must not inherit it
   if (!f) throw std::runtime_error("cannot write " + path + ": " + std::strerror(errno));
   std::setvbuf(f, nullptr, _IOFBF, 1 << 16);
   return f;
@@ -28,6 +28,9 @@ RunOutput::RunOutput(const std::string& dir, const std::vector<std::string>& end
   if (ec) throw std::runtime_error("cannot create run directory " + dir_ + ": " + ec.message());
   trace_ = open_or_throw(path("trace.csv"));
   bus_ = open_or_throw(path("bus.log"));
+  // every endpoint's log exists from the start, empty until it logs (a
+  // missing file would look like a lost one); opened again at the first line
+  for (size_t i = 0; i < names_.size(); ++i) std::fclose(open_or_throw(module_file(static_cast<int>(i), "log")));
 }
 
 RunOutput::~RunOutput() {
@@ -56,7 +59,7 @@ void RunOutput::bus(int64_t t_us, const char* line) {
 
 void RunOutput::module_log(int endpoint, int64_t t_us, const char* line) {
   FILE*& f = logs_[endpoint];
-  if (!f) f = open_or_throw(module_file(endpoint, "log"));
+  if (!f) f = open_or_throw(module_file(endpoint, "log"), "ae");
   const std::string t = seconds_text(t_us);
   std::fprintf(f, "%s %s\n", t.c_str(), line);
 }

@@ -17,7 +17,8 @@ namespace chainsim {
 
 class RunOutput {
  public:
-  // creates dir (and dir/modules) if missing, trace.csv and bus.log; throws
+  // creates dir (and dir/modules) if missing, trace.csv, bus.log and every
+  // endpoint's (empty) log; throws
   // std::runtime_error naming the path. endpoint_names[i]: endpoint i's type
   RunOutput(const std::string& dir, const std::vector<std::string>& endpoint_names);
   ~RunOutput();
@@ -28,7 +29,7 @@ class RunOutput {
 
   void trace(const std::string& bytes);        // appended and hashed
   void bus(int64_t t_us, const char* line);    // one bus-log line: "<t_us> <line>"
-  // one line of endpoint's log, "<t_s> <line>" (the file is created at its first line)
+  // one line of endpoint's log, "<t_s> <line>"
   void module_log(int endpoint, int64_t t_us, const char* line);
   void flush();
 

@@ -5,6 +5,8 @@
 
 #include <signal.h>
 
+#include <filesystem>
+
 #include "scenario_util.h"
 
 using namespace scenario;
@@ -93,6 +95,55 @@ TEST(Faults, HungModuleIsReportedByNameAfterTheTimeout) {
   EXPECT_EQ(o.exit_code, 2);
   EXPECT_NE(o.stderr_text.find("module 3 (rotation, pid"), std::string::npos) << o.stderr_text;
   EXPECT_NE(o.stderr_text.find("did not answer within 1.0 s"), std::string::npos) << o.stderr_text;
+  EXPECT_NE(o.stderr_text.find("hung, or busy without a HAL wait"), std::string::npos) << o.stderr_text;
+  expect_no_survivors(o);
+}
+
+// a wait on I2C that returns at once (a frame waits unread) never reaches the
+// server: the hang report names that cause, not a loop without waits
+TEST(Faults, AWaitThatReturnsAtOnceIsToldApartFromALoopWithoutWaits) {
+  const std::string dir = temp_dir("spin");
+  const Outcome o = run({misbehave_scene(dir, 6, 0), "--module-timeout", "1"}, dir);
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.stderr_text.find("did not answer within 1.0 s"), std::string::npos) << o.stderr_text;
+  EXPECT_NE(o.stderr_text.find("busy in hal_wait_event_ms, which returns at once while an I2C frame waits unread"),
+            std::string::npos)
+      << o.stderr_text;
+  expect_no_survivors(o);
+}
+
+// the lines a module logs just before it crashes or exits reach its log, and
+// a crash leaves a backtrace naming the function in the module's .out file
+TEST(Faults, TheLastLinesBeforeACrashAreKeptAndItsBacktraceIsNamed) {
+  const std::string dir = temp_dir("last-words-crash");
+  const Outcome o = run({misbehave_scene(dir, 4, 300)}, dir);
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.stderr_text.find("Segmentation fault"), std::string::npos) << o.stderr_text;
+  const std::string log = read_file(o.dir + "/modules/03-rotation.log");
+  EXPECT_NE(log.find("misbehaving now, mode 4"), std::string::npos) << log;
+  EXPECT_NE(log.find("last words before the crash"), std::string::npos) << log;
+  const std::string out_file = o.dir + "/modules/03-rotation.out";
+  const std::string out = read_file(out_file);
+  EXPECT_NE(out.find("backtrace of SIGSEGV"), std::string::npos) << out;
+  EXPECT_NE(out.find("(crash+"), std::string::npos) << out;  // the faulting function, by name
+  EXPECT_NE(out.find("(main+"), std::string::npos) << out;
+  EXPECT_NE(o.stderr_text.find("backtrace in " + out_file), std::string::npos) << o.stderr_text;
+  expect_no_survivors(o);
+}
+
+TEST(Faults, TheLastLinesBeforeAnExitAreKeptAndEveryLogFileExists) {
+  const std::string dir = temp_dir("last-words-exit");
+  const Outcome o = run({misbehave_scene(dir, 5, 300)}, dir);
+  EXPECT_EQ(o.exit_code, 2);
+  EXPECT_NE(o.stderr_text.find("exit code 6"), std::string::npos) << o.stderr_text;
+  const std::string log = read_file(o.dir + "/modules/03-rotation.log");
+  EXPECT_NE(log.find("last words before exit"), std::string::npos) << log;
+  EXPECT_EQ(read_file(o.dir + "/modules/03-rotation.out").find("backtrace"), std::string::npos);
+  // the rotation modules log nothing here: their log files exist, empty
+  for (int i = 0; i < 3; ++i) {
+    const std::string path = o.dir + "/modules/0" + std::to_string(i) + "-rotation.log";
+    EXPECT_TRUE(std::filesystem::is_regular_file(path)) << path;
+  }
   expect_no_survivors(o);
 }
 

@@ -1,11 +1,23 @@
 /* A module program that misbehaves on purpose, for the fault tests. It sleeps
  * in 10 ms steps like a quiet module until parameter at_ms, then, by mode:
  * 1 hangs in a loop that never calls a HAL wait, 2 crashes with SIGSEGV,
- * 3 exits with code 5. */
+ * 3 exits with code 5, 4 logs a line and crashes with SIGSEGV before any wait,
+ * 5 logs a line and exits with code 6 before any wait, 6 waits for I2C frames
+ * without ever reading them (the wait returns at once: a busy loop). */
 #include <signal.h>
 #include <stdlib.h>
 
 #include "hal.h"
+
+/* a real invalid write, not raise(): the backtrace must show this function */
+#if defined(__GNUC__)
+__attribute__((noinline))
+#endif
+void crash(void);
+void crash(void) {
+    volatile int *volatile nowhere = NULL;
+    *nowhere = 1;
+}
 
 int main(void) {
     hal_init();
@@ -13,6 +25,16 @@ int main(void) {
     const uint32_t at_ms = (uint32_t)hal_param("at_ms", 100);
     while (hal_millis() < at_ms) hal_delay_ms(10);
     hal_log_int("misbehaving now, mode ", mode);
+    if (mode == 4) {
+        hal_log("last words before the crash");
+        crash();
+    }
+    if (mode == 5) {
+        hal_log("last words before exit");
+        exit(6);
+    }
+    if (mode == 6)
+        for (;;) (void)hal_wait_event_ms(100, HAL_EV_I2C);
     hal_tick_wait(); /* the log line reaches the server */
     if (mode == 1) {
         volatile unsigned long spin = 0;
