@@ -31,6 +31,8 @@ namespace asio = boost::asio;
 using Clock = std::chrono::steady_clock;
 // how often the run loop looks for signals (SIGINT, SIGTERM), wall clock
 constexpr std::chrono::milliseconds kSignalPollInterval{20};
+// progress lines when stderr is not a terminal (a CI log): one per this much wall time
+constexpr std::chrono::seconds kProgressLineInterval{10};
 
 void say(const RunOptions& options, const std::string& message) {
   if (!options.quiet) std::fprintf(stderr, "chainsim: %s\n", message.c_str());
@@ -208,7 +210,7 @@ bool Server::collect_end(const std::vector<int>& awake) {
     std::string what = e.reply_error;
     if (!e.replied)
       what = "did not answer within " + fixed_text(opt_.module_timeout_s, 1) +
-             " s (wall clock): hung, or busy without a HAL wait";
+             " s (wall clock): " + endpoints_->silence_cause(e);
     if (what.empty()) continue;
     if (!fault(e, what)) return false;
   }
@@ -297,14 +299,16 @@ RunResult Server::run() {
       out_->flush();
       last_flush = now;
     }
-    if (opt_.progress && now - last_progress > std::chrono::seconds(1)) {
+    if (opt_.progress && now - last_progress > (opt_.progress_terminal ? std::chrono::seconds(1)
+                                                                       : kProgressLineInterval)) {
       last_progress = now;
       const double wall = std::chrono::duration<double>(now - wall0).count();
-      std::fprintf(stderr, "\rchainsim: t=%s/%s s, %sx real time ", fixed_text(now_us_ * 1e-6, 2).c_str(),
-                   fixed_text(end_us * 1e-6, 2).c_str(), fixed_text(now_us_ * 1e-6 / wall, 2).c_str());
+      std::fprintf(stderr, "%schainsim: t=%s/%s s, %sx real time%s", opt_.progress_terminal ? "\r" : "",
+                   fixed_text(now_us_ * 1e-6, 2).c_str(), fixed_text(end_us * 1e-6, 2).c_str(),
+                   fixed_text(now_us_ * 1e-6 / wall, 2).c_str(), opt_.progress_terminal ? " " : "\n");
     }
   }
-  if (opt_.progress) std::fprintf(stderr, "\n");
+  if (opt_.progress && opt_.progress_terminal) std::fprintf(stderr, "\n");
   if (interrupted_) {
     stop_code_ = kExitInterrupted;
     stop_message_ = std::string("interrupted by ") + strsignal(interrupted_) + " at t=" +

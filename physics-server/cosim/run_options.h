@@ -37,7 +37,8 @@ struct RunOptions {
   double module_timeout_s = 10.0;       // wall clock, per exchange
   std::set<int> attach;                 // endpoints the user starts by hand
   std::string firmware_dir;             // DIR[:DIR...] searched for programs first, then next to chainsim
-  bool progress = false;                // progress lines on stderr
+  bool progress = false;                // progress on stderr: one line rewritten every second on a
+  bool progress_terminal = false;       // terminal, else a new line every kProgressLineInterval
   bool quiet = false;                   // no messages on stderr except errors
   RunObserver* observer = nullptr;      // e.g. the live view; may be null
 };

@@ -7,7 +7,8 @@ loads a program's .cod/.hex into gpsim and drives its pins from a generated
 gpsim command file:
 
   build     - only the build: every program fits the part (the build fails
-              when one is over 32 KB flash / 2 KB RAM)
+              when one is over 32 KB flash / 2 KB RAM), and hal-pic/README.md's
+              memory table is what the build measured
   rotation  - the servo pulses after reset (hold straight: 1.5 ms every 20 ms
               on RB2 and RB3); discovery over I2C (ENUM_OFFER by general call
               while Sin is high -> ENUM_REPLY to the central control's address
@@ -426,6 +427,33 @@ def scenario_central(build_dir, workdir):
     return ck
 
 
+def size_table(build_dir, progs):
+    """hal-pic/README.md's memory table, from the build's .size files, largest
+    program first"""
+    size_re = re.compile(r"flash (\d+) / (\d+) bytes \(([\d.]+)%\), RAM (\d+) / (\d+) bytes \(([\d.]+)%")
+    rows = []
+    for prog in progs:
+        with open(os.path.join(build_dir, prog + ".size")) as f:
+            m = size_re.search(f.read())
+        flash, _, fpct, ram, _, rpct = m.groups()
+        rows.append((int(flash), "| %s | %s B (%s %%) | %s B (%s %%) |" % (prog, flash, fpct, ram, rpct)))
+    return [r for _, r in sorted(rows, key=lambda r: (-r[0], r[1]))]
+
+
+def check_size_table(repo, build_dir, progs):
+    """the README's table must be what this build measured"""
+    readme = os.path.join(repo, "hal-pic", "README.md")
+    want = size_table(build_dir, progs)
+    with open(readme) as f:
+        have = [l.rstrip() for l in f if re.match(r"^\| [a-z]+ \| \d+ B ", l)]
+    if have != want:
+        print("FAIL: hal-pic/README.md's memory table is not what the build measured; put these rows in it:")
+        print("\n".join(want))
+        return 1
+    print("build: hal-pic/README.md's memory table matches the build")
+    return 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("scenario", choices=["build", "rotation", "central"])
@@ -447,7 +475,7 @@ def main():
                 print("FAIL: no %s.hex" % prog)
                 return 1
         print("build: all programs built and fit the part")
-        return 0
+        return check_size_table(a.repo, a.build_dir, progs)
     if shutil.which("gpsim") is None:
         skip("gpsim is not installed (tools/pic-toolchain.sh installs it)")
     workdir = tempfile.mkdtemp(prefix="gpsim-%s-" % a.scenario)

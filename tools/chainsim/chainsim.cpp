@@ -68,7 +68,8 @@ int cmd_run(const RunArgs& a) {
   opt.module_timeout_s = a.timeout;
   opt.firmware_dir = a.firmware_dir;
   opt.quiet = a.quiet;
-  opt.progress = !a.quiet && isatty(2);
+  opt.progress = !a.quiet;
+  opt.progress_terminal = isatty(2);
   for (int i : a.attach) {
     if (i < 0 || i > static_cast<int>(scene.modules.size())) {
       std::fprintf(stderr, "chainsim: --attach %d: the scene has modules 0..%zu and the central control %zu\n", i,
@@ -167,9 +168,11 @@ int main(int argc, char** argv) {
   run->add_option("--duration", ra.duration, "simulated seconds (default: the scene's)")->check(CLI::PositiveNumber);
   run->add_option("--seed", ra.seed, "random seed (default: the scene's)")->check(CLI::NonNegativeNumber);
   run->add_option("--on-module-fault", ra.fault, "stop the run, or go on with the module powered off")
-      ->check(CLI::IsMember({"stop", "limp"}));
+      ->check(CLI::IsMember({"stop", "limp"}))
+      ->capture_default_str();
   run->add_option("--module-timeout", ra.timeout, "wall-clock seconds a module may take to answer")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   run->add_option("--attach", ra.attach,
                   "do not spawn this module (index; the central control is the last index): wait for it "
                   "to be started by hand, e.g. under gdb")
@@ -181,7 +184,12 @@ int main(int argc, char** argv) {
   run->add_option("--live-port", ra.live_port, "port of the live view (default 0: any free port)")
       ->check(CLI::Range(0, 65535));
   run->add_option("--live-wait", ra.live_wait, "seconds to wait for a page to connect before the run starts")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  run->footer("Exit codes: 0 the run finished; 1 bad scene or options; 2 a module fault stopped the run "
+              "(crash, exit, hang, bad frame); 3 internal error; 130 interrupted (Ctrl-C, SIGTERM). "
+              "Progress goes to stderr: one line rewritten every second on a terminal, a new line every "
+              "10 s of wall time otherwise (a CI log).");
 
   ViewArgs va;
   auto* view = app.add_subcommand("view", "write RUN_DIR/replay.html, a replay of a run that opens from disk "
@@ -197,11 +205,16 @@ int main(int argc, char** argv) {
   BenchArgs ba;
   auto* bench = app.add_subcommand("bench-lockstep",
                                    "real-time factor of the co-simulation vs physics only, for chains of rotation modules");
-  bench->add_option("--modules", ba.sizes, "chain lengths to measure")->expected(1, -1);
-  bench->add_option("--duration", ba.duration, "simulated seconds per run")->check(CLI::PositiveNumber);
+  bench->add_option("--modules", ba.sizes, "chain lengths to measure")->expected(1, -1)->capture_default_str();
+  bench->add_option("--duration", ba.duration, "simulated seconds per run")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   bench->add_option("--control-ms", ba.control_ms, "firmware control step of the rotation modules (default: theirs)");
-  bench->add_option("--out", ba.out, "where the bench runs are written");
-  bench->add_option("--repeat", ba.repeat, "runs per figure; the fastest counts")->check(CLI::PositiveNumber);
+  bench->add_option("--out", ba.out, "where the bench runs are written")->capture_default_str();
+  bench->add_option("--repeat", ba.repeat, "runs per figure; the fastest counts")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  bench->footer("Exit codes: 0 every chain length measured; 1 bad options; 2 a bench run failed.");
 
   add_bench_command(app);
   add_calibrate_command(app);
