@@ -31,8 +31,6 @@ namespace asio = boost::asio;
 using Clock = std::chrono::steady_clock;
 // how often the run loop looks for signals (SIGINT, SIGTERM), wall clock
 constexpr std::chrono::milliseconds kSignalPollInterval{20};
-// progress lines when stderr is not a terminal (a CI log): one per this much wall time
-constexpr std::chrono::seconds kProgressLineInterval{10};
 
 void say(const RunOptions& options, const std::string& message) {
   if (!options.quiet) std::fprintf(stderr, "chainsim: %s\n", message.c_str());
@@ -299,8 +297,7 @@ RunResult Server::run() {
       out_->flush();
       last_flush = now;
     }
-    if (opt_.progress && now - last_progress > (opt_.progress_terminal ? std::chrono::seconds(1)
-                                                                       : kProgressLineInterval)) {
+    if (opt_.progress && now - last_progress > std::chrono::duration<double>(opt_.progress_every_s)) {
       last_progress = now;
       const double wall = std::chrono::duration<double>(now - wall0).count();
       std::fprintf(stderr, "%schainsim: t=%s/%s s, %sx real time%s", opt_.progress_terminal ? "\r" : "",

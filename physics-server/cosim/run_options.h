@@ -37,8 +37,9 @@ struct RunOptions {
   double module_timeout_s = 10.0;       // wall clock, per exchange
   std::set<int> attach;                 // endpoints the user starts by hand
   std::string firmware_dir;             // DIR[:DIR...] searched for programs first, then next to chainsim
-  bool progress = false;                // progress on stderr: one line rewritten every second on a
-  bool progress_terminal = false;       // terminal, else a new line every kProgressLineInterval
+  bool progress = false;                // progress on stderr: one line rewritten on a terminal,
+  bool progress_terminal = false;       // else a new line each time
+  double progress_every_s = 1.0;        // wall-clock seconds between progress reports
   bool quiet = false;                   // no messages on stderr except errors
   RunObserver* observer = nullptr;      // e.g. the live view; may be null
 };

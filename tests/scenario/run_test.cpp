@@ -7,8 +7,12 @@ using namespace scenario;
 
 TEST(Run, DefaultSceneMovesTheChainMoreThan5cmIn10SimulatedSeconds) {
   const std::string dir = temp_dir("default");
-  const Outcome o = run({"--duration", "10"}, dir);
+  const Outcome o = run({"--duration", "10", "--progress-every", "0.2"}, dir);
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+  // stderr is a file here, not a terminal: progress comes as whole lines (a CI log), no carriage returns
+  EXPECT_NE(o.stderr_text.find("\nchainsim: t="), std::string::npos) << o.stderr_text;
+  EXPECT_NE(o.stderr_text.find("/10.00 s, "), std::string::npos) << o.stderr_text;
+  EXPECT_EQ(o.stderr_text.find('\r'), std::string::npos) << o.stderr_text;
   const auto& s = o.summary;
   ASSERT_TRUE(s.is_object()) << "no summary.json";
   EXPECT_EQ(s["scene"], "snake-open-air");

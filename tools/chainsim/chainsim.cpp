@@ -50,6 +50,7 @@ struct RunArgs {
   bool live = false;       // --live: serve the live view while running
   int live_port = 0;
   double live_wait = 0;
+  double progress_every = 0;  // 0: 1 s on a terminal, 10 s otherwise
 };
 
 int cmd_run(const RunArgs& a) {
@@ -70,6 +71,7 @@ int cmd_run(const RunArgs& a) {
   opt.quiet = a.quiet;
   opt.progress = !a.quiet;
   opt.progress_terminal = isatty(2);
+  opt.progress_every_s = a.progress_every > 0 ? a.progress_every : opt.progress_terminal ? 1.0 : 10.0;
   for (int i : a.attach) {
     if (i < 0 || i > static_cast<int>(scene.modules.size())) {
       std::fprintf(stderr, "chainsim: --attach %d: the scene has modules 0..%zu and the central control %zu\n", i,
@@ -186,10 +188,12 @@ int main(int argc, char** argv) {
   run->add_option("--live-wait", ra.live_wait, "seconds to wait for a page to connect before the run starts")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  run->add_option("--progress-every", ra.progress_every,
+                  "wall-clock seconds between progress reports on stderr (default: 1 on a terminal, where one "
+                  "line is rewritten; 10 otherwise, a new line each time, e.g. in a CI log)")
+      ->check(CLI::PositiveNumber);
   run->footer("Exit codes: 0 the run finished; 1 bad scene or options; 2 a module fault stopped the run "
-              "(crash, exit, hang, bad frame); 3 internal error; 130 interrupted (Ctrl-C, SIGTERM). "
-              "Progress goes to stderr: one line rewritten every second on a terminal, a new line every "
-              "10 s of wall time otherwise (a CI log).");
+              "(crash, exit, hang, bad frame); 3 internal error; 130 interrupted (Ctrl-C, SIGTERM).");
 
   ViewArgs va;
   auto* view = app.add_subcommand("view", "write RUN_DIR/replay.html, a replay of a run that opens from disk "

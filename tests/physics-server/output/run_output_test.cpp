@@ -62,8 +62,9 @@ TEST(RunOutput, CreatesTheDirectoryAndWritesEachFileInItsFormat) {
     EXPECT_EQ(read_file(dir / "trace.csv"), "t_s,a\n0.000000,1\n");
     EXPECT_EQ(read_file(dir / "bus.log"), "1500 sync endpoint=0 sout=1\n2000 i2c from=2 to=0x10\n");
     EXPECT_EQ(read_file(dir / "modules/00-rotation.log"), "12.000500 hello\n12.001000 again\n");
-    // a log is only created at its first line
-    EXPECT_FALSE(fs::exists(dir / "modules/01-passive.log"));
+    // every endpoint's log exists from the start, empty until it logs
+    EXPECT_TRUE(fs::is_regular_file(dir / "modules/01-passive.log"));
+    EXPECT_EQ(read_file(dir / "modules/01-passive.log"), "");
     EXPECT_EQ(out.trace_bytes(), 17u);
   }
 }
