@@ -89,6 +89,7 @@ void Barrier::apply(int64_t t_us, BarrierSink* sink) {
     }
     if (te.i2c_address != p.addr) {
       p.addr = te.i2c_address;
+      p.addressed_us = te.i2c_address != 0 ? t_us : -1;
       bus_.set_address(e, te.i2c_address);
       std::snprintf(line, sizeof line, "addr endpoint=%d address=0x%02x", e, te.i2c_address);
       sink->bus_event(t_us, line);

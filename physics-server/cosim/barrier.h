@@ -54,6 +54,10 @@ class Barrier {
   void power_off(int e);
   bool powered(int e) const { return ep_[e].powered; }
   uint64_t exchanges(int e) const { return ep_[e].exchanges; }
+  // e's I2C address now (0: none) and when it took it (-1: never had one):
+  // for a module, discovery's answer
+  uint8_t address(int e) const { return ep_[e].addr; }
+  int64_t addressed_us(int e) const { return ep_[e].addressed_us; }
 
  private:
   struct Endpoint {
@@ -65,6 +69,7 @@ class Barrier {
     uint8_t reason = 0;          // why it woke this tick
     uint8_t sout = 0;
     uint8_t addr = 0;
+    int64_t addressed_us = -1;
     uint8_t servo_enable = 0;
     int32_t setpoint[CS_SERVOS_MAX] = {};
     bool fresh = true;           // no output applied yet: apply every servo once

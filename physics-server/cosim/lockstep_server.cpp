@@ -341,6 +341,8 @@ RunSummary Server::summary(double wall_s, const Eigen::Vector3d& displacement_m)
     es.pid = e.pid ? e.pid : static_cast<uint32_t>(std::max(0, e.proc.pid()));
     es.fault = e.fault;
     es.exchanges = barrier_->exchanges(e.index);
+    es.i2c_address = barrier_->address(e.index);
+    es.addressed_us = barrier_->addressed_us(e.index);
     if (e.index < n_modules_) es.energy_j = energy_j_[e.index];
     s.endpoints.push_back(es);
   }

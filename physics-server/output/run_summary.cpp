@@ -1,6 +1,8 @@
 // summary.json. See run_summary.h.
 #include "output/run_summary.h"
 
+#include <cstdio>
+
 namespace chainsim {
 
 nlohmann::json summary_json(const Scene& scene, const RunSummary& run) {
@@ -13,6 +15,15 @@ nlohmann::json summary_json(const Scene& scene, const RunSummary& run) {
                         {"fault", e.fault.empty() ? nlohmann::json(nullptr) : nlohmann::json(e.fault)},
                         {"exchanges", e.exchanges}};
     if (e.energy_j) m["energy_j"] = *e.energy_j;
+    if (e.i2c_address != 0) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "0x%02x", e.i2c_address);
+      m["i2c_address"] = hex;
+      m["addressed_at_s"] = e.addressed_us * 1e-6;
+    } else {
+      m["i2c_address"] = nullptr;  // it never answered discovery (or lost its address)
+      m["addressed_at_s"] = nullptr;
+    }
     mods.push_back(m);
   }
   const double sim_s = run.sim_time_us * 1e-6;

@@ -25,6 +25,8 @@ struct EndpointSummary {
   std::string fault;                // empty: none
   uint64_t exchanges = 0;           // TickBegin/TickEnd round trips
   std::optional<double> energy_j;   // modules: supply energy over the run
+  uint8_t i2c_address = 0;          // at the end (a module: the one discovery gave it); 0: none
+  int64_t addressed_us = -1;        // when it took that address
 };
 
 struct RunSummary {

@@ -168,6 +168,9 @@ TEST(Faults, LimpModeGoesOnWithTheModulePoweredOff) {
   EXPECT_NE(fault.find("at t=0.50"), std::string::npos) << fault;
   for (int i = 0; i < 3; ++i) EXPECT_TRUE(module(o, i)["fault"].is_null());
   EXPECT_TRUE(module(o, 4)["fault"].is_null());
+  // discovery's answer: the misbehaving program never takes an address, the others do
+  EXPECT_TRUE(module(o, 3)["i2c_address"].is_null()) << module(o, 3);
+  EXPECT_EQ(module(o, 2)["i2c_address"], "0x22") << module(o, 2);
   expect_no_survivors(o);
 }
 

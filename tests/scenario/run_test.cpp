@@ -34,6 +34,12 @@ TEST(Run, DefaultSceneMovesTheChainMoreThan5cmIn10SimulatedSeconds) {
     EXPECT_EQ(m["index"], i);
     EXPECT_EQ(m["type"], i < 8 ? "rotation" : "central");
     EXPECT_TRUE(m["fault"].is_null()) << m["fault"];
+    // discovery's answer: position k took address 0x20 + k, the central control 0x10
+    char want[8];
+    std::snprintf(want, sizeof want, "0x%02x", i < 8 ? 0x20 + i : 0x10);
+    EXPECT_EQ(m["i2c_address"], want) << m;
+    EXPECT_GE(m["addressed_at_s"].get<double>(), 0.0) << m;
+    EXPECT_LT(m["addressed_at_s"].get<double>(), 2.0) << m;
     pids.insert(m["pid"].get<int>());
   }
   EXPECT_EQ(pids.size(), 9u);
