@@ -35,6 +35,53 @@ std::map<std::string, int32_t> get_params(const Ctx& c, const YAML::Node& map,
   return out;
 }
 
+// `programs: {all: {firmware, params}, <type>: {firmware, params}}`: the
+// program and parameters of every module, and of every module of a type. A
+// module's own firmware wins over its type's, which wins over all's; params
+// merge name by name in the same order.
+struct ProgramDefaults {
+  std::string firmware;  // empty: not given
+  std::map<std::string, int32_t> params;
+};
+
+std::map<std::string, ProgramDefaults> load_programs(const Ctx& c, const YAML::Node& n, const Scene& s) {
+  std::map<std::string, ProgramDefaults> out;
+  if (!n) return out;
+  if (!n.IsMap()) c.fail(n, "'programs' must be a mapping of module type (or all): {firmware, params}");
+  for (const auto& kv : n) {
+    const std::string type = kv.first.as<std::string>();
+    const std::string p = "programs." + type;
+    if (type != "all" && !is_module_type(s.world, type))
+      c.fail(kv.first, "'programs' names module type '" + type + "', which is not known (the built-in types, "
+                       "the scene's module_types, or all)");
+    if (!kv.second.IsMap()) c.fail(kv.second, "'" + p + "' must be a mapping with firmware and/or params");
+    c.keys(kv.second, p, {"firmware", "params"});
+    ProgramDefaults d;
+    d.firmware = c.string(kv.second, "firmware", "", p);
+    d.params = get_params(c, kv.second, p);
+    out[type] = d;
+  }
+  return out;
+}
+
+void apply_programs(const std::map<std::string, ProgramDefaults>& programs, Scene* s) {
+  const auto get = [&](const std::string& key) {
+    const auto it = programs.find(key);
+    return it == programs.end() ? ProgramDefaults{} : it->second;
+  };
+  const ProgramDefaults all = get("all");
+  for (SceneModule& m : s->modules) {
+    const ProgramDefaults type = get(m.type);
+    if (m.firmware.empty()) m.firmware = !type.firmware.empty() ? type.firmware
+                                         : !all.firmware.empty() ? all.firmware
+                                                                 : default_firmware(m.type);
+    std::map<std::string, int32_t> params = all.params;
+    for (const auto& [k, v] : type.params) params[k] = v;
+    for (const auto& [k, v] : m.params) params[k] = v;
+    m.params = params;
+  }
+}
+
 void load_chain(const Ctx& c, const YAML::Node& root, Scene* s) {
   const YAML::Node n = root["chain"];
   if (!n) c.fail(root, "missing key 'chain' (a string such as \"RRRRRRRR\" or a list of modules)");
@@ -47,7 +94,7 @@ void load_chain(const Ctx& c, const YAML::Node& root, Scene* s) {
         c.fail(n, std::string("'chain' has unknown module letter '") + l +
                        "' (T touch, R rotation, H helicoidal, S support, E extension, "
                        "W traveller, P passive)");
-      s->modules.push_back({type, default_firmware(type), {}});
+      s->modules.push_back({type, "", {}});  // the program: apply_programs
     }
   } else if (n.IsSequence()) {
     for (size_t i = 0; i < n.size(); ++i) {
@@ -57,7 +104,7 @@ void load_chain(const Ctx& c, const YAML::Node& root, Scene* s) {
       if (!m["type"]) c.fail(m, "'" + p + "' needs a 'type'");
       SceneModule sm;
       sm.type = c.string(m, "type", "", p);
-      sm.firmware = c.string(m, "firmware", default_firmware(sm.type), p);
+      sm.firmware = c.string(m, "firmware", "", p);  // empty: apply_programs
       sm.params = get_params(c, m, p);
       s->modules.push_back(sm);
     }
@@ -97,7 +144,7 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
   if (!root || !root.IsMap()) throw SceneError(name + ": a scene must be a YAML mapping");
   c.keys(root, "scene",
              {"name", "duration_s", "seed", "physics", "environment", "contacts", "module_types",
-              "chain", "placement", "central", "output"});
+              "programs", "chain", "placement", "central", "output"});
 
   Scene s;
   s.source = name;
@@ -125,6 +172,7 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
   load_scene_module_types(name, base_dir, root["module_types"], &s.world);  // scene_modules.cpp
   load_chain(c, root, &s);
   check_scene_chain_types(name, root["chain"], s);
+  apply_programs(load_programs(c, root["programs"], s), &s);
 
   if (const YAML::Node p = root["placement"]) {
     c.keys(p, "placement", {"position_m", "heading_deg", "at", "inset_m"});
@@ -138,6 +186,18 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
     c.keys(ce, "central", {"program", "params"});
     s.central.firmware = c.string(ce, "program", "fw-central", "central");
     s.central.params = get_params(c, ce, "central");
+  }
+
+  // a program given as a relative path resolves against the scene's directory,
+  // as mesh and module-type files do (a bare name is looked up at run time)
+  if (!base_dir.empty()) {
+    auto resolve = [&](std::string* program) {
+      const std::filesystem::path given(*program);
+      if (program->find('/') != std::string::npos && given.is_relative())
+        *program = (std::filesystem::path(base_dir) / given).string();
+    };
+    for (SceneModule& m : s.modules) resolve(&m.firmware);
+    resolve(&s.central.firmware);
   }
 
   if (const YAML::Node o = root["output"]) {

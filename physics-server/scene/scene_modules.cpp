@@ -13,12 +13,6 @@ namespace chainsim {
 namespace {
 
 
-bool known(const WorldConfig& w, const std::string& type) {
-  const auto builtin = builtin_module_names();
-  return std::find(builtin.begin(), builtin.end(), type) != builtin.end() ||
-         std::any_of(w.module_types.begin(), w.module_types.end(),
-                     [&](const ModuleDef& d) { return d.type == type; });
-}
 
 }  // namespace
 
@@ -48,10 +42,17 @@ void load_scene_module_types(const std::string& file, const std::string& base_di
   }
 }
 
+bool is_module_type(const WorldConfig& w, const std::string& type) {
+  const auto builtin = builtin_module_names();
+  return std::find(builtin.begin(), builtin.end(), type) != builtin.end() ||
+         std::any_of(w.module_types.begin(), w.module_types.end(),
+                     [&](const ModuleDef& d) { return d.type == type; });
+}
+
 void check_scene_chain_types(const std::string& file, const YAML::Node& chain, const Scene& scene) {
   for (size_t i = 0; i < scene.modules.size(); ++i) {
     const std::string& type = scene.modules[i].type;
-    if (known(scene.world, type)) continue;
+    if (is_module_type(scene.world, type)) continue;
     const YAML::Node at =
         chain.IsSequence() && i < chain.size() && chain[i]["type"] ? chain[i]["type"] : chain;
     std::string names;

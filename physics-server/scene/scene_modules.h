@@ -18,6 +18,9 @@ namespace chainsim {
 void load_scene_module_types(const std::string& file, const std::string& base_dir,
                              const YAML::Node& module_types, WorldConfig* world);
 
+// whether type is a built-in module type or one of world's module_types
+bool is_module_type(const WorldConfig& world, const std::string& type);
+
 // every type of `chain` (the scene's chain node) is a scene type or a built-in
 void check_scene_chain_types(const std::string& file, const YAML::Node& chain, const Scene& scene);
 

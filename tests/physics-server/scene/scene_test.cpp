@@ -1,6 +1,7 @@
 // Scene files: what loads, and errors that name file:line:column and the key.
 #include <gtest/gtest.h>
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,52 @@ TEST(Scene, ExplicitModuleListCarriesFirmwareAndParams) {
   ASSERT_EQ(s.modules.size(), 2u);
   EXPECT_EQ(s.modules[0].params.at("control_ms"), 15);
   EXPECT_EQ(s.modules[1].firmware, "/opt/fw");
+}
+
+// like mesh and module-type files, a program given by a relative path is
+// taken from the scene file's directory, not the working directory
+TEST(Scene, RelativeProgramPathsResolveAgainstTheSceneFile) {
+  const auto s = load_scene_text(
+      "chain:\n  - {type: rotation, firmware: build/fw-mine}\n  - {type: rotation, firmware: /opt/fw}\n"
+      "  - {type: rotation, firmware: fw-rotation}\ncentral: {program: ../bin/central}\n",
+      "/home/me/project/scenes/s.yaml");
+  EXPECT_EQ(s.modules[0].firmware, "/home/me/project/scenes/build/fw-mine");
+  EXPECT_EQ(s.modules[1].firmware, "/opt/fw");
+  EXPECT_EQ(s.modules[2].firmware, "fw-rotation");  // a name: looked up in --firmware-dir, then beside chainsim
+  EXPECT_EQ(s.central.firmware, "/home/me/project/scenes/../bin/central");
+}
+
+// programs: the chain's and each type's program and parameters, overridden by a module's own
+TEST(Scene, ProgramsGiveEveryModuleAndEveryTypeItsProgramAndParameters) {
+  const auto s = load_scene_text(
+      "programs:\n"
+      "  all: {params: {control_ms: 20, poll_ms: 500}}\n"
+      "  rotation: {firmware: /opt/fw-nod, params: {control_ms: 10, amp: 30}}\n"
+      "chain:\n"
+      "  - {type: rotation}\n"
+      "  - {type: rotation, firmware: /opt/other, params: {amp: 45}}\n"
+      "  - {type: passive}\n",
+      "s.yaml");
+  ASSERT_EQ(s.modules.size(), 3u);
+  EXPECT_EQ(s.modules[0].firmware, "/opt/fw-nod");
+  EXPECT_EQ(s.modules[0].params, (std::map<std::string, int32_t>{{"amp", 30}, {"control_ms", 10}, {"poll_ms", 500}}));
+  EXPECT_EQ(s.modules[1].firmware, "/opt/other");
+  EXPECT_EQ(s.modules[1].params, (std::map<std::string, int32_t>{{"amp", 45}, {"control_ms", 10}, {"poll_ms", 500}}));
+  EXPECT_EQ(s.modules[2].firmware, "fw-passive");
+  EXPECT_EQ(s.modules[2].params, (std::map<std::string, int32_t>{{"control_ms", 20}, {"poll_ms", 500}}));
+  // a letter chain takes them too
+  const auto l = load_scene_text("programs: {rotation: {firmware: fw-nod}}\nchain: RP\n", "s.yaml");
+  EXPECT_EQ(l.modules[0].firmware, "fw-nod");
+  EXPECT_EQ(l.modules[1].firmware, "fw-passive");
+}
+
+TEST(Scene, ProgramsForAnUnknownTypeOrWithAnUnknownKeyAreNamed) {
+  std::string e = error_of("programs:\n  rotaton: {firmware: fw-x}\nchain: R\n");
+  EXPECT_NE(e.find("s.yaml:2:3"), std::string::npos) << e;
+  EXPECT_NE(e.find("'rotaton'"), std::string::npos) << e;
+  e = error_of("programs:\n  rotation: {firmwre: fw-x}\nchain: R\n");
+  EXPECT_NE(e.find("s.yaml:2"), std::string::npos) << e;
+  EXPECT_NE(e.find("firmwre"), std::string::npos) << e;
 }
 
 TEST(Scene, UnknownKeyIsNamedWithItsLineAndColumn) {
