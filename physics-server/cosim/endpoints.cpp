@@ -21,11 +21,20 @@ namespace {
 
 constexpr int kTerminateGraceMs = 1000;
 
-std::string last_line_of(const std::string& path) {
+// the last non-empty line of a module's output before the backtrace its HAL
+// printed, if any (the backtrace's addresses differ from run to run; a fault
+// message, which a design search records, must not)
+std::string last_line_of(const std::string& path, bool* backtrace) {
   std::ifstream in(path);
   std::string line, last;
-  while (std::getline(in, line))
+  *backtrace = false;
+  while (std::getline(in, line)) {
+    if (line.rfind(CS_NOTICE_BACKTRACE, 0) == 0) {
+      *backtrace = true;
+      break;
+    }
     if (!line.empty()) last = line;
+  }
   return last;
 }
 
@@ -215,9 +224,11 @@ std::string Endpoints::describe_end(Endpoint& e, const std::string& what, int64_
       else if (what.find(st->text()) == std::string::npos) s += " (then ended: " + st->text() + ")";
     }
     const std::string out = out_->module_file(e.index, "out");
-    const std::string last = last_line_of(out);
+    bool backtrace = false;
+    const std::string last = last_line_of(out, &backtrace);
     if (!last.empty()) s += "; its last output: \"" + last + "\"";
-    if (file_has(out, CS_NOTICE_BACKTRACE)) s += "; backtrace in " + out;
+    // named inside the run directory: the same text wherever the run is
+    if (backtrace) s += "; backtrace in " + out.substr(out_->dir().size() + 1);
   }
   return s + " at t=" + fixed_text(now_us * 1e-6, 6) + " s";
 }

@@ -254,7 +254,7 @@ TEST(Optimize, AnIndividualWhoseModuleCrashesGetsTheFailedFitnessAndTheSearchGoe
     if (rows[i].find("chain[1].mode=2") != std::string::npos) {
       ++crashed;
       EXPECT_NE(rows[i].find(",-1,"), std::string::npos) << rows[i];  // the failed fitness
-      EXPECT_NE(rows[i].find("module 1 (rotation) ended: signal 11 (Segmentation fault) at t=0.151000 s"), std::string::npos) << rows[i];
+      EXPECT_NE(rows[i].find("module 1 (rotation) ended: signal 11 (Segmentation fault); backtrace in modules/01-rotation.out at t=0.151000 s"), std::string::npos) << rows[i];
     } else {
       ++fine;
       EXPECT_EQ(rows[i].find("ended: signal"), std::string::npos) << rows[i];
