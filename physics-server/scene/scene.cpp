@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "physics/units.h"
+#include "readers/safe_text.h"
 #include "scene/scene_environment.h"
 #include "scene/scene_modules.h"
 #include "scene/scene_yaml.h"
@@ -18,6 +19,14 @@ namespace {
 
 using Ctx = SceneYaml;
 
+// a parameter name goes on the wire and into the firmware's lookups: no control characters, no spaces
+bool is_param_name(const std::string& s) {
+  if (s.empty() || s.size() > 15) return false;
+  for (char ch : s)
+    if (!((ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '_')) return false;
+  return true;
+}
+
 std::map<std::string, int32_t> get_params(const Ctx& c, const YAML::Node& map,
                                           const std::string& path) {
   std::map<std::string, int32_t> out;
@@ -26,8 +35,8 @@ std::map<std::string, int32_t> get_params(const Ctx& c, const YAML::Node& map,
   if (!n.IsMap()) c.fail(n, "'" + path + ".params' must be a mapping of name: integer");
   for (const auto& kv : n) {
     const std::string name = kv.first.as<std::string>();
-    if (name.empty() || name.size() > 15)
-      c.fail(kv.first, "parameter name '" + name + "' must have 1 to 15 characters");
+    if (!is_param_name(name))
+      c.fail(kv.first, "parameter name '" + name + "' must be 1 to 15 letters, digits or '_'");
     out[name] = static_cast<int32_t>(
         c.integer(n, name, 0, INT32_MIN, INT32_MAX, path + ".params"));
   }
@@ -89,6 +98,8 @@ std::string module_type_for_letter(char letter) {
   }
 }
 
+SceneError::SceneError(const std::string& message) : std::runtime_error(shown_text(message)) {}
+
 std::string default_firmware(const std::string& type) { return "fw-" + type; }
 
 Scene load_scene_text(const std::string& text, const std::string& name) {
@@ -101,7 +112,7 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
 
   Scene s;
   s.source = name;
-  s.name = c.string(root, "name", "unnamed", "scene");
+  s.name = c.name(root, "name", "unnamed", "scene");  // names the run directory: runs/<name>-<date>
   s.duration_s = c.number(root, "duration_s", s.duration_s, 0.001, 86400.0, "scene");
   s.world.seed = static_cast<uint64_t>(c.integer(root, "seed", 1, 0, INT64_MAX, "scene"));
 
