@@ -22,6 +22,7 @@
 #include "chainsim/optimize_command.h"
 #include "viewer/live_view.h"
 #include "cosim/lockstep_server.h"
+#include "output/run_dir.h"
 #include "scene/scene.h"
 #include "testing/test_runner.h"
 #include "chainsim/view_command.h"
@@ -43,6 +44,7 @@ struct RunArgs {
   double duration = -1;
   int64_t seed = -1;
   std::string fault = "stop";
+  std::string divergence = "stop";
   double timeout = 10.0;
   std::vector<int> attach;
   std::string firmware_dir;
@@ -65,10 +67,18 @@ int cmd_run(const RunArgs& a) {
   RunOptions opt;
   opt.out_dir = a.out.empty() ? default_out_dir(scene) : a.out;
   opt.on_fault = a.fault == "limp" ? FaultMode::Limp : FaultMode::Stop;
+  opt.on_divergence = a.divergence == "warn" ? DivergenceMode::Warn : DivergenceMode::Stop;
   opt.module_timeout_s = a.timeout;
   opt.firmware_dir = a.firmware_dir;
   opt.quiet = a.quiet;
   opt.progress = !a.quiet && isatty(2);
+  // checked before any module starts: a bad --out is a bad option, not an internal error
+  const RunDirCheck dir = prepare_run_dir(opt.out_dir);
+  if (!dir.error.empty()) {
+    std::fprintf(stderr, "chainsim: %s\n", dir.error.c_str());
+    return kExitBadInput;
+  }
+  if (dir.had_run) say(opt, "--out '" + opt.out_dir + "' already holds a run: its files are replaced");
   for (int i : a.attach) {
     if (i < 0 || i > static_cast<int>(scene.modules.size())) {
       std::fprintf(stderr, "chainsim: --attach %d: the scene has modules 0..%zu and the central control %zu\n", i,
@@ -168,6 +178,10 @@ int main(int argc, char** argv) {
   run->add_option("--seed", ra.seed, "random seed (default: the scene's)")->check(CLI::NonNegativeNumber);
   run->add_option("--on-module-fault", ra.fault, "stop the run, or go on with the module powered off")
       ->check(CLI::IsMember({"stop", "limp"}));
+  run->add_option("--on-divergence", ra.divergence,
+                  "physics diverged (a body faster than 10 m/s or 1000 rad/s, farther than 10 km, or not "
+                  "finite): stop the run (exit 4), or warn once and go on (not finite: always stops)")
+      ->check(CLI::IsMember({"stop", "warn"}));
   run->add_option("--module-timeout", ra.timeout, "wall-clock seconds a module may take to answer")
       ->check(CLI::PositiveNumber);
   run->add_option("--attach", ra.attach,
