@@ -19,6 +19,8 @@ namespace {
 
 using Ctx = SceneYaml;
 
+constexpr size_t kMaxModules = 64;
+
 // a parameter name goes on the wire and into the firmware's lookups: no control characters, no spaces
 bool is_param_name(const std::string& s) {
   if (s.empty() || s.size() > 15) return false;
@@ -47,6 +49,11 @@ std::map<std::string, int32_t> get_params(const Ctx& c, const YAML::Node& map,
 void load_chain(const Ctx& c, const YAML::Node& root, Scene* s) {
   const YAML::Node n = root["chain"];
   if (!n) c.fail(root, "missing key 'chain' (a string such as \"RRRRRRRR\" or a list of modules)");
+  // bounded before anything is built: one process and one socket per module
+  const size_t count = n.IsScalar() ? n.Scalar().size() : n.IsSequence() ? n.size() : 0;
+  if (count > kMaxModules)
+    c.fail(n, "'chain' has " + std::to_string(count) + " modules, more than the limit of " +
+                  std::to_string(kMaxModules));
   if (n.IsScalar()) {
     const std::string letters = n.as<std::string>();
     if (letters.empty()) c.fail(n, "'chain' is empty");
@@ -74,7 +81,6 @@ void load_chain(const Ctx& c, const YAML::Node& root, Scene* s) {
   } else {
     c.fail(n, "'chain' must be a string of module letters or a list of modules");
   }
-  if (s->modules.size() > 64) c.fail(n, "'chain' has more than 64 modules");
 }
 
 }  // namespace

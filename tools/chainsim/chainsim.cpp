@@ -191,6 +191,10 @@ int main(int argc, char** argv) {
   run->add_option("--firmware-dir", ra.firmware_dir,
                   "where to look for programs first (DIR[:DIR...], e.g. your own build), then next to chainsim");
   run->add_flag("--quiet,-q", ra.quiet, "print only errors");
+  run->footer("Exit codes: 0 finished; 1 bad scene, module file or options (file:line:column, or the --out path); "
+              "2 a module or the central control faulted; 3 internal error; 4 the physics diverged "
+              "(--on-divergence); 5 an output file could not be written (disk full); 130 interrupted. "
+              "See docs/reliability.md.");
   run->add_flag("--live", ra.live, "show the run as it happens: serve the viewer on 127.0.0.1 (URL printed)");
   run->add_option("--live-port", ra.live_port, "port of the live view (default 0: any free port)")
       ->check(CLI::Range(0, 65535));
