@@ -89,6 +89,7 @@ void ChildProcess::spawn(const ChildSpec& spec) {
     if (close_range(3, ~0U, 0) != 0)
       for (int fd = 3; fd < max_fd; ++fd) close(fd);
     signal(SIGPIPE, SIG_DFL);
+    signal(SIGXFSZ, SIG_DFL);
     execve(argv[0], argv.data(), envp.data());
     const char* msg = "chainsim: cannot execute ";
     (void)!write(2, msg, strlen(msg));

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cosim/socket_dir.h"
 #include "output/decimal.h"
 
 namespace chainsim {
@@ -45,13 +46,6 @@ bool file_has(const std::string& path, const char* text) {
   while (std::getline(in, line))
     if (line.find(text) != std::string::npos) return true;
   return false;
-}
-
-std::string make_socket_dir() {
-  std::string tmpl = (std::filesystem::temp_directory_path() / "chainsim-XXXXXX").string();
-  if (!mkdtemp(tmpl.data())) throw std::runtime_error("cannot create a private socket directory in /tmp");
-  chmod(tmpl.c_str(), 0700);
-  return tmpl;
 }
 
 }  // namespace
@@ -104,6 +98,7 @@ std::string Endpoints::program_path(const std::string& program) const {
 }
 
 void Endpoints::start() {
+  remove_stale_socket_dirs();  // of servers killed outright, which could not remove their own
   socket_dir_ = make_socket_dir();
   socket_path_ = socket_dir_ + "/chainsim.sock";
   acceptor_ = std::make_unique<asio::local::stream_protocol::acceptor>(

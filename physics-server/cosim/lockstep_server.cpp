@@ -23,6 +23,7 @@
 #include "output/scene_json.h"
 #include "output/touch_edges.h"
 #include "output/trace_writer.h"
+#include "physics/divergence.h"
 #include "physics/world.h"
 
 namespace chainsim {
@@ -97,6 +98,12 @@ class Server : public BarrierSink {
   // after a SIGCHLD: a fault for each endpoint whose process has ended
   // (asleep ones too, which no exchange would notice); false if the run stops
   bool check_ended();
+  // after a tick: a divergence of the physics stops the run (or is said once,
+  // --on-divergence=warn); false if the run stops
+  bool check_divergence();
+  // a write of the run's files failed (disk full): the run stops at once,
+  // naming the file; false if so
+  bool check_output();
   // a fault of e: returns true if the run goes on (limp mode)
   bool fault(Endpoint& e, const std::string& what);
   RunSummary summary(double wall_s, const Eigen::Vector3d& displacement_m);
@@ -121,7 +128,34 @@ class Server : public BarrierSink {
   int stop_code_ = kExitOk;
   uint64_t exchanges_ = 0;
   unsigned child_ends_seen_ = 0;
+  bool divergence_said_ = false;
 };
+
+bool Server::check_output() {
+  if (out_->write_error().empty()) return true;
+  stop_message_ = out_->write_error() + " at t=" + fixed_text(now_us_ * 1e-6, 6) + " s";
+  stop_code_ = kExitOutput;
+  return false;
+}
+
+bool Server::check_divergence() {
+  const auto d = find_divergence(world_);
+  if (!d) return true;
+  const std::string what = "physics diverged: " + d->what + " at t=" + fixed_text(now_us_ * 1e-6, 6) + " s";
+  if (opt_.on_divergence == DivergenceMode::Warn && !d->non_finite) {
+    if (!divergence_said_) {
+      bus_event(now_us_, ("warning " + what).c_str());
+      std::fprintf(stderr, "chainsim: warning: %s; the run goes on (--on-divergence=warn)\n", what.c_str());
+      divergence_said_ = true;
+    }
+    return true;
+  }
+  bus_event(now_us_, ("fault " + what).c_str());
+  out_->flush();
+  stop_message_ = what;
+  stop_code_ = kExitDivergence;
+  return false;
+}
 
 bool Server::check_ended() {
   const unsigned n = child_end_count();
@@ -276,6 +310,10 @@ RunResult Server::run() {
     }
     barrier_->apply(now_us_, this);
     now_us_ += scene_.tick_us;
+    if (!check_divergence() || !check_output()) {
+      ok = false;
+      break;
+    }
     if (!check_ended()) {
       ok = false;
       break;
@@ -313,6 +351,7 @@ RunResult Server::run() {
   }
   endpoints_->shutdown(stop_message_.empty());
   out_->flush();
+  if (stop_code_ == kExitOk) check_output();  // the last flush
 
   RunResult r;
   r.wall_time_s = std::chrono::duration<double>(Clock::now() - wall0).count();
@@ -320,7 +359,15 @@ RunResult Server::run() {
   r.message = stop_message_;
   r.exchanges = exchanges_;
   r.summary = summary_json(scene_, summary(r.wall_time_s, world_.chain_com() - com0));
-  out_->write_summary(r.summary);
+  try {
+    out_->write_summary(r.summary);
+  } catch (const std::exception& e) {
+    // the files written so far stay; no summary.json.tmp is left behind
+    if (r.exit_code == kExitOk || r.exit_code == kExitOutput) {
+      r.exit_code = kExitOutput;
+      r.message = r.message.empty() ? e.what() : r.message + "; " + e.what();
+    }
+  }
   if (opt_.observer) opt_.observer->finished(r.summary);
   return r;
 }
@@ -356,6 +403,7 @@ RunSummary Server::summary(double wall_s, const Eigen::Vector3d& displacement_m)
 
 RunResult run_scene(const Scene& scene, const RunOptions& options, std::vector<ServoCommand>* record) {
   signal(SIGPIPE, SIG_IGN);
+  signal(SIGXFSZ, SIG_IGN);  // a file-size limit is a failed write to report, not a kill
   Server server(scene, options, record);
   return server.run();
 }

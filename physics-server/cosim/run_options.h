@@ -11,12 +11,16 @@
 namespace chainsim {
 
 enum class FaultMode { Stop, Limp };
+// what a physics divergence does (physics/divergence.h); a non-finite state always stops
+enum class DivergenceMode { Stop, Warn };
 
 // exit codes of `chainsim run`
 constexpr int kExitOk = 0;
 constexpr int kExitBadInput = 1;     // scene or options
 constexpr int kExitModuleFault = 2;  // a module crashed, hung or broke the protocol
 constexpr int kExitInternal = 3;
+constexpr int kExitDivergence = 4;   // the physics diverged (non-finite or beyond the documented bounds)
+constexpr int kExitOutput = 5;       // an output file could not be written (disk full, I/O error)
 constexpr int kExitInterrupted = 130;
 
 // watches a run as it happens (the live view); called from the simulation
@@ -34,6 +38,7 @@ class RunObserver {
 struct RunOptions {
   std::string out_dir;                  // run directory to write
   FaultMode on_fault = FaultMode::Stop;
+  DivergenceMode on_divergence = DivergenceMode::Stop;
   double module_timeout_s = 10.0;       // wall clock, per exchange
   std::set<int> attach;                 // endpoints the user starts by hand
   std::string firmware_dir;             // DIR[:DIR...] searched for programs first, then next to chainsim

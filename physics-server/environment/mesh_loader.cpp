@@ -57,7 +57,7 @@ void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent
 
 }  // namespace
 
-TriMesh load_mesh_file(const std::string& path, double scale) {
+TriMesh load_mesh_file(const std::string& path, double scale, size_t max_triangles) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec))
     throw MeshError("mesh file '" + path + "': no such file");
@@ -81,8 +81,17 @@ TriMesh load_mesh_file(const std::string& path, double scale) {
     throw MeshError("mesh file '" + path + "': assimp cannot read it: " +
                     (why.empty() ? "incomplete scene" : why));
   }
+  // counted before any is copied: node instancing can multiply a small file's triangles
+  size_t faces = 0;
+  for (unsigned k = 0; k < scene->mNumMeshes; ++k) faces += scene->mMeshes[k]->mNumFaces;
+  if (faces > max_triangles)
+    throw MeshError("mesh file '" + path + "': " + std::to_string(faces) + " faces, over the limit of " +
+                    std::to_string(max_triangles));
   TriMesh out;
   collect(scene, scene->mRootNode, aiMatrix4x4(), scale, &out);
+  if (out.triangles.size() > max_triangles)
+    throw MeshError("mesh file '" + path + "': " + std::to_string(out.triangles.size()) +
+                    " triangles (nodes instancing its meshes), over the limit of " + std::to_string(max_triangles));
   if (out.triangles.empty()) throw MeshError("mesh file '" + path + "': has no triangles");
   for (const auto& v : out.vertices)
     if (!v.allFinite()) throw MeshError("mesh file '" + path + "': has non-finite vertex coordinates");

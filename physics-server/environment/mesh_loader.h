@@ -30,8 +30,10 @@ class MeshError : public std::runtime_error {
 
 // every mesh of the file's scene, node transforms applied, triangulated,
 // points and lines dropped; times scale. Throws MeshError naming the file and
-// assimp's reason (missing file, unknown format, broken data, no triangles).
-TriMesh load_mesh_file(const std::string& path, double scale = 1.0);
+// assimp's reason (missing file, unknown format, broken data, no triangles),
+// or the bound when it has more than max_triangles triangles.
+constexpr size_t kMaxMeshTriangles = 4000000;  // a 256 MiB binary STL holds 5.6 million
+TriMesh load_mesh_file(const std::string& path, double scale = 1.0, size_t max_triangles = kMaxMeshTriangles);
 
 // v' = R(rpy) v + t, with R = Rz(yaw) Ry(pitch) Rx(roll) (radians)
 void transform_mesh(TriMesh* mesh, const Eigen::Vector3d& translation_m,

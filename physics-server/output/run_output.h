@@ -1,7 +1,9 @@
 // The files of a run directory: trace.csv, bus.log, modules/<i>-<type>.log
 // (and the .out files the processes write themselves), scene.json and
 // summary.json. Written as the run goes, flushed often, so a run that ends by
-// a fault or Ctrl-C keeps everything produced until then.
+// a fault or Ctrl-C keeps everything produced until then. A write that fails
+// (a full disk, an I/O error) is kept as write_error() for the run loop to
+// stop on at once; the trace is then cut back to its last whole row.
 #pragma once
 
 #include <cstdint>
@@ -33,12 +35,17 @@ class RunOutput {
   void module_log(int endpoint, int64_t t_us, const char* line);
   void flush();
 
+  // the first write that failed, "cannot write DIR/trace.csv: No space left on
+  // device"; empty while every write succeeded
+  const std::string& write_error() const { return write_error_; }
+
   // finishes the trace hash; call once at the end (later calls return the same)
   std::string trace_sha256();
   size_t trace_bytes() const { return trace_bytes_; }
 
   // write dir/name atomically (temp file + rename): readers see the old file
-  // or the whole new one. Throws std::runtime_error naming the file.
+  // or the whole new one. Throws std::runtime_error naming the file (and
+  // removes the temp file).
   void write_json(const std::string& name, const nlohmann::json& value);
   void write_summary(const nlohmann::json& summary) { write_json("summary.json", summary); }
 
@@ -55,6 +62,11 @@ class RunOutput {
   Sha256 sha_;
   size_t trace_bytes_ = 0;
   std::string sha_hex_;
+  std::string write_error_;
+
+  // after a failed write or flush of f (at path): keep the first error; the
+  // trace is cut back to its last whole row
+  void failed(FILE* f, const std::string& path);
 };
 
 }  // namespace chainsim

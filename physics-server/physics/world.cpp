@@ -392,6 +392,8 @@ World::BodyState World::body_state(int module, int body) const {
   const dReal* p = dBodyGetPosition(id);
   const dReal* q = dBodyGetQuaternion(id);
   const dReal* v = dBodyGetLinearVel(id);
+  const dReal* av = dBodyGetAngularVel(id);
+  s.angular_velocity = Eigen::Vector3d(av[0], av[1], av[2]);
   s.position = Eigen::Vector3d(p[0], p[1], p[2]);
   s.quaternion_wxyz = Eigen::Vector4d(q[0], q[1], q[2], q[3]);
   s.linear_velocity = Eigen::Vector3d(v[0], v[1], v[2]);

@@ -99,6 +99,7 @@ class World {
     Eigen::Vector3d position;             // centre of mass, world frame, m
     Eigen::Vector4d quaternion_wxyz;      // body frame -> world
     Eigen::Vector3d linear_velocity;      // m/s
+    Eigen::Vector3d angular_velocity;     // rad/s, world frame
   };
   int body_count(int module) const;
   const std::string& body_name(int module, int body) const;

@@ -1,6 +1,8 @@
 // The strict YAML reader (strict_yaml.h).
 #include "readers/strict_yaml.h"
 
+#include "readers/safe_text.h"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -95,13 +97,14 @@ std::string StrictYaml::where(const YAML::Node& n) const {
 }
 
 void StrictYaml::fail(const YAML::Node& n, const std::string& what) const {
-  const std::string message = where(n) + ": " + what;
+  // escaped: a key or value with ESC or a newline must not reach the terminal raw
+  const std::string message = shown_text(where(n) + ": " + what);
   raise_(message);
   throw YamlError(message);  // a raise that returned
 }
 
 void StrictYaml::fail_file(const std::string& what) const {
-  const std::string message = file_ + ": " + what;
+  const std::string message = shown_text(file_ + ": " + what);
   raise_(message);
   throw YamlError(message);
 }
@@ -169,7 +172,18 @@ int64_t StrictYaml::integer(const YAML::Node& map, const std::string& key, int64
 
 std::string StrictYaml::string_at(const YAML::Node& n, const std::string& name) const {
   if (!n.IsScalar()) fail(n, quoted(name) + " must be a string");
+  if (!is_printable_text(n.Scalar()))
+    fail(n, quoted(name) + " must be printable UTF-8 text, not '" + n.Scalar() + "'");
   return n.Scalar();
+}
+
+std::string StrictYaml::name(const YAML::Node& map, const std::string& key, const std::string& dflt,
+                             const std::string& path) const {
+  const YAML::Node n = map[key];
+  if (!n) return dflt;
+  const std::string s = string_at(n, path_key(path, key));
+  if (!is_path_name(s)) fail(n, quoted(path_key(path, key)) + " = '" + s + "' must be " + kPathNameRule);
+  return s;
 }
 
 std::string StrictYaml::string(const YAML::Node& map, const std::string& key, const std::string& dflt,
@@ -183,7 +197,7 @@ std::string StrictYaml::text(const YAML::Node& map, const std::string& key, cons
   const YAML::Node n = map[key];
   if (!n) return dflt;
   if (!n.IsScalar() || n.Scalar().empty()) fail(n, quoted(path_key(path, key)) + " must be a non-empty string");
-  return n.Scalar();
+  return string_at(n, path_key(path, key));
 }
 
 bool StrictYaml::flag(const YAML::Node& map, const std::string& key, bool dflt, const std::string& path) const {

@@ -73,12 +73,15 @@ class StrictYaml {
   int64_t integer_at(const YAML::Node& n, const std::string& name, int64_t lo, int64_t hi) const;
   int64_t integer(const YAML::Node& map, const std::string& key, int64_t dflt, int64_t lo, int64_t hi,
                   const std::string& path) const;
-  // a scalar (may be empty)
+  // a scalar of printable UTF-8 (may be empty)
   std::string string_at(const YAML::Node& n, const std::string& name) const;
   std::string string(const YAML::Node& map, const std::string& key, const std::string& dflt,
                      const std::string& path) const;
   // a non-empty scalar
   std::string text(const YAML::Node& map, const std::string& key, const std::string& dflt,
+                   const std::string& path) const;
+  // a text that may name a file or directory (readers/safe_text.h: is_path_name)
+  std::string name(const YAML::Node& map, const std::string& key, const std::string& dflt,
                    const std::string& path) const;
   // true or false
   bool flag(const YAML::Node& map, const std::string& key, bool dflt, const std::string& path) const;

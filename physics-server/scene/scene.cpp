@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "physics/units.h"
+#include "readers/safe_text.h"
 #include "scene/scene_environment.h"
 #include "scene/scene_modules.h"
 #include "scene/scene_yaml.h"
@@ -18,6 +19,16 @@ namespace {
 
 using Ctx = SceneYaml;
 
+constexpr size_t kMaxModules = 64;
+
+// a parameter name goes on the wire and into the firmware's lookups: no control characters, no spaces
+bool is_param_name(const std::string& s) {
+  if (s.empty() || s.size() > 15) return false;
+  for (char ch : s)
+    if (!((ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '_')) return false;
+  return true;
+}
+
 std::map<std::string, int32_t> get_params(const Ctx& c, const YAML::Node& map,
                                           const std::string& path) {
   std::map<std::string, int32_t> out;
@@ -26,8 +37,8 @@ std::map<std::string, int32_t> get_params(const Ctx& c, const YAML::Node& map,
   if (!n.IsMap()) c.fail(n, "'" + path + ".params' must be a mapping of name: integer");
   for (const auto& kv : n) {
     const std::string name = kv.first.as<std::string>();
-    if (name.empty() || name.size() > 15)
-      c.fail(kv.first, "parameter name '" + name + "' must have 1 to 15 characters");
+    if (!is_param_name(name))
+      c.fail(kv.first, "parameter name '" + name + "' must be 1 to 15 letters, digits or '_'");
     out[name] = static_cast<int32_t>(
         c.integer(n, name, 0, INT32_MIN, INT32_MAX, path + ".params"));
   }
@@ -85,6 +96,11 @@ void apply_programs(const std::map<std::string, ProgramDefaults>& programs, Scen
 void load_chain(const Ctx& c, const YAML::Node& root, Scene* s) {
   const YAML::Node n = root["chain"];
   if (!n) c.fail(root, "missing key 'chain' (a string such as \"RRRRRRRR\" or a list of modules)");
+  // bounded before anything is built: one process and one socket per module
+  const size_t count = n.IsScalar() ? n.Scalar().size() : n.IsSequence() ? n.size() : 0;
+  if (count > kMaxModules)
+    c.fail(n, "'chain' has " + std::to_string(count) + " modules, more than the limit of " +
+                  std::to_string(kMaxModules));
   if (n.IsScalar()) {
     const std::string letters = n.as<std::string>();
     if (letters.empty()) c.fail(n, "'chain' is empty");
@@ -112,7 +128,6 @@ void load_chain(const Ctx& c, const YAML::Node& root, Scene* s) {
   } else {
     c.fail(n, "'chain' must be a string of module letters or a list of modules");
   }
-  if (s->modules.size() > 64) c.fail(n, "'chain' has more than 64 modules");
 }
 
 }  // namespace
@@ -136,6 +151,8 @@ std::string module_type_for_letter(char letter) {
   }
 }
 
+SceneError::SceneError(const std::string& message) : std::runtime_error(shown_text(message)) {}
+
 std::string default_firmware(const std::string& type) { return "fw-" + type; }
 
 Scene load_scene_text(const std::string& text, const std::string& name) {
@@ -148,7 +165,7 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
 
   Scene s;
   s.source = name;
-  s.name = c.string(root, "name", "unnamed", "scene");
+  s.name = c.name(root, "name", "unnamed", "scene");  // names the run directory: runs/<name>-<date>
   s.duration_s = c.number(root, "duration_s", s.duration_s, 0.001, 86400.0, "scene");
   s.world.seed = static_cast<uint64_t>(c.integer(root, "seed", 1, 0, INT64_MAX, "scene"));
 

@@ -13,9 +13,10 @@
 
 namespace chainsim {
 
+// its message is shown_text'ed: a name from a file never reaches the terminal raw
 class SceneError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit SceneError(const std::string& message);
 };
 
 // one module of the chain and the program that runs it

@@ -66,6 +66,11 @@ void load_pipe(const SceneYaml& y, const YAML::Node& n, PipeSpec* pipe) {
   if (!segs) y.fail(n, "'" + p + "' needs 'segments' (a list such as [{type: straight, length_m: 0.5}])");
   if (!segs.IsSequence() || segs.size() == 0)
     y.fail(segs, "'" + p + ".segments' must be a non-empty list of segments");
+  // each segment is a collider and mesh pieces: 100 000 used to be accepted and never finish building
+  constexpr size_t kMaxSegments = 1000;
+  if (segs.size() > kMaxSegments)
+    y.fail(segs, "'" + p + ".segments' has " + std::to_string(segs.size()) + " segments, more than the limit of " +
+                     std::to_string(kMaxSegments));
   for (size_t i = 0; i < segs.size(); ++i)
     pipe->segments.push_back(
         load_segment(y, segs[i], p + ".segments[" + std::to_string(i) + "]", pipe->inner_diameter_m));

@@ -22,6 +22,7 @@
 #include "chainsim/optimize_command.h"
 #include "viewer/live_view.h"
 #include "cosim/lockstep_server.h"
+#include "output/run_dir.h"
 #include "scene/scene.h"
 #include "testing/test_runner.h"
 #include "chainsim/view_command.h"
@@ -43,6 +44,7 @@ struct RunArgs {
   double duration = -1;
   int64_t seed = -1;
   std::string fault = "stop";
+  std::string divergence = "stop";
   double timeout = 10.0;
   std::vector<int> attach;
   std::string firmware_dir;
@@ -66,12 +68,20 @@ int cmd_run(const RunArgs& a) {
   RunOptions opt;
   opt.out_dir = a.out.empty() ? default_out_dir(scene) : a.out;
   opt.on_fault = a.fault == "limp" ? FaultMode::Limp : FaultMode::Stop;
+  opt.on_divergence = a.divergence == "warn" ? DivergenceMode::Warn : DivergenceMode::Stop;
   opt.module_timeout_s = a.timeout;
   opt.firmware_dir = a.firmware_dir;
   opt.quiet = a.quiet;
   opt.progress = !a.quiet;
   opt.progress_terminal = isatty(2);
   opt.progress_every_s = a.progress_every > 0 ? a.progress_every : opt.progress_terminal ? 1.0 : 10.0;
+  // checked before any module starts: a bad --out is a bad option, not an internal error
+  const RunDirCheck dir = prepare_run_dir(opt.out_dir);
+  if (!dir.error.empty()) {
+    std::fprintf(stderr, "chainsim: %s\n", dir.error.c_str());
+    return kExitBadInput;
+  }
+  if (dir.had_run) say(opt, "--out '" + opt.out_dir + "' already holds a run: its files are replaced");
   for (int i : a.attach) {
     if (i < 0 || i > static_cast<int>(scene.modules.size())) {
       std::fprintf(stderr, "chainsim: --attach %d: the scene has modules 0..%zu and the central control %zu\n", i,
@@ -172,6 +182,11 @@ int main(int argc, char** argv) {
   run->add_option("--on-module-fault", ra.fault, "stop the run, or go on with the module powered off")
       ->check(CLI::IsMember({"stop", "limp"}))
       ->capture_default_str();
+  run->add_option("--on-divergence", ra.divergence,
+                  "physics diverged (a body faster than 10 m/s or 1000 rad/s, farther than 10 km, or not "
+                  "finite): stop the run (exit 4), or warn once and go on (not finite: always stops)")
+      ->check(CLI::IsMember({"stop", "warn"}))
+      ->capture_default_str();
   run->add_option("--module-timeout", ra.timeout, "wall-clock seconds a module may take to answer")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
@@ -182,6 +197,10 @@ int main(int argc, char** argv) {
   run->add_option("--firmware-dir", ra.firmware_dir,
                   "where to look for programs first (DIR[:DIR...], e.g. your own build), then next to chainsim");
   run->add_flag("--quiet,-q", ra.quiet, "print only errors");
+  run->footer("Exit codes: 0 finished; 1 bad scene, module file or options (file:line:column, or the --out path); "
+              "2 a module or the central control faulted (crash, exit, hang, bad frame); 3 internal error; 4 the physics diverged "
+              "(--on-divergence); 5 an output file could not be written (disk full); 130 interrupted. "
+              "See docs/reliability.md.");
   run->add_flag("--live", ra.live, "show the run as it happens: serve the viewer on 127.0.0.1 (URL printed)");
   run->add_option("--live-port", ra.live_port, "port of the live view (default 0: any free port)")
       ->check(CLI::Range(0, 65535));
@@ -192,8 +211,6 @@ int main(int argc, char** argv) {
                   "wall-clock seconds between progress reports on stderr (default: 1 on a terminal, where one "
                   "line is rewritten; 10 otherwise, a new line each time, e.g. in a CI log)")
       ->check(CLI::PositiveNumber);
-  run->footer("Exit codes: 0 the run finished; 1 bad scene or options; 2 a module fault stopped the run "
-              "(crash, exit, hang, bad frame); 3 internal error; 130 interrupted (Ctrl-C, SIGTERM).");
 
   ViewArgs va;
   auto* view = app.add_subcommand("view", "write RUN_DIR/replay.html, a replay of a run that opens from disk "

@@ -61,7 +61,10 @@ std::vector<double> SceneRunner::speeds(const KnobSetting& st) {
     while (next < n && static_cast<int>(running.size()) < std::max(1, opt_.jobs)) {
       ChildSpec spec;
       spec.program = opt_.chainsim_exe;
-      spec.args = {"run", scene[next], "--out", out[next], "--duration", std::to_string(opt_.duration_s), "--quiet"};
+      // a candidate effect may be unphysical (a body over 10 m/s): its run is
+      // judged by the speed it gives, as before divergence stopped runs
+      spec.args = {"run", scene[next], "--out", out[next], "--duration", std::to_string(opt_.duration_s), "--quiet",
+                   "--on-divergence", "warn"};
       if (!opt_.firmware_dir.empty()) spec.args.insert(spec.args.end(), {"--firmware-dir", opt_.firmware_dir});
       spec.stdout_path = log[next];
       procs[next] = std::make_unique<ChildProcess>();

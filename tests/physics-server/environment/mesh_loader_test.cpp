@@ -57,6 +57,22 @@ PipeLayout small_pipe() {
   return layout_pipe(p);
 }
 
+// a mesh over the triangle bound is refused with its count and the bound
+TEST(MeshLoader, MeshOverTheTriangleBoundIsRefused) {
+  const TriMesh m = pipe_solid_mesh(small_pipe(), 16, 0.002);
+  const std::string path = temp_path("bound.stl");
+  write_stl(m, path, "test");
+  const size_t n = m.triangles.size();
+  EXPECT_EQ(load_mesh_file(path, 1.0, n).triangles.size(), n);
+  try {
+    load_mesh_file(path, 1.0, n - 1);
+    FAIL() << "no error";
+  } catch (const MeshError& e) {
+    EXPECT_EQ(std::string(e.what()), "mesh file '" + path + "': " + std::to_string(n) +
+                                         " faces, over the limit of " + std::to_string(n - 1));
+  }
+}
+
 TEST(MeshLoader, StlAndObjRoundTrip) {
   const TriMesh m = pipe_solid_mesh(small_pipe(), 16, 0.002);
   for (const std::string ext : {"stl", "obj"}) {

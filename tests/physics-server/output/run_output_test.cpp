@@ -143,7 +143,7 @@ TEST(RunOutput, JsonThatCannotBeWrittenIsNamedAndTheOldFileKept) {
     out.write_summary({{"a", 2}});
     FAIL() << "no error";
   } catch (const std::runtime_error& e) {
-    EXPECT_EQ(std::string(e.what()), "cannot write " + (d.path / "summary.json.tmp").string());
+    EXPECT_EQ(std::string(e.what()), "cannot write " + (d.path / "summary.json.tmp").string() + ": Is a directory");
   }
   EXPECT_EQ(nlohmann::json::parse(read_file(d.path / "summary.json"))["a"], 1);
 }

@@ -1,0 +1,60 @@
+// Divergence of the physics. See divergence.h.
+#include "physics/divergence.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "physics/world.h"
+
+namespace chainsim {
+
+namespace {
+
+template <typename V>
+bool finite(const V& v) {
+  return v.allFinite();
+}
+
+// a message's number (snprintf: the C locale, as every output of the server)
+std::string fixed_text(double value, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, value);
+  return buf;
+}
+
+}  // namespace
+
+std::optional<Divergence> find_divergence(const World& w, const DivergenceBounds& bounds) {
+  for (int m = 0; m < w.module_count(); ++m) {
+    for (int b = 0; b < w.body_count(m); ++b) {
+      const World::BodyState s = w.body_state(m, b);
+      Divergence d;
+      d.module = m;
+      d.body = b;
+      const std::string who =
+          "module " + std::to_string(m) + " (" + w.module_type(m) + ") body '" + w.body_name(m, b) + "': ";
+      if (!finite(s.position) || !finite(s.quaternion_wxyz) || !finite(s.linear_velocity) ||
+          !finite(s.angular_velocity)) {
+        d.non_finite = true;
+        d.what = who + "position, orientation or velocity is not a finite number";
+        return d;
+      }
+      const double v = s.linear_velocity.norm();
+      const double wv = s.angular_velocity.norm();
+      const double x = s.position.cwiseAbs().maxCoeff();
+      if (v > bounds.max_speed_m_s)
+        d.what = who + "speed " + fixed_text(v, 1) + " m/s over the bound of " + fixed_text(bounds.max_speed_m_s, 0) +
+                 " m/s";
+      else if (wv > bounds.max_angular_speed_rad_s)
+        d.what = who + "angular speed " + fixed_text(wv, 0) + " rad/s over the bound of " +
+                 fixed_text(bounds.max_angular_speed_rad_s, 0) + " rad/s";
+      else if (x > bounds.max_coordinate_m)
+        d.what = who + "position " + fixed_text(x, 0) + " m from the origin, over the bound of " +
+                 fixed_text(bounds.max_coordinate_m, 0) + " m";
+      if (!d.what.empty()) return d;
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace chainsim
