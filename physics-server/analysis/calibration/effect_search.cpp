@@ -10,66 +10,151 @@
 namespace chainsim {
 namespace {
 
-// every effect not in `used`, fitted onto cur, best first
-std::vector<Candidate> fit_candidates(const FitProblem& p, const Fit& cur, const std::set<int>& used,
-                                      const std::vector<int>& regime, const CalibrationProgress& say) {
-  const Residual rc = run_model(p, model_config(p.datasheet, cur.effects, cur.x)).residual;
-  std::vector<Candidate> cands;
-  for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e) {
-    if (used.count(e)) continue;
-    const Effect& ef = effect_catalogue()[e];
-    Candidate c{e, fit_with_effect(p, cur, e), regime_signature(rc, regime, ef.regimes), false, {}};
-    say("  candidate " + std::string(ef.name) + " = " + fmt_g(c.fit.x.back()) + ": held-out " +
-        fmt_g(c.fit.held) + ", structured " + fmt_g(c.fit.gap) + " (signature " + fmt_g(c.signature, 3) + ")");
-    cands.push_back(c);
+std::string effect_label(int e) {
+  const Effect& ef = effect_catalogue()[e];
+  return std::string(ef.name) + (*ef.variant ? std::string(" (") + ef.variant + ")" : "");
+}
+
+int dof_of(int e) { return static_cast<int>(effect_catalogue()[e].params.size()); }
+
+bool passes(const Candidate& c) { return c.fit.valid && c.profile.excludes_null && c.held_out.significant; }
+
+// both tests of every candidate against ref, best held-out gain first
+void test_candidates(const FitProblem& p, const Fit& ref, std::vector<Candidate>* cands) {
+  const int k = static_cast<int>(cands->size());
+  for (Candidate& c : *cands) {
+    c.profile = profile_test(ref.sse_train, c.fit.sse_train, c.fit.rho_train, dof_of(c.effect));
+    c.held_out = held_out_test(ref.loss, c.fit.loss, p.split, k);
+    c.why = "LR " + fmt_g(c.profile.stat) + (c.profile.excludes_null ? " >= " : " < ") + fmt_g(c.profile.crit) +
+            " (interval " + (c.profile.excludes_null ? "excludes" : "includes") + " the null), held-out gain " +
+            fmt_g(c.held_out.gain, 3) + "/sample, t " + fmt_g(c.held_out.t, 3) +
+            (c.held_out.significant ? " >= " : " < ") + fmt_g(c.held_out.crit, 3);
+    if (!c.fit.valid) c.why = "no frame clock fits the set-point changes' delays";
+    c.accepted = false;
   }
-  std::sort(cands.begin(), cands.end(), [](const Candidate& x, const Candidate& y) {
-    return x.fit.gap != y.fit.gap ? x.fit.gap < y.fit.gap : x.signature > y.signature;
+  std::stable_sort(cands->begin(), cands->end(), [](const Candidate& a, const Candidate& b) {
+    if (a.fit.valid != b.fit.valid) return a.fit.valid;
+    return a.held_out.gain > b.held_out.gain;
   });
-  for (Candidate& c : cands) {
-    const double g = 1.0 - c.fit.gap / cur.gap;
-    c.why = "held-out structured error " + fmt_g(cur.gap) + " -> " + fmt_g(c.fit.gap) + " (" + fmt_g(100 * g, 3) +
-            " %), NRMSE " + fmt_g(cur.held) + " -> " + fmt_g(c.fit.held);
+}
+
+// of the passing candidate `best` and the other variants of its effect, the
+// form to name: a variant with more parameters must beat a simpler one that
+// passes by the same tests; between equals the held-out gain decides
+size_t choose_variant(const FitProblem& p, std::vector<Candidate>& cands, size_t best, VariantChoice* vc) {
+  for (size_t s = 0; s < cands.size(); ++s) {
+    if (s == best || std::string(effect_catalogue()[cands[s].effect].name) != effect_catalogue()[cands[best].effect].name ||
+        !cands[s].fit.valid)
+      continue;
+    const Candidate& b = cands[best];
+    const Candidate& o = cands[s];
+    const int extra = dof_of(b.effect) - dof_of(o.effect);
+    const HeldOutTest ho = held_out_test(o.fit.loss, b.fit.loss, p.split, 1);
+    const ProfileTest pt = profile_test(o.fit.sse_train, b.fit.sse_train, b.fit.rho_train, std::max(1, extra));
+    vc->effect = effect_catalogue()[b.effect].name;
+    if (extra > 0 && !(ho.significant && pt.excludes_null) && passes(o)) {
+      // the richer form does not earn its parameters: the simpler one
+      const HeldOutTest back = held_out_test(b.fit.loss, o.fit.loss, p.split, 1);
+      *vc = {vc->effect, effect_catalogue()[o.effect].variant, effect_catalogue()[b.effect].variant, back.t, false,
+             std::string(effect_catalogue()[b.effect].variant) + " does not beat it (held-out t " + fmt_g(ho.t, 3) +
+                 ", LR " + fmt_g(pt.stat) + " for " + std::to_string(extra) + " more parameter)"};
+      return s;
+    }
+    vc->chosen = effect_catalogue()[b.effect].variant;
+    vc->other = effect_catalogue()[o.effect].variant;
+    vc->t = ho.t;
+    vc->distinguished = ho.significant;
+    vc->why = std::string(ho.significant ? "fits better than " : "not distinguished from ") + vc->other +
+              " on held-out data (t " + fmt_g(ho.t, 3) + " against " + fmt_g(ho.crit, 3) + ")";
   }
-  return cands;
+  return best;
 }
 
 }  // namespace
 
-EffectSearch search_effects(const FitProblem& p, const Fit& base, const std::vector<int>& regime,
+EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<int>& regime,
                             const CalibrationProgress& say) {
   EffectSearch s;
-  s.model = base;
-  Fit& cur = s.model;
-  std::set<int> used;
-  while (cur.white > kWhiteMax && used.size() < effect_catalogue().size()) {
-    std::vector<Candidate> cands = fit_candidates(p, cur, used, regime, say);
-    Candidate& best = cands.front();
-    const double gain = 1.0 - best.fit.gap / cur.gap;
-    const Effect& be = effect_catalogue()[best.effect];
-    if (best.fit.x.back() < 0.01 * (be.hi - be.lo)) {
+  Fit cur = base;
+  std::set<std::string> used;
+  for (;;) {
+    SearchRound round;
+    // the loss's unit: the white noise left by the current model
+    p.noise = white_noise_scale(run_model(p, model_config(p.datasheet, cur.effects, cur.x)).residual, p.split);
+    round.noise = p.noise;
+    Fit ref = evaluate_fit(p, cur.effects, cur.x);
+    ref.held_ci = cur.held_ci;
+    ref = refit_from_starts(p, ref, {cur.x, datasheet_start(cur.x)}, kMaxEvalBase);
+    const Residual rr = run_model(p, model_config(p.datasheet, ref.effects, ref.x)).residual;
+    say("round " + std::to_string(s.rounds.size() + 1) + ": reference re-fitted from 2 starts, training loss " +
+        fmt_g(ref.train) + ", held-out NRMSE " + fmt_g(ref.held) + ", whiteness " + fmt_g(ref.white, 3));
+    std::vector<Candidate> cands;
+    for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e) {
+      const Effect& ef = effect_catalogue()[e];
+      if (used.count(ef.name)) continue;
+      Candidate c;
+      c.effect = e;
+      c.fit = fit_with_effect(p, ref, e);
+      c.signature = regime_signature(rr, regime, ef.regimes);
+      say("  candidate " + effect_label(e) + " = " + fmt_g(c.fit.x[param_count(ref.effects)]) + ": training loss " +
+          fmt_g(c.fit.train) + ", held-out NRMSE " + fmt_g(c.fit.held));
+      cands.push_back(std::move(c));
+    }
+    if (cands.empty()) {
+      round.reference = ref;
+      s.rounds.push_back(std::move(round));
+      break;
+    }
+    long chosen = -1;
+    VariantChoice vc;
+    for (int attempt = 0; attempt < 3; ++attempt) {
+      test_candidates(p, ref, &cands);
+      const auto it = std::find_if(cands.begin(), cands.end(), passes);
+      if (it == cands.end()) break;
+      // a re-fit of the current model alone from where the candidate ended:
+      // if that is better, the candidate's gain was the optimiser's
+      const Candidate& b = *it;
+      const std::vector<double> xs(b.fit.x.begin(), b.fit.x.begin() + param_count(ref.effects));
+      Fit alt = fit_model(p, ref.effects, xs, Samples::training, kMaxEvalBase);
+      alt.held_ci = ref.held_ci;
+      if (alt.train < ref.train * (1 - 1e-6)) {
+        say("  the reference re-fitted from " + effect_label(b.effect) + "'s solution is better (" + fmt_g(ref.train) +
+            " -> " + fmt_g(alt.train) + "): candidates tested again");
+        ref = std::move(alt);
+        round.reference_refit = true;
+        continue;
+      }
+      vc = VariantChoice{};
+      chosen = static_cast<long>(choose_variant(p, cands, it - cands.begin(), &vc));
+      break;
+    }
+    round.reference = ref;
+    if (chosen < 0) {
       for (Candidate& c : cands) c.why += ": rejected";
-      best.why += " (fitted to its null value)";
-      say("the best candidate fits to its null value: stop");
-      s.rounds.push_back(cands);
+      say("no candidate passes both tests: stop");
+      round.candidates = std::move(cands);
+      s.rounds.push_back(std::move(round));
       break;
     }
-    if (gain >= kMinGain && best.fit.held < cur.held) {
-      best.accepted = true;
-      best.why += ": best candidate, gain >= " + fmt_g(100 * kMinGain) + " %: accepted";
-      for (size_t i = 1; i < cands.size(); ++i) cands[i].why += ": less than the best";
-      used.insert(best.effect);
-      cur = best.fit;
-      say("accepted " + std::string(be.name) + " (held-out " + fmt_g(cur.held) + ", whiteness " +
-          fmt_g(cur.white, 3) + ")");
-      s.rounds.push_back(cands);
-    } else {
-      for (Candidate& c : cands) c.why += ": gain below " + fmt_g(100 * kMinGain) + " %: rejected";
-      say("no candidate cuts the held-out error by " + fmt_g(100 * kMinGain) + " %: stop");
-      s.rounds.push_back(cands);
-      break;
+    Candidate& a = cands[chosen];
+    a.accepted = true;
+    a.why += ": accepted";
+    for (Candidate& c : cands)
+      if (!c.accepted) c.why += passes(c) ? ": passes, but another is better" : ": rejected";
+    const Effect& ae = effect_catalogue()[a.effect];
+    if (*ae.variant) {
+      if (vc.chosen.empty()) vc = {ae.name, ae.variant, "", 0, false, "the only variant fitted"};
+      s.variants.push_back(vc);
     }
+    used.insert(ae.name);
+    s.before.push_back(ref);
+    cur = a.fit;
+    say("accepted " + effect_label(a.effect) + " (held-out NRMSE " + fmt_g(cur.held) + ", whiteness " +
+        fmt_g(cur.white, 3) + ")");
+    round.candidates = std::move(cands);
+    s.rounds.push_back(std::move(round));
   }
+  s.model = s.rounds.back().reference;
   return s;
 }
 

@@ -1,0 +1,73 @@
+// The calibration's acceptance tests (selection_rule.h).
+#include "analysis/calibration/selection_rule.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <utility>
+
+namespace chainsim {
+
+double normal_upper_quantile(double p) {
+  // bisection on the upper tail 0.5 erfc(z / sqrt 2), monotone in z
+  double lo = -40, hi = 40;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (0.5 * std::erfc(mid / std::sqrt(2.0)) > p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+double student_t_upper_quantile(double p, int dof) {
+  // Cornish-Fisher expansion of t in the normal quantile (Abramowitz and
+  // Stegun 26.7.5): within 0.5 % for dof >= 10 at these tails
+  const double z = normal_upper_quantile(p), v = std::max(1, dof);
+  const double z3 = z * z * z, z5 = z3 * z * z, z7 = z5 * z * z;
+  return z + (z3 + z) / (4 * v) + (5 * z5 + 16 * z3 + 3 * z) / (96 * v * v) +
+         (3 * z7 + 19 * z5 + 17 * z3 - 15 * z) / (384 * v * v * v);
+}
+
+double chi_square_95(int dof) {
+  static const double q[] = {3.841, 5.991, 7.815, 9.488, 11.070, 12.592, 14.067, 15.507};
+  return q[std::clamp(dof, 1, 8) - 1];
+}
+
+ProfileTest profile_test(double sse_ref, double sse_cand, double rho_cand, int dof) {
+  ProfileTest t;
+  t.dof = dof;
+  t.inflation = (1 + rho_cand) / (1 - rho_cand);
+  t.stat = (sse_ref - sse_cand) / t.inflation;
+  t.crit = chi_square_95(dof);
+  t.excludes_null = t.stat >= t.crit;
+  return t;
+}
+
+HeldOutTest held_out_test(const std::vector<double>& loss_ref, const std::vector<double>& loss_cand,
+                          const BlockSplit& s, int comparisons) {
+  // per (block, batch): the sum and count of the differences
+  std::map<std::pair<int, int>, std::pair<double, size_t>> batch;
+  double total = 0;
+  size_t n = 0;
+  for (size_t k = 0; k < loss_ref.size(); ++k) {
+    if (!s.in(k, Samples::held_out)) continue;
+    const double d = loss_ref[k] - loss_cand[k];
+    auto& b = batch[{s.block[k], s.batch[k]}];
+    b.first += d, ++b.second;
+    total += d, ++n;
+  }
+  HeldOutTest t;
+  t.batches = static_cast<int>(batch.size());
+  t.crit = student_t_upper_quantile(kTestLevel / std::max(1, comparisons), std::max(1, t.batches - 1));
+  if (n == 0 || t.batches < 2) return t;
+  t.gain = total / n;
+  double m = 0, v = 0;
+  for (const auto& [key, b] : batch) m += b.first / b.second;
+  m /= t.batches;
+  for (const auto& [key, b] : batch) v += (b.first / b.second - m) * (b.first / b.second - m);
+  const double se = std::sqrt(v / (t.batches - 1) / t.batches);
+  t.t = se > 0 ? m / se : (m > 0 ? 1e9 : 0.0);
+  t.significant = t.gain > 0 && t.t >= t.crit;
+  return t;
+}
+
+}  // namespace chainsim

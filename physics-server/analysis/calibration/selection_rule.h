@@ -1,0 +1,54 @@
+// When the calibration may add an effect: two tests of a candidate (the
+// current model plus the effect) against the reference (the current model
+// re-fitted alone from the same starts, i.e. the profile at the effect's null
+// value). docs/calibration.md, "Method".
+//
+//  1. Profile-likelihood interval: the effect's 95 % interval excludes its
+//     null value when the likelihood-ratio statistic on the training blocks,
+//     (SSE_ref - SSE_cand) in noise units divided by the residual's
+//     correlation inflation (1 + rho) / (1 - rho), reaches the chi-square
+//     95 % point for the effect's number of parameters.
+//  2. Held-out improvement: on the held-out blocks the per-sample loss
+//     difference (reference - candidate) is cut into batches (kBatchesPerBlock
+//     per block); its mean must be positive with a one-sided t statistic above
+//     the Student-t point at 5 % divided by the number of candidates compared
+//     (Bonferroni): the improvement beats what a re-fit of the current model
+//     alone achieves, and one of many candidates fitting noise does not pass.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "analysis/calibration/residual_stats.h"
+
+namespace chainsim {
+
+constexpr double kTestLevel = 0.05;
+
+// upper quantiles: P(Z > z) = p for a standard normal; P(T > t) = p for
+// Student's t with dof degrees of freedom; the chi-square 95 % point (dof 1..8)
+double normal_upper_quantile(double p);
+double student_t_upper_quantile(double p, int dof);
+double chi_square_95(int dof);
+
+struct ProfileTest {
+  double stat = 0;       // likelihood-ratio statistic, correlation-corrected
+  double crit = 0;       // chi-square 95 % point
+  double inflation = 1;  // (1 + rho) / (1 - rho)
+  int dof = 1;
+  bool excludes_null = false;
+};
+ProfileTest profile_test(double sse_ref, double sse_cand, double rho_cand, int dof);
+
+struct HeldOutTest {
+  double gain = 0;   // mean loss difference per held-out sample (reference - candidate), noise units
+  double t = 0;      // its t statistic over the batches
+  double crit = 0;   // the one-sided point at kTestLevel / comparisons
+  int batches = 0;
+  bool significant = false;
+};
+// loss_*: per-sample loss on all samples (sample_loss)
+HeldOutTest held_out_test(const std::vector<double>& loss_ref, const std::vector<double>& loss_cand,
+                          const BlockSplit& s, int comparisons);
+
+}  // namespace chainsim
