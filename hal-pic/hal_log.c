@@ -5,8 +5,6 @@
 
 #include "hal_pic.h"
 
-#define LOG_LINE_MAX 95u
-
 void hp_log_init(void)
 {
 #if HAL_PIC_LOG_UART
@@ -43,7 +41,7 @@ static uint8_t put_str(const char *s, uint8_t max)
 void hal_log(const char *line)
 {
 #if HAL_PIC_LOG_UART
-    (void)put_str(line, LOG_LINE_MAX);
+    (void)put_str(line, HAL_LOG_LINE_MAX);
     put_char('\r');
     put_char('\n');
 #else
@@ -58,7 +56,7 @@ void hal_log_int(const char *prefix, int32_t value)
     uint8_t k = 0, n;
     uint32_t mag;
 
-    n = put_str(prefix, LOG_LINE_MAX - 11u); /* keep room for the number */
+    n = put_str(prefix, HAL_LOG_LINE_MAX - HAL_LOG_INT_CHARS_MAX); /* keep room for the number */
     (void)n;
     if (value < 0) {
         put_char('-');

@@ -7,6 +7,8 @@
 
 #include <pic18f2550.h> /* generated from gputils' p18f2550.inc (tools/pic-devhdr.py) */
 
+#include "hal_servo.h"
+
 /* 20 MHz crystal, HS mode, no PLL: Fosc = 20 MHz, one instruction cycle
  * (Fosc/4) = 0.2 us */
 #define HP_FOSC_HZ 20000000UL
@@ -16,8 +18,8 @@
 #ifndef HAL_PIC_SERVOS
 #define HAL_PIC_SERVOS 2
 #endif
-#if HAL_PIC_SERVOS > 4
-#error "hal-pic drives at most 4 servos (RB2..RB5)"
+#if HAL_PIC_SERVOS > HAL_SERVOS_MAX
+#error "hal-pic drives at most HAL_SERVOS_MAX (4) servos (RB2..RB5)"
 #endif
 
 /* I2C receive ring in bytes (a power of two, at most 256): frames are stored
@@ -45,9 +47,10 @@ extern volatile uint8_t hp_sin_level; /* Sin as sampled at the last tick */
  * set-points, Sout); called at the start of every wait */
 void hp_flush_outputs(void);
 
-/* set-up and interrupt work of each peripheral */
+/* set-up and interrupt work of each peripheral; the interrupt vectors are
+ * hp_isr_high (hal_servo.c: only the servo pulses, CCP1 on Timer3) and
+ * hp_isr_low (hal_time.c: the tick, then hp_i2c_isr and hp_counter_tick) */
 void hp_servo_init(void);
-void hp_servo_isr(void);  /* high priority: CCP1 compare on Timer3 */
 void hp_servo_flush(void);
 void hp_i2c_init(void);
 void hp_i2c_isr(void);    /* low priority: MSSP */

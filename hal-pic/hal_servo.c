@@ -13,7 +13,7 @@
  *     width_us = 1500 + cdeg / 18          (-9000 -> 1000 us, 0 -> 1500, 9000 -> 2000)
  *     counts   = 7500 + cdeg * 5 / 18      (Timer3 counts of 0.2 us, truncated toward 0)
  * The servo turns -90..+90 degrees; set-points beyond that (up to the HAL's
- * +/-18000) are clamped to 1.0 / 2.0 ms. Outside +/-18000: HAL_ERR_ARG.
+ * +/-HAL_SERVO_CDEG_MAX) are clamped to 1.0 / 2.0 ms. Beyond: HAL_ERR_ARG.
  *
  * Measured angle: the servo's potentiometer wiper on AN<servo> (RA0, RA1, ..),
  * linear between SERVO_POT_MIN_COUNTS (-90 deg) and SERVO_POT_MAX_COUNTS
@@ -23,7 +23,6 @@
 #include "hal_adc.h"
 #include "hal_pic.h"
 
-#define SERVO_CDEG_HAL_MAX 18000   /* the HAL's accepted range */
 #define SERVO_CDEG_RANGE 9000      /* the servo's mechanical range (+/-) */
 #define SERVO_CENTER_COUNTS 7500u  /* 1.5 ms */
 #define SLOT_COUNTS 12500u         /* 2.5 ms: 8 slots = one 20 ms frame */
@@ -121,7 +120,7 @@ hal_status setspangle(uint8_t servo, int16_t angle_cdeg)
 {
 #if HAL_PIC_SERVOS > 0
     int16_t a = angle_cdeg;
-    if (servo >= HAL_PIC_SERVOS || a < -SERVO_CDEG_HAL_MAX || a > SERVO_CDEG_HAL_MAX)
+    if (servo >= HAL_PIC_SERVOS || a < -HAL_SERVO_CDEG_MAX || a > HAL_SERVO_CDEG_MAX)
         return HAL_ERR_ARG;
     if (a > SERVO_CDEG_RANGE)
         a = SERVO_CDEG_RANGE;

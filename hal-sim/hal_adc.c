@@ -3,6 +3,8 @@
 
 #include "hal_sim_link.h"
 
+typedef char hs_adc_counts_check[(HAL_ADC_COUNTS_MAX == CS_ADC_COUNTS_MAX) ? 1 : -1];
+
 uint16_t hal_adc_read(uint8_t channel)
 {
     if (channel >= hs.n_adc || channel >= CS_ADC_MAX)

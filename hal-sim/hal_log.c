@@ -6,6 +6,11 @@
 
 #include "hal_sim_link.h"
 
+/* the protocol's line buffer holds a HAL line and its NUL; its per-tick
+ * limit is the HAL's guaranteed lines per wait */
+typedef char hs_log_line_check[(HAL_LOG_LINE_MAX + 1u == CS_LOG_LINE_MAX) ? 1 : -1];
+typedef char hs_log_lines_check[(HAL_LOG_LINES_PER_WAIT == CS_LOG_LINES_MAX) ? 1 : -1];
+
 void hal_log(const char *line)
 {
     hs_log_line(line != NULL ? line : "");
@@ -20,8 +25,8 @@ void hal_log_int(const char *prefix, int32_t value)
 
     if (prefix != NULL) {
         n = strlen(prefix);
-        if (n > CS_LOG_LINE_MAX - 13u)
-            n = CS_LOG_LINE_MAX - 13u; /* keep room for the number */
+        if (n > HAL_LOG_LINE_MAX - HAL_LOG_INT_CHARS_MAX)
+            n = HAL_LOG_LINE_MAX - HAL_LOG_INT_CHARS_MAX; /* keep room for the number */
         memcpy(line, prefix, n);
     }
     if (value < 0) {

@@ -5,6 +5,9 @@
 
 #include "hal_sim_link.h"
 
+/* WELCOME's name buffer holds a HAL name and its NUL */
+typedef char hs_param_name_check[(HAL_PARAM_NAME_MAX + 1u == CS_PARAM_NAME_MAX) ? 1 : -1];
+
 int32_t hal_param(const char *name, int32_t default_value)
 {
     uint8_t i;

@@ -4,11 +4,13 @@
 
 #include "hal_sim_link.h"
 
-#define SERVO_CDEG_MAX 18000
+/* the protocol carries as many servos as the HAL allows */
+typedef char hs_servos_max_check[(HAL_SERVOS_MAX == CS_SERVOS_MAX) ? 1 : -1];
 
 hal_status setspangle(uint8_t servo, int16_t angle_cdeg)
 {
-    if (servo >= hal_servo_count() || angle_cdeg < -SERVO_CDEG_MAX || angle_cdeg > SERVO_CDEG_MAX)
+    if (servo >= hal_servo_count() || angle_cdeg < -HAL_SERVO_CDEG_MAX ||
+        angle_cdeg > HAL_SERVO_CDEG_MAX)
         return HAL_ERR_ARG;
     hs.servo_setpoint[servo] = (int32_t)angle_cdeg * 10;
     hs.servo_enable |= (uint8_t)(1u << servo);

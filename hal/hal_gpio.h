@@ -4,7 +4,9 @@
 
 #include <stdint.h>
 
-/* level of digital input pin (0..15), 0 or 1 */
+#define HAL_GPIO_PINS 16u /* digital inputs 0..15; a pin the board lacks reads 0 */
+
+/* level of digital input pin (0..HAL_GPIO_PINS - 1), 0 or 1 */
 uint8_t hal_gpio_read(uint8_t pin);
 
 #endif

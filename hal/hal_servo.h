@@ -5,9 +5,13 @@
 #include <stdint.h>
 #include "hal_status.h"
 
+#define HAL_SERVOS_MAX 4         /* servos a module can have: 0..3 */
+#define HAL_SERVO_CDEG_MAX 18000 /* setspangle accepts -HAL_SERVO_CDEG_MAX..+HAL_SERVO_CDEG_MAX */
+
 /* set servo's set-point angle in centidegrees (the paper's setspangle);
  * the servo is driven from the next wait on. HAL_ERR_ARG for a servo the
- * module lacks or an angle outside -18000..18000 */
+ * module lacks or an angle outside +-HAL_SERVO_CDEG_MAX. A board's servo
+ * may turn less (hal-pic: +-9000) and then clamps what it cannot reach. */
 hal_status setspangle(uint8_t servo, int16_t angle_cdeg);
 
 /* stop driving servo (no pulses: it goes limp) until the next setspangle */

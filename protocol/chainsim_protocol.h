@@ -97,7 +97,8 @@ typedef struct {
     uint8_t sin_level;    /* 0 or 1 */
     uint16_t digital_in;  /* digital input pins, bit n = pin n (touch sensors) */
     uint8_t n_servos;
-    int32_t servo_pos[CS_SERVOS_MAX]; /* measured: millidegrees (rotary) or micrometres (linear) */
+    int32_t servo_pos[CS_SERVOS_MAX]; /* measured: millidegrees (rotary), micrometres (linear),
+                                         the echoed per mille command (screw drive) */
     uint8_t n_adc;
     uint16_t adc[CS_ADC_MAX];         /* counts, 0..CS_ADC_COUNTS_MAX */
     uint8_t n_counters;
@@ -113,7 +114,8 @@ typedef struct {
     uint8_t i2c_address;   /* own 7-bit slave address, 0 = none yet */
     uint8_t n_servos;
     uint8_t servo_enable;  /* bit n: servo n is driven (0 = set-point ignored) */
-    int32_t servo_setpoint[CS_SERVOS_MAX]; /* millidegrees (rotary) or micrometres (linear) */
+    int32_t servo_setpoint[CS_SERVOS_MAX]; /* millidegrees (rotary), micrometres (linear),
+                                              per mille of drive (screw drive) */
     uint8_t n_i2c;
     cs_i2c_frame i2c[CS_I2C_FRAMES_MAX];   /* frames to put on the bus */
     uint8_t n_log;

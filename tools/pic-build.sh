@@ -14,6 +14,10 @@ JOBS="${JOBS:-$(nproc 2>/dev/null || echo 2)}"
 export CHAINSIM_PIC_CACHE="${CHAINSIM_PIC_CACHE:-$HOME/.cache/chainsim-pic}"
 
 "$ROOT/tools/pic-toolchain.sh"
+# keep the runtime from being rebuilt under us (pic-toolchain.sh takes the
+# lock exclusively)
+exec 9>"$CHAINSIM_PIC_CACHE/lock"
+flock -s 9
 
 echo "[pic-build] building the firmware into $OUT"
 cmake -S "$ROOT/hal-pic" -B "$OUT" -DCHAINSIM_PIC_CACHE="$CHAINSIM_PIC_CACHE" >/dev/null

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Build the PIC18 toolchain for hal-pic (docs: hal-pic/README.md, DESIGN.md 7):
+# Build the PIC18 toolchain for hal-pic (docs: hal-pic/README.md, "Toolchain and build"):
 #
 #   1. Debian packages: gputils (gpasm/gplink/gplib, .inc and .lkr files),
 #      gpsim, and the build dependencies of SDCC
@@ -13,7 +13,7 @@
 # Everything goes to a cache outside the repo:
 #   ${CHAINSIM_PIC_CACHE:-$HOME/.cache/chainsim-pic}
 # Each step has a stamp file and is skipped when done; the runtime step also
-# re-runs when the generator or the toolchain script changes. The source
+# re-runs when the generator or the toolchain script's code changes. The source
 # (src/, 175 MB) is only used to build; it may be deleted afterwards.
 # Idempotent; takes about 2 minutes on 2 cores the first time, <1 s cached.
 #
@@ -41,6 +41,14 @@ die() {
 trap 'rc=$?; [ $rc -eq 0 ] || printf "[pic-toolchain] FAILED (exit %s); logs: %s/logs\n" "$rc" "$CACHE" >&2' EXIT
 
 mkdir -p "$CACHE/logs" || die "cannot create the cache directory $CACHE (set CHAINSIM_PIC_CACHE)"
+
+# one writer at a time: checkouts on the same machine share the cache, and
+# pic-build.sh holds the lock shared while it links against the runtime
+exec 9>"$CACHE/lock"
+if ! flock -n 9; then
+  say "waiting for another user of $CACHE"
+  flock 9
+fi
 
 # run a command with its output in a log file; show the log's tail on failure
 run_logged() {
@@ -105,8 +113,11 @@ SDCC_BIN="$SDCC_PREFIX/bin/sdcc"
 COMP_STAMP="$CACHE/stamps/compiler"
 RT="$CACHE/rt"
 RT_STAMP="$CACHE/stamps/runtime"
-# the runtime is rebuilt when this script or the header generator changes
-RT_KEY=$(cat "${BASH_SOURCE[0]}" "$HERE/pic-devhdr.py" "$INC_FILE" | sha256sum | cut -c1-16)
+# the runtime is rebuilt when this script or the header generator changes;
+# not for an edit of the script's comment lines (the cache is shared by every
+# checkout on the machine, and each would rebuild it for the other)
+RT_KEY=$({ grep -vE '^[[:space:]]*#( |$)' "${BASH_SOURCE[0]}"; cat "$HERE/pic-devhdr.py" "$INC_FILE"; } |
+  sha256sum | cut -c1-16)
 need_compiler=0
 need_runtime=0
 if [ ! -f "$COMP_STAMP" ] || [ ! -x "$SDCC_BIN" ] || [ ! -x "$SDCC_PREFIX/bin/sdcpp" ]; then

@@ -60,6 +60,11 @@
 #define CC_STATUS_REPLY_LEN 6u
 #define CC_TOUCH_LEN 3u
 
+/* the limit of the angle fields that bend a joint one way (posture, bias,
+ * bend, grip): a quarter turn, in centidegrees. The amplitudes may reach the
+ * HAL's set-point limit, HAL_SERVO_CDEG_MAX (hal_servo.h). */
+#define CC_QUARTER_TURN_CDEG 9000
+
 /* SET_GAIT byte offsets */
 #define CC_GAIT_OFF_GAIT 1u
 #define CC_GAIT_OFF_AMP 2u   /* i16 amplitude, centidegrees (0..18000) */

@@ -5,7 +5,9 @@
 
 #include <stdint.h>
 
-#define SB_CAP 96u /* the HAL's log line limit, NUL included */
+#include "hal_log.h"
+
+#define SB_CAP (HAL_LOG_LINE_MAX + 1u) /* a HAL log line and its NUL */
 
 typedef struct {
     char buf[SB_CAP];

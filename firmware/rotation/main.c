@@ -98,9 +98,9 @@ static void control_step(void)
         }
         /* a negative yaw offset bends the chain so that it crawls to the left */
         if (ca_gait == GAIT_TURN_LEFT)
-            yaw = clamp_i16((int32_t)yaw - bias_cdeg, 18000);
+            yaw = clamp_i16((int32_t)yaw - bias_cdeg, HAL_SERVO_CDEG_MAX);
         else if (ca_gait == GAIT_TURN_RIGHT)
-            yaw = clamp_i16((int32_t)yaw + bias_cdeg, 18000);
+            yaw = clamp_i16((int32_t)yaw + bias_cdeg, HAL_SERVO_CDEG_MAX);
     }
     chain_app_servo(SERVO_PITCH, pitch);
     chain_app_servo(SERVO_YAW, yaw);
@@ -135,8 +135,8 @@ static void set_gait(const uint8_t *buf)
     ca_gait = buf[CC_GAIT_OFF_GAIT];
     if (ca_gait == GAIT_BEND) {
         /* a fixed posture, taken at once (the chain keeps moving) */
-        bend_pitch_cdeg = clamp_i16(cc_get_i16(buf + CC_GAIT_OFF_BEND_PITCH), 9000);
-        bend_yaw_cdeg = clamp_i16(cc_get_i16(buf + CC_GAIT_OFF_BEND_YAW), 9000);
+        bend_pitch_cdeg = clamp_i16(cc_get_i16(buf + CC_GAIT_OFF_BEND_PITCH), CC_QUARTER_TURN_CDEG);
+        bend_yaw_cdeg = clamp_i16(cc_get_i16(buf + CC_GAIT_OFF_BEND_YAW), CC_QUARTER_TURN_CDEG);
         if (!ca_running) {
             ca_running = 1;
             chain_app_clock_start();
@@ -148,15 +148,15 @@ static void set_gait(const uint8_t *buf)
     omega_mrad_s = cc_get_i16(buf + CC_GAIT_OFF_OMEGA);
     phase_mrad = cc_get_i16(buf + CC_GAIT_OFF_PHASE);
     axis = buf[CC_GAIT_OFF_AXIS];
-    posture_cdeg = clamp_i16(cc_get_i16(buf + CC_GAIT_OFF_POSTURE), 9000);
+    posture_cdeg = clamp_i16(cc_get_i16(buf + CC_GAIT_OFF_POSTURE), CC_QUARTER_TURN_CDEG);
     if (amp_cdeg < 0)
         amp_cdeg = (int16_t)-amp_cdeg;
-    if (amp_cdeg > 18000)
-        amp_cdeg = 18000;
+    if (amp_cdeg > HAL_SERVO_CDEG_MAX)
+        amp_cdeg = HAL_SERVO_CDEG_MAX;
     amp2_cdeg = cc_get_i16(buf + CC_GAIT_OFF_AMP2);
-    amp2_cdeg = clamp_i16(amp2_cdeg < 0 ? -(int32_t)amp2_cdeg : amp2_cdeg, 18000);
+    amp2_cdeg = clamp_i16(amp2_cdeg < 0 ? -(int32_t)amp2_cdeg : amp2_cdeg, HAL_SERVO_CDEG_MAX);
     shift_mrad = cc_get_i16(buf + CC_GAIT_OFF_SHIFT);
-    bias_cdeg = clamp_i16(cc_get_i16(buf + CC_GAIT_OFF_BIAS), 9000);
+    bias_cdeg = clamp_i16(cc_get_i16(buf + CC_GAIT_OFF_BIAS), CC_QUARTER_TURN_CDEG);
     if (axis > CC_AXIS_YAW) {
         axis = CC_AXIS_PITCH;
         ca_flags |= CC_FLAG_BAD_GAIT;
@@ -191,8 +191,8 @@ int main(void)
                 break;
             case CC_READ_SENSORS:
                 n = hal_servo_count();
-                if (n > 4u)
-                    n = 4u;
+                if (n > HAL_SERVOS_MAX)
+                    n = HAL_SERVOS_MAX;
                 for (i = 0; i < n; i++)
                     v[i] = hal_servo_angle_cdeg(i);
                 chain_app_sensors(v, n);

@@ -18,7 +18,7 @@
 
 #define SERVO_ARM 0u
 
-static int16_t grip_cdeg = 9000;
+static int16_t grip_cdeg = CC_QUARTER_TURN_CDEG;
 static iw_schedule sched = {1000, 0, 1};
 
 int main(void)
@@ -38,7 +38,7 @@ int main(void)
             case CC_SET_GAIT:
                 (void)chain_app_take_gait(buf, GAIT_INCHWORM);
                 g = cc_get_i16(buf + CC_GAIT_OFF_GRIP);
-                grip_cdeg = g < 0 ? 0 : (g > 9000 ? 9000 : g);
+                grip_cdeg = g < 0 ? 0 : (g > CC_QUARTER_TURN_CDEG ? CC_QUARTER_TURN_CDEG : g);
                 iw_read_schedule(buf, &sched);
                 if (ca_gait == GAIT_NONE) {
                     ca_running = 0;

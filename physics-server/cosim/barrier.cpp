@@ -1,7 +1,7 @@
+// The lockstep barrier. See barrier.h.
 #include "cosim/barrier.h"
 
 #include <cinttypes>
-#include <cmath>
 #include <cstdio>
 
 namespace chainsim {
@@ -79,7 +79,7 @@ void Barrier::apply(int64_t t_us, BarrierSink* sink) {
       if (!changed) continue;
       p.servo_enable = static_cast<uint8_t>((p.servo_enable & ~bit) | (on ? bit : 0));
       p.setpoint[s] = te.servo_setpoint[s];
-      sink->servo(e, s, on, te.servo_setpoint[s] * 1e-3 * M_PI / 180.0);
+      sink->servo(e, s, on, te.servo_setpoint[s]);
     }
     if (te.sout_level != p.sout) {
       p.sout = te.sout_level;

@@ -16,8 +16,9 @@ namespace chainsim {
 class BarrierSink {
  public:
   virtual ~BarrierSink() = default;
-  // a servo set-point of module m (radians; enabled false = limp)
-  virtual void servo(int module, int servo, bool enabled, double rad) = 0;
+  // servo s of module m: enabled (false = limp) and its set-point as the
+  // module sent it, in the actuator's wire unit (the World converts it)
+  virtual void servo(int module, int servo, bool enabled, int32_t setpoint_wire) = 0;
   // a bus-log line ("i2c ...", "sync ...", "addr ...")
   virtual void bus_event(int64_t t_us, const char* line) = 0;
   // a log line of endpoint e

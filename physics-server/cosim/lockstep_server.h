@@ -1,76 +1,20 @@
 // A run: the physics server that spawns one process per module plus the
 // central control, advances them and the ODE world in lockstep, and writes
-// the run directory.
+// the run directory. The tick loop is lockstep_server.cpp; the processes and
+// their links endpoints.cpp; the barrier and bus barrier.cpp, bus.cpp; the
+// files output/.
 #pragma once
 
-#include <cstdint>
-#include <optional>
-#include <set>
-#include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
+#include "cosim/replay.h"
+#include "cosim/run_options.h"
 #include "scene/scene.h"
 
 namespace chainsim {
 
-enum class FaultMode { Stop, Limp };
-
-// exit codes of `chainsim run`
-constexpr int kExitOk = 0;
-constexpr int kExitBadInput = 1;     // scene or options
-constexpr int kExitModuleFault = 2;  // a module crashed, hung or broke the protocol
-constexpr int kExitInternal = 3;
-constexpr int kExitInterrupted = 130;
-
-// watches a run as it happens (the live view); called from the simulation
-// loop, so every method must return quickly and never block on a client.
-// Nothing it does can change the simulation's result.
-class RunObserver {
- public:
-  virtual ~RunObserver() = default;
-  virtual void started(const nlohmann::json& scene, const std::string& trace_header) = 0;
-  virtual void trace_row(const std::string& row) = 0;      // one CSV line, newline included
-  virtual void bus_line(int64_t t_us, const char* line) = 0;
-  virtual void finished(const nlohmann::json& summary) = 0;
-};
-
-struct RunOptions {
-  std::string out_dir;                  // run directory to write
-  FaultMode on_fault = FaultMode::Stop;
-  double module_timeout_s = 10.0;       // wall clock, per exchange
-  std::set<int> attach;                 // endpoints the user starts by hand
-  std::string firmware_dir;             // where fw-* programs are; default: next to chainsim
-  bool progress = false;                // progress lines on stderr
-  bool quiet = false;                   // no messages on stderr except errors
-  RunObserver* observer = nullptr;      // e.g. the live view; may be null
-};
-
-// one applied servo command, for replaying a run without processes
-struct ServoCommand {
-  int64_t t_us;
-  int16_t module;
-  int8_t servo;
-  int8_t enabled;
-  double rad;   // set-point in the actuator's unit (world.h: rad, m or -1..1)
-};
-
-struct RunResult {
-  int exit_code = kExitOk;
-  std::string message;          // what ended the run when not a clean finish
-  nlohmann::json summary;       // as written to summary.json
-  double wall_time_s = 0;
-  uint64_t exchanges = 0;       // TickBegin/TickEnd round trips
-};
-
 // run scene; record, if given, collects every applied servo command
 RunResult run_scene(const Scene& scene, const RunOptions& options,
                     std::vector<ServoCommand>* record = nullptr);
-
-// replay recorded commands into a fresh world for the scene's duration, with
-// no processes; the trace goes to trace_out (may be null). Returns wall seconds.
-double replay_physics(const Scene& scene, const std::vector<ServoCommand>& commands,
-                      std::string* trace_sha256);
 
 }  // namespace chainsim

@@ -8,6 +8,7 @@
 #include "environment/pipe_mesh.h"
 #include "environment/pipe_path.h"
 #include "environment/terrain.h"
+#include "physics/units.h"
 
 namespace chainsim {
 
@@ -56,9 +57,8 @@ std::shared_ptr<const TriMesh> environment_mesh(const EnvironmentConfig& env) {
           pipe_bore_mesh(layout_pipe(env.pipe), env.pipe.mesh_segments));
     case EnvironmentType::Mesh: {
       if (env.mesh.data) return env.mesh.data;
-      constexpr double kDeg = 3.14159265358979323846 / 180.0;
       TriMesh m = load_mesh_file(env.mesh.file, env.mesh.scale);
-      transform_mesh(&m, env.mesh.position_m, env.mesh.rpy_deg * kDeg);
+      transform_mesh(&m, env.mesh.position_m, env.mesh.rpy_deg * kRadPerDeg);
       return std::make_shared<const TriMesh>(std::move(m));
     }
   }

@@ -6,11 +6,12 @@
 #include <limits>
 #include <mutex>
 
+#include "physics/units.h"
+
 namespace chainsim {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kSegmentSamples = 9;   // along a capsule axis, box edge or cylinder side (elbows)
 constexpr int kRimSamples = 12;      // around a cylinder rim
 constexpr int kRefineIterations = 14;  // golden-section steps: interval x 0.618^14 ~ 1e-3

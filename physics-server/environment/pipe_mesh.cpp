@@ -7,10 +7,10 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "physics/units.h"
+
 namespace chainsim {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 int ring_count(const PipePiece& p, int around) {
   const double edge = 2 * kPi * p.radius_m / around;

@@ -7,11 +7,11 @@
 #include <limits>
 #include <sstream>
 
+#include "physics/units.h"
+
 namespace chainsim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 std::string num(double v) {
@@ -68,7 +68,7 @@ PipeLayout layout_pipe(const PipeSpec& spec) {
       throw PipeLayoutError(0, "slope_deg must be in [-90, 90] (is " + num(first.slope_deg) + ")");
     slope = first.slope_deg;
   }
-  const double h = spec.heading_deg * kDeg, s = slope * kDeg;
+  const double h = spec.heading_deg * kRadPerDeg, s = slope * kRadPerDeg;
   PipeFrame f;
   f.point = spec.entry_m;
   f.tangent = Eigen::Vector3d(std::cos(s) * std::cos(h), std::cos(s) * std::sin(h), std::sin(s));
@@ -86,7 +86,7 @@ PipeLayout layout_pipe(const PipeSpec& spec) {
       throw PipeLayoutError(seg, "slope_deg is only allowed on the first segment (change the "
                                  "direction with an elbow)");
     const Eigen::Vector3d bend_dir =
-        std::cos(g.direction_deg * kDeg) * f.up + std::sin(g.direction_deg * kDeg) * left_of(f);
+        std::cos(g.direction_deg * kRadPerDeg) * f.up + std::sin(g.direction_deg * kRadPerDeg) * left_of(f);
     switch (g.type) {
       case PipeSegment::Type::Straight: {
         if (!(g.length_m > 0) || !std::isfinite(g.length_m))
@@ -107,7 +107,7 @@ PipeLayout layout_pipe(const PipeSpec& spec) {
         p.segment = seg;
         p.start = f;
         p.bend_radius_m = g.bend_radius_m;
-        p.angle_rad = g.angle_deg * kDeg;
+        p.angle_rad = g.angle_deg * kRadPerDeg;
         p.centre = f.point + g.bend_radius_m * bend_dir;
         p.u = -bend_dir;
         p.v = f.tangent;

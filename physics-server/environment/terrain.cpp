@@ -5,9 +5,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "physics/units.h"
+
 namespace chainsim {
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kWallDepth = 0.02;  // walls reach this far below z = 0, m
 
 double cell(const TerrainSpec& t) { return t.resolution_m > 0 ? t.resolution_m : t.wavelength_m / 24; }

@@ -1,4 +1,4 @@
-// Built-in module types and ModuleDef helpers. See module_library.h. The
+// Built-in module types and ModuleDef helpers. See module_def.h. The
 // built-in types are the files scenes/modules/*.yaml, compiled in
 // (builtin_modules.cpp.in) and parsed on first use (module_file.h).
 #include "model/module_def.h"
@@ -12,12 +12,12 @@
 #include <stdexcept>
 
 #include "model/module_file.h"
+#include "physics/units.h"
 
 namespace chainsim {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 [[noreturn]] void invalid(const ModuleDef& d, const std::string& what) {
   throw std::invalid_argument("module type '" + d.type + "': " + what);

@@ -74,7 +74,8 @@ struct JointDef {
 };
 
 // All three are driven by firmware through the World's servo index API
-// (world.h says what each set-point means). Their force laws:
+// (each kind's file in physics/actuators/ says what its set-point means).
+// Their force laws:
 //  * Servo: the paper's DC servomotor model, servo_model.h.
 //  * LinearServo (paper eqs 4-5, extension module), on a slider joint:
 //      u = clamp((ref - pos)/l0_m, -1, 1)          drive fraction

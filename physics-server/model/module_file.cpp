@@ -11,11 +11,11 @@
 #include <set>
 
 #include "readers/strict_yaml.h"
+#include "physics/units.h"
 
 namespace chainsim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kBig = 1e6;  // bound for sizes and positions (m), forces (N), ...
 
 using Keys = std::set<std::string>;

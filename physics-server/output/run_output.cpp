@@ -1,7 +1,5 @@
+// The run directory's files. See run_output.h.
 #include "output/run_output.h"
-
-#include <openssl/evp.h>
-#include <sys/stat.h>
 
 #include <cerrno>
 #include <cinttypes>
@@ -10,27 +8,9 @@
 #include <fstream>
 #include <stdexcept>
 
-namespace chainsim {
+#include "output/decimal.h"
 
-Sha256::Sha256() : ctx_(EVP_MD_CTX_new()) {
-  EVP_DigestInit_ex(static_cast<EVP_MD_CTX*>(ctx_), EVP_sha256(), nullptr);
-}
-Sha256::~Sha256() { EVP_MD_CTX_free(static_cast<EVP_MD_CTX*>(ctx_)); }
-void Sha256::update(const void* data, size_t len) {
-  EVP_DigestUpdate(static_cast<EVP_MD_CTX*>(ctx_), data, len);
-}
-std::string Sha256::hex() {
-  unsigned char md[EVP_MAX_MD_SIZE];
-  unsigned int n = 0;
-  EVP_DigestFinal_ex(static_cast<EVP_MD_CTX*>(ctx_), md, &n);
-  static const char* digits = "0123456789abcdef";
-  std::string s;
-  for (unsigned i = 0; i < n; ++i) {
-    s += digits[md[i] >> 4];
-    s += digits[md[i] & 15];
-  }
-  return s;
-}
+namespace chainsim {
 
 namespace {
 FILE* open_or_throw(const std::string& path) {
@@ -77,7 +57,8 @@ void RunOutput::bus(int64_t t_us, const char* line) {
 void RunOutput::module_log(int endpoint, int64_t t_us, const char* line) {
   FILE*& f = logs_[endpoint];
   if (!f) f = open_or_throw(module_file(endpoint, "log"));
-  std::fprintf(f, "%" PRId64 ".%06" PRId64 " %s\n", t_us / 1000000, t_us % 1000000, line);
+  const std::string t = seconds_text(t_us);
+  std::fprintf(f, "%s %s\n", t.c_str(), line);
 }
 
 void RunOutput::flush() {
@@ -92,14 +73,17 @@ std::string RunOutput::trace_sha256() {
   return sha_hex_;
 }
 
-void RunOutput::write_summary(const nlohmann::json& summary) {
-  const std::string tmp = path("summary.json.tmp");
+void RunOutput::write_json(const std::string& name, const nlohmann::json& value) {
+  const std::string tmp = path(name + ".tmp");
   {
     std::ofstream out(tmp);
-    out << summary.dump(2) << "\n";
+    out << value.dump(2) << "\n";
+    out.flush();
     if (!out) throw std::runtime_error("cannot write " + tmp);
   }
-  std::filesystem::rename(tmp, path("summary.json"));
+  std::error_code ec;
+  std::filesystem::rename(tmp, path(name), ec);
+  if (ec) throw std::runtime_error("cannot write " + path(name) + ": " + ec.message());
 }
 
 }  // namespace chainsim

@@ -1,7 +1,7 @@
 #include "output/scene_json.h"
 
-#include "output/environment_json.h"
 #include "model/module_def.h"
+#include "output/environment_json.h"
 
 namespace chainsim {
 
@@ -41,7 +41,7 @@ nlohmann::json scene_json(const Scene& scene) {
   }
   return {{"scene", scene.name},
           {"source", scene.source},
-          {"seed", scene.seed},
+          {"seed", scene.world.seed},
           {"duration_s", scene.duration_s},
           {"dt_us", scene.world.dt_us},
           {"tick_us", scene.tick_us},
@@ -52,6 +52,12 @@ nlohmann::json scene_json(const Scene& scene) {
           {"environment", environment_json(scene.world)},  // format: environment_json.cpp
           {"modules", modules},
           {"central", {{"index", scene.modules.size()}, {"firmware", scene.central.firmware}}}};
+}
+
+nlohmann::json write_scene_json(RunOutput* out, const Scene& scene) {
+  nlohmann::json j = scene_json(scene);
+  out->write_json("scene.json", j);
+  return j;
 }
 
 }  // namespace chainsim

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "output/run_output.h"
 #include "scene/scene.h"
 
 namespace chainsim {
@@ -13,5 +14,8 @@ namespace chainsim {
 const char* module_color(const std::string& type);
 
 nlohmann::json scene_json(const Scene& scene);
+
+// writes scene_json(scene) as the run directory's scene.json; returns it
+nlohmann::json write_scene_json(RunOutput* out, const Scene& scene);
 
 }  // namespace chainsim

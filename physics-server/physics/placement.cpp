@@ -19,11 +19,12 @@ double chain_length_m(const std::vector<std::string>& chain,
   return length;
 }
 
-void place_chain_at_pipe_entry(WorldConfig* cfg, double inset_m) {
+void place_chain_at_pipe_entry(WorldConfig* cfg, const std::vector<std::string>& chain,
+                               double inset_m) {
   if (cfg->environment.type != EnvironmentType::Pipe)
     throw std::invalid_argument("placement at the pipe entry needs environment type 'pipe'");
   const PipeLayout layout = layout_pipe(cfg->environment.pipe);
-  const double length = chain_length_m(cfg->chain, cfg->module_types);
+  const double length = chain_length_m(chain, cfg->module_types);
   if (inset_m < 0 || inset_m + length > layout.entry_straight_m) {
     std::ostringstream s;
     s << "the chain (" << length << " m) plus the inset (" << inset_m

@@ -14,10 +14,12 @@ namespace chainsim {
 double chain_length_m(const std::vector<std::string>& chain,
                       const std::vector<ModuleDef>& module_types = {});
 
-// Lays the chain on the axis of the pipe's first straight segment, head first
-// into the pipe: the tail's back face inset_m inside the entry, module z
-// along the pipe's "up" (pipe_path.h). Throws std::invalid_argument if the
+// Lays `chain` (module type names, head first; looked up as chain_length_m
+// does) on the axis of the pipe's first straight segment, head first into the
+// pipe: the tail's back face inset_m inside the entry, module z along the
+// pipe's "up" (pipe_path.h). Throws std::invalid_argument if the
 // environment is not a pipe or the straight is shorter than inset + chain.
-void place_chain_at_pipe_entry(WorldConfig* cfg, double inset_m);
+void place_chain_at_pipe_entry(WorldConfig* cfg, const std::vector<std::string>& chain,
+                               double inset_m);
 
 }  // namespace chainsim

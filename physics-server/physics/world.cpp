@@ -1,6 +1,7 @@
-// The ODE world of one run. See world.h (interface), module_library.h (how a
-// module type is described) and servo_model.h (the servo and how it is coupled
-// to ODE).
+// The ODE world of one run: assembly and the step. See world.h (interface),
+// model/module_def.h (how a module type is described), module_builder.h (its
+// bodies and joints), actuators/ (servo, linear servo, screw drive),
+// contact.h (collisions) and sensors/.
 //
 // Determinism: ODE's random generator (QuickStep reorders constraints with it)
 // is seeded with WorldConfig::seed and its state is saved/restored around every
@@ -35,44 +36,23 @@
 
 #include <ode/ode.h>
 
-#include <Eigen/Geometry>
-
 #include <algorithm>
-#include <cinttypes>
 #include <cmath>
-#include <cstdio>
 #include <mutex>
 #include <stdexcept>
 
 #include "environment/environment_geoms.h"
-#include "model/module_def.h"
+#include "physics/contact.h"
+#include "physics/module_builder.h"
+#include "physics/sensors/module_channels.h"
 #include "physics/sensors/sensors.h"
 
 namespace chainsim {
 
 namespace {
 
-constexpr int kMaxContactsPerPair = 8;
-constexpr double kMotorFMax = 10.0;   // N m; far above any servo torque (stall 0.058 N m)
-constexpr double kPi = 3.14159265358979323846;
 constexpr unsigned kStepReserveBytes = 4u << 20;  // ODE stepper working memory, reserved
 constexpr int kWarmContactsPerGeom = 8;           // contact joints pre-allocated per geom
-
-Eigen::Isometry3d to_iso(const Pose& p) {
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.linear() = p.orientation.normalized().toRotationMatrix();
-  t.translation() = p.position;
-  return t;
-}
-
-Eigen::Isometry3d body_iso(dBodyID b) {
-  const dReal* p = dBodyGetPosition(b);
-  const dReal* q = dBodyGetQuaternion(b);
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.linear() = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).toRotationMatrix();
-  t.translation() = Eigen::Vector3d(p[0], p[1], p[2]);
-  return t;
-}
 
 void ode_init_once() {
   static std::once_flag flag;
@@ -80,451 +60,85 @@ void ode_init_once() {
   dAllocateODEDataForThread(dAllocateMaskAll);
 }
 
+// the ModuleDef of each chain entry, validated
+std::vector<ModuleDef> resolve_chain(const std::vector<std::string>& chain,
+                                     const std::vector<ModuleDef>& module_types) {
+  std::vector<ModuleDef> defs;
+  defs.reserve(chain.size());
+  for (const std::string& name : chain) {
+    defs.push_back(find_module_def(module_types, name));
+    validate_module_def(defs.back());
+  }
+  return defs;
+}
+
+// the environment's surfaces and the modules: each pair's material, from the
+// environment's pair table or the config's defaults
+ContactMaterials resolve_materials(const WorldConfig& cfg, const EnvironmentGeoms& env) {
+  ContactMaterials m;
+  for (const std::string& surface : env.surfaces())
+    m.surface.push_back(contact_material(cfg.environment, surface, module_surface_name(), cfg.ground));
+  m.ground = cfg.ground;
+  m.module_module = contact_material(cfg.environment, module_surface_name(), module_surface_name(),
+                                     cfg.module_contact);
+  return m;
+}
+
 }  // namespace
 
 struct World::Impl {
   struct Body {
     dBodyID id = nullptr;
-    dGeomID geom = nullptr;
-    int module = -1;
     std::string name;
-    bool touched = false;      // had a contact in the last step
-  };
-  // a firmware-driven actuator: rotary servo, linear servo or screw drive
-  struct Servo {
-    ServoKind kind = ServoKind::Rotary;
-    int module = -1;
-    dJointID hinge = nullptr;  // Rotary: the hinge; Linear: the slider
-    // Rotary: one-axis angular motor realising the servo torque; Linear, Screw:
-    // one-axis linear motor realising the force law's implicit part
-    dJointID motor = nullptr;
-    ServoModel model;
-    double lo = 0, hi = 0;     // set-point range: rad, m or -1..1
-    bool enabled = true;
-    int follows = -1;          // global servo index whose set-point this one copies
-    // Linear, Screw (force laws in module_library.h)
-    dBodyID body = nullptr;    // Screw: the body pushed
-    Eigen::Vector3d dir = Eigen::Vector3d::UnitX();  // Screw: drive axis, body frame, unit
-    double fmax = 0, l0 = 0, v_free = 0, stall_a = 0;
-    double cmd = 0;            // set-point: m (Linear) or -1..1 (Screw)
-    bool on = false;           // driven during the last step
-    double law_damping = 0, law_rate = 0, law_force = 0;  // this step: F = law_force + D (v* - v')
-    double force = 0;          // force of the last step, N
-    double i_motor = 0, i_f = 0;   // motor current (signed), its RC-filtered magnitude
   };
   struct Module {
     std::string type;
     int body0 = 0, nbody = 0;
-    std::vector<int> driven;   // global servo indices firmware drives (servo s = driven[s])
-    std::vector<int> all;      // all global servo indices of the module
+    std::vector<int> driven;   // actuator indices firmware drives (servo s = driven[s])
+    std::vector<int> all;      // all actuator indices of the module
     bool powered = true;
-    int n_adc = 0;
-    int adc_servo[8] = {-1, -1, -1, -1, -1, -1, -1, -1};
-    std::vector<std::pair<int, int>> touch;  // (global body, input bit)
-    int front_body = 0, back_body = 0;       // global body indices
+    ModuleChannels channels;   // servo position, motor current and touch sensors
+    int front_body = 0, back_body = 0;              // body indices
     Eigen::Isometry3d front_in_body, back_in_body;  // face frames in their bodies' frames
   };
 
-  WorldConfig cfg;
+  explicit Impl(int64_t dt) : dt_us(dt), h(static_cast<double>(dt) * 1e-6) {}
+  ~Impl();
+  void build(const WorldConfig& cfg, const std::vector<std::string>& chain);
+  void add_module(int index, const ModuleDef& def, const Eigen::Isometry3d& frame,
+                  const WorldConfig& cfg);
+  void dock(const Module& front, const Module& back);
+  void begin_actuators();
+  void end_actuators();
+
+  const Module& mod(int m) const;
+  int actuator_index(int m, int s) const;
+  const Actuator& servo(int m, int s) const { return actuators[actuator_index(m, s)]; }
+  int body_index(int m, int b) const;
+
+  const int64_t dt_us;
+  const double h;            // dt_us in seconds
   dWorldID world = nullptr;
   dSpaceID space = nullptr;
   std::unique_ptr<EnvironmentGeoms> env;   // destroyed after the space (its triangle data)
-  std::vector<Material> env_materials;      // environment surface index -> contact with a module
-  dJointGroupID contact_group = nullptr;
-  unsigned long rand_seed = 0;
+  std::unique_ptr<Contacts> contacts;
+  unsigned long rand_seed = 0;             // ODE's random state between steps
   int64_t time_us = 0;
-  double h = 0;
-  double filter_e = 0;   // e^(-h/tau_f) of the linear servo / screw drive current filter
-  int contact_count = 0;
 
   std::vector<Body> bodies;
-  std::vector<Servo> servos;
+  std::vector<Actuator> actuators;
   std::vector<Module> modules;
   Sensors sensors;   // accelerometers, wheel encoders, joint friction (sensors.h)
-  dContactGeom contact_buf[kMaxContactsPerPair];
-
-  static void near_callback(void* data, dGeomID a, dGeomID b) {
-    static_cast<Impl*>(data)->collide_pair(a, b);
-  }
-
-  void collide_pair(dGeomID a, dGeomID b) {
-    const intptr_t ia = reinterpret_cast<intptr_t>(dGeomGetData(a));
-    const intptr_t ib = reinterpret_cast<intptr_t>(dGeomGetData(b));
-    // > 0: 1 + body index; <= 0: an environment geom (EnvironmentGeoms::surface_tag)
-    if (ia <= 0 && ib <= 0) return;  // environment vs environment
-    const intptr_t env_tag = ia <= 0 ? ia : ib;
-    const Material* mat = env_tag < 0 ? &env_materials[EnvironmentGeoms::surface_index(env_tag)]
-                                      : &cfg.ground;
-    if (ia > 0 && ib > 0) {
-      const Body& ba = bodies[ia - 1];
-      const Body& bb = bodies[ib - 1];
-      if (ba.module == bb.module) return;                              // no self-collision
-      if (dAreConnectedExcluding(ba.id, bb.id, dJointTypeContact)) return;  // docked pair
-      mat = &cfg.module_contact;
-    }
-    const int n = dCollide(a, b, kMaxContactsPerPair, contact_buf, sizeof(dContactGeom));
-    if (n <= 0) return;
-    if (ia > 0) bodies[ia - 1].touched = true;
-    if (ib > 0) bodies[ib - 1].touched = true;
-    for (int k = 0; k < n; ++k) {
-      dContact c;
-      c.geom = contact_buf[k];
-      c.surface.mode = dContactApprox1 | dContactSoftERP | dContactSoftCFM;
-      c.surface.mu = mat->mu;
-      c.surface.mu2 = 0;
-      c.surface.rho = c.surface.rho2 = c.surface.rhoN = 0;
-      c.surface.bounce = 0;
-      c.surface.bounce_vel = 0;
-      if (mat->bounce > 0) {
-        c.surface.mode |= dContactBounce;
-        c.surface.bounce = mat->bounce;
-        c.surface.bounce_vel = 0.01;
-      }
-      c.surface.soft_erp = mat->soft_erp;
-      c.surface.soft_cfm = mat->soft_cfm;
-      c.surface.motion1 = c.surface.motion2 = c.surface.motionN = 0;
-      c.surface.slip1 = c.surface.slip2 = 0;
-      friction_direction(c);
-      dJointID j = dJointCreateContact(world, contact_group, &c);
-      dJointAttach(j, dGeomGetBody(c.geom.g1), dGeomGetBody(c.geom.g2));
-      ++contact_count;
-    }
-  }
-
-  // ODE's Coulomb friction is a pyramid: two directions in the contact
-  // plane, each limited to mu N, so something sliding at 45 degrees to them
-  // meets sqrt(2) times mu N. Left to ODE, the directions come from the normal
-  // alone (dPlaneSpace): on a floor the world's x and y, so a gait that slides
-  // sideways went elsewhere when the chain started at another heading (the
-  // lateral shift: 1.36 m across at 0 degrees, 0.96 m across and 0.86 m along
-  // at 45). Here the pyramid is turned about the normal so that one of its
-  // directions lies along the sliding velocity at the contact, which makes
-  // the friction against the motion exactly mu N, whatever the heading.
-  // Slow contacts keep ODE's own directions and the turn grows smoothly with
-  // the sliding speed (weight v^2 / (v^2 + kFrictionTurnSpeed^2)): turned
-  // sharply at mm/s speeds, a contact that a servo presses while it creeps
-  // chattered with QuickStep's 30 iterations (a touch cover read contact in
-  // 44 % of the steps instead of all of them; fine at 300 iterations).
-  static constexpr double kFrictionTurnSpeed = 0.01;  // m/s
-  static void friction_direction(dContact& c) {
-    const dReal* n = c.geom.normal;
-    dVector3 pp, qq;
-    dPlaneSpace(n, pp, qq);
-    const dBodyID b1 = dGeomGetBody(c.geom.g1), b2 = dGeomGetBody(c.geom.g2);
-    dVector3 v1 = {0, 0, 0}, v2 = {0, 0, 0};
-    if (b1) dBodyGetPointVel(b1, c.geom.pos[0], c.geom.pos[1], c.geom.pos[2], v1);
-    if (b2) dBodyGetPointVel(b2, c.geom.pos[0], c.geom.pos[1], c.geom.pos[2], v2);
-    const Eigen::Vector3d p(pp[0], pp[1], pp[2]), q(qq[0], qq[1], qq[2]);
-    const Eigen::Vector3d v(v1[0] - v2[0], v1[1] - v2[1], v1[2] - v2[2]);
-    const double vp = v.dot(p), vq = v.dot(q), s2 = vp * vp + vq * vq;
-    // the smallest turn of (p, q) that puts p or q along the sliding, scaled
-    // by the weight; a quarter turn maps the pyramid onto itself
-    const double a = std::atan2(vq, vp);
-    const double turn = (a - std::round(a / (M_PI / 2)) * (M_PI / 2)) *
-                        (s2 / (s2 + kFrictionTurnSpeed * kFrictionTurnSpeed));
-    // (Between the two ends the turn jumps from +w 45 to -w 45 degrees where
-    // the sliding crosses a diagonal of the pyramid: no continuous blend of
-    // "turn with the sliding" and "do not turn" exists on a quarter-turn
-    // circle. The jump is 0 at both ends and largest, 45 degrees, at 1 cm/s.)
-    Eigen::Vector3d d = std::cos(turn) * p + std::sin(turn) * q;
-    d.normalize();  // p, q are unit for a unit normal; the pipe geoms write their own normals
-    c.surface.mode |= dContactFDir1;
-    c.fdir1[0] = d.x();
-    c.fdir1[1] = d.y();
-    c.fdir1[2] = d.z();
-    c.fdir1[3] = 0;
-  }
-
-  void build();
-  void add_module(int index, const ModuleDef& def, const Eigen::Isometry3d& frame);
-  void add_force_actuator(int index, Module& md, const ModuleDef& def, const ActuatorDef& ad,
-                          const Eigen::Isometry3d& frame, const std::vector<dJointID>& joints);
-  void begin_force_actuator(Servo& s);
-  void end_force_actuator(Servo& s);
-  uint16_t adc_counts(const Servo& s) const;
-  double actuator_rate(const Servo& s) const;
-
-  const Module& mod(int m) const {
-    if (m < 0 || m >= static_cast<int>(modules.size()))
-      throw std::out_of_range("module index " + std::to_string(m) + " out of range");
-    return modules[m];
-  }
-  int servo_index(int m, int s) const {
-    const Module& md = mod(m);
-    if (s < 0 || s >= static_cast<int>(md.driven.size()))
-      throw std::out_of_range("servo " + std::to_string(s) + " of module " + std::to_string(m) +
-                              " out of range");
-    return md.driven[s];
-  }
-  int body_index(int m, int b) const {
-    const Module& md = mod(m);
-    if (b < 0 || b >= md.nbody)
-      throw std::out_of_range("body " + std::to_string(b) + " of module " + std::to_string(m) +
-                              " out of range");
-    return md.body0 + b;
-  }
 };
 
-void World::Impl::add_module(int index, const ModuleDef& def, const Eigen::Isometry3d& frame) {
-  Module md;
-  md.type = def.type;
-  md.body0 = static_cast<int>(bodies.size());
-  md.nbody = static_cast<int>(def.bodies.size());
-
-  for (const BodyDef& bd : def.bodies) {
-    const Eigen::Isometry3d t = frame * to_iso(bd.pose);
-    const Eigen::Quaterniond q(t.linear());
-    Body b;
-    b.module = index;
-    b.name = bd.name;
-    b.id = dBodyCreate(world);
-    dBodySetPosition(b.id, t.translation().x(), t.translation().y(), t.translation().z());
-    const dQuaternion dq = {q.w(), q.x(), q.y(), q.z()};
-    dBodySetQuaternion(b.id, dq);
-    dMass m;
-    switch (bd.shape) {
-      case Shape::Capsule:
-        dMassSetCapsuleTotal(&m, bd.mass_kg, 3, bd.radius_m, bd.length_m);
-        b.geom = dCreateCapsule(space, bd.radius_m, bd.length_m);
-        break;
-      case Shape::Cylinder:
-        dMassSetCylinderTotal(&m, bd.mass_kg, 3, bd.radius_m, bd.length_m);
-        b.geom = dCreateCylinder(space, bd.radius_m, bd.length_m);
-        break;
-      case Shape::Box:
-        dMassSetBoxTotal(&m, bd.mass_kg, bd.box_m.x(), bd.box_m.y(), bd.box_m.z());
-        b.geom = dCreateBox(space, bd.box_m.x(), bd.box_m.y(), bd.box_m.z());
-        break;
-      case Shape::Sphere:
-        dMassSetSphereTotal(&m, bd.mass_kg, bd.radius_m);
-        b.geom = dCreateSphere(space, bd.radius_m);
-        break;
-    }
-    dBodySetMass(b.id, &m);
-    dGeomSetBody(b.geom, b.id);
-    // 1-based global body index; 0 marks the environment
-    dGeomSetData(b.geom, reinterpret_cast<void*>(static_cast<intptr_t>(bodies.size() + 1)));
-    bodies.push_back(b);
-  }
-
-  std::vector<dJointID> joints;
-  for (const JointDef& jd : def.joints) {
-    dBodyID parent = bodies[md.body0 + jd.parent].id;
-    dBodyID child = bodies[md.body0 + jd.child].id;
-    const Eigen::Vector3d anchor = frame * jd.anchor_m;
-    const Eigen::Vector3d axis = frame.linear() * jd.axis.normalized();
-    dJointID j = nullptr;
-    // body1 = child, body2 = parent: ODE's angle/position is body1 relative to body2
-    switch (jd.type) {
-      case JointType::Hinge:
-        j = dJointCreateHinge(world, nullptr);
-        dJointAttach(j, child, parent);
-        dJointSetHingeAnchor(j, anchor.x(), anchor.y(), anchor.z());
-        dJointSetHingeAxis(j, axis.x(), axis.y(), axis.z());
-        if (std::isfinite(jd.lo)) dJointSetHingeParam(j, dParamLoStop, jd.lo);
-        if (std::isfinite(jd.hi)) dJointSetHingeParam(j, dParamHiStop, jd.hi);
-        break;
-      case JointType::Slider:
-        j = dJointCreateSlider(world, nullptr);
-        dJointAttach(j, child, parent);
-        dJointSetSliderAxis(j, axis.x(), axis.y(), axis.z());
-        if (std::isfinite(jd.lo)) dJointSetSliderParam(j, dParamLoStop, jd.lo);
-        if (std::isfinite(jd.hi)) dJointSetSliderParam(j, dParamHiStop, jd.hi);
-        break;
-      case JointType::Fixed:
-        j = dJointCreateFixed(world, nullptr);
-        dJointAttach(j, child, parent);
-        dJointSetFixed(j);
-        break;
-    }
-    joints.push_back(j);
-  }
-
-  // actuators: servos (module-local actuator index -> global servo index)
-  std::vector<int> act_servo(def.actuators.size(), -1);
-  for (size_t a = 0; a < def.actuators.size(); ++a) {
-    const ActuatorDef& ad = def.actuators[a];
-    if (ad.type != ActuatorType::Servo) {
-      add_force_actuator(index, md, def, ad, frame, joints);
-      act_servo[a] = static_cast<int>(servos.size()) - 1;
-      continue;
-    }
-    const JointDef& jd = def.joints[ad.joint];
-    Servo s;
-    s.module = index;
-    s.hinge = joints[ad.joint];
-    s.model = ServoModel(ad.servo.value_or(cfg.servo));
-    s.lo = std::isfinite(jd.lo) ? jd.lo : -kPi;
-    s.hi = std::isfinite(jd.hi) ? jd.hi : kPi;
-    s.motor = dJointCreateAMotor(world, nullptr);
-    dJointAttach(s.motor, bodies[md.body0 + jd.child].id, bodies[md.body0 + jd.parent].id);
-    dJointSetAMotorMode(s.motor, dAMotorUser);
-    dJointSetAMotorNumAxes(s.motor, 1);
-    const Eigen::Vector3d axis = frame.linear() * jd.axis.normalized();
-    dJointSetAMotorAxis(s.motor, 0, 1, axis.x(), axis.y(), axis.z());
-    dJointSetAMotorParam(s.motor, dParamFMax, kMotorFMax);
-    act_servo[a] = static_cast<int>(servos.size());
-    md.all.push_back(static_cast<int>(servos.size()));
-    servos.push_back(std::move(s));
-  }
-  for (size_t a = 0; a < def.actuators.size(); ++a) {
-    if (def.actuators[a].follows >= 0)
-      servos[act_servo[a]].follows = act_servo[def.actuators[a].follows];
-  }
-  for (int a : driven_servo_actuators(def)) md.driven.push_back(act_servo[a]);
-
-  for (const SensorDef& sd : def.sensors) {
-    switch (sd.type) {
-      case SensorType::MotorCurrent:
-        md.adc_servo[sd.channel] = act_servo[sd.actuator];
-        md.n_adc = std::max(md.n_adc, sd.channel + 1);
-        break;
-      case SensorType::Touch:
-        md.touch.emplace_back(md.body0 + sd.body, sd.channel);
-        break;
-      case SensorType::Accelerometer:
-      case SensorType::WheelEncoder:
-        break;  // sensors.add_module
-    }
-  }
-  std::vector<dBodyID> body_ids;
-  for (int b = 0; b < md.nbody; ++b) body_ids.push_back(bodies[md.body0 + b].id);
-  sensors.add_module(index, def, body_ids, joints, frame.linear());
-
-  md.front_body = md.body0 + def.front.body;
-  md.back_body = md.body0 + def.back.body;
-  md.front_in_body = to_iso(def.bodies[def.front.body].pose).inverse() * to_iso(def.front.frame);
-  md.back_in_body = to_iso(def.bodies[def.back.body].pose).inverse() * to_iso(def.back.frame);
-  modules.push_back(std::move(md));
+World::Impl::~Impl() {
+  contacts.reset();                // its joint group
+  if (space) dSpaceDestroy(space);  // destroys its geoms (cleanup mode)
+  if (world) dWorldDestroy(world);  // destroys bodies and joints
 }
 
-// Linear servo and screw drive (force laws in module_library.h). Realised
-// like the rotary servo: the part of the force that depends on the end-of-step
-// rate v' is a one-axis linear motor row with dParamVel = v*, dParamCFM = 1/D,
-// dParamFMax = fmax, i.e. F = clamp(D (v* - v'), -fmax, fmax), solved
-// implicitly by ODE with the whole system:
-//  * the back-EMF term fmax v'/v_free: D = fmax / v_free;
-//  * the linear servo's proportional term inside its band (|u| < 1) is taken
-//    at the end-of-step position pos + h v' (backward Euler):
-//    fmax (ref - pos - h v')/l0 adds D = fmax h / l0 (stable for any stiffness;
-//    its numerical damping, fmax h / l0, is what keeps the pure paper law
-//    with v_free = 0 from ringing forever).
-// With no v'-dependent part at all (saturated or a screw drive without
-// v_free) the force is a plain external force. The linear motor is a separate
-// joint (LMotor) rather than the slider's built-in motor, so that at a slider
-// stop the law still holds (ODE replaces a powered joint's motor by its full
-// fmax there).
-void World::Impl::add_force_actuator(int index, Module& md, const ModuleDef& def,
-                                     const ActuatorDef& ad, const Eigen::Isometry3d& frame,
-                                     const std::vector<dJointID>& joints) {
-  Servo s;
-  s.module = index;
-  s.fmax = ad.fmax_n;
-  s.l0 = ad.l0_m;
-  s.v_free = ad.v_free_m_s;
-  s.stall_a = ad.stall_current_a > 0 ? ad.stall_current_a : cfg.servo.supply_v / cfg.servo.r;
-  s.motor = dJointCreateLMotor(world, nullptr);
-  dJointSetLMotorNumAxes(s.motor, 1);
-  if (ad.type == ActuatorType::LinearServo) {
-    const JointDef& jd = def.joints[ad.joint];
-    s.kind = ServoKind::Linear;
-    s.hinge = joints[ad.joint];
-    s.lo = jd.lo;   // may be infinite
-    s.hi = jd.hi;
-    s.cmd = std::clamp(0.0, s.lo, s.hi);
-    dJointAttach(s.motor, bodies[md.body0 + jd.child].id, bodies[md.body0 + jd.parent].id);
-    const Eigen::Vector3d axis = frame.linear() * jd.axis.normalized();
-    dJointSetLMotorAxis(s.motor, 0, 2, axis.x(), axis.y(), axis.z());  // fixed in the parent
-  } else {
-    s.kind = ServoKind::Screw;
-    s.body = bodies[md.body0 + ad.body].id;
-    s.lo = -1.0;
-    s.hi = 1.0;
-    s.dir = ad.direction.normalized();
-    dVector3 axis;
-    dBodyVectorToWorld(s.body, s.dir.x(), s.dir.y(), s.dir.z(), axis);
-    dJointAttach(s.motor, s.body, nullptr);
-    dJointSetLMotorAxis(s.motor, 0, 1, axis[0], axis[1], axis[2]);  // fixed in the body
-  }
-  dJointSetLMotorParam(s.motor, dParamFMax, 0.0);
-  md.all.push_back(static_cast<int>(servos.size()));
-  servos.push_back(std::move(s));
-}
-
-// rate along the actuator's axis as its motor row measures it: the slider rate
-// (relative velocity of the two bodies along the axis), or the screw-driven
-// body's velocity along its drive axis; m/s
-double World::Impl::actuator_rate(const Servo& s) const {
-  if (s.kind == ServoKind::Linear) return dJointGetSliderPositionRate(s.hinge);
-  dVector3 ax;  // (dJointGetLMotorAxis would give the body-frame axis)
-  dBodyVectorToWorld(s.body, s.dir.x(), s.dir.y(), s.dir.z(), ax);
-  const dReal* v = dBodyGetLinearVel(s.body);
-  return ax[0] * v[0] + ax[1] * v[1] + ax[2] * v[2];
-}
-
-void World::Impl::begin_force_actuator(Servo& s) {
-  s.on = modules[s.module].powered && s.enabled;
-  s.law_damping = s.law_rate = s.law_force = 0.0;
-  if (s.on) {
-    double d = s.v_free > 0 ? s.fmax / s.v_free : 0.0;  // back-EMF
-    double f0;                                          // the part known now
-    if (s.kind == ServoKind::Linear) {
-      const double u = (s.cmd - dJointGetSliderPosition(s.hinge)) / s.l0;
-      if (std::fabs(u) < 1.0) {
-        f0 = s.fmax * u;
-        d += s.fmax * h / s.l0;
-      } else {
-        f0 = u > 0 ? s.fmax : -s.fmax;
-      }
-    } else {
-      f0 = s.fmax * s.cmd;
-    }
-    if (d > 0) {
-      s.law_damping = d;
-      s.law_rate = f0 / d;
-    } else {
-      s.law_force = f0;
-    }
-  }
-  if (s.law_damping > 0) {
-    dJointSetLMotorParam(s.motor, dParamVel, s.law_rate);
-    dJointSetLMotorParam(s.motor, dParamCFM, 1.0 / s.law_damping);
-    dJointSetLMotorParam(s.motor, dParamFMax, s.fmax);
-    return;
-  }
-  dJointSetLMotorParam(s.motor, dParamFMax, 0.0);
-  if (s.law_force == 0.0) return;
-  if (s.kind == ServoKind::Linear) {
-    dJointAddSliderForce(s.hinge, s.law_force);
-  } else {
-    dVector3 ax;
-    dBodyVectorToWorld(s.body, s.dir.x(), s.dir.y(), s.dir.z(), ax);
-    dBodyAddForce(s.body, s.law_force * ax[0], s.law_force * ax[1], s.law_force * ax[2]);
-  }
-}
-
-void World::Impl::end_force_actuator(Servo& s) {
-  s.force = s.law_damping > 0
-                ? std::clamp(s.law_damping * (s.law_rate - actuator_rate(s)), -s.fmax, s.fmax)
-                : s.law_force;
-  s.i_motor = s.on ? s.force / s.fmax * s.stall_a : 0.0;
-  // RC filter of |i|, exact for |i| held over the step (as ServoModel)
-  const double a = std::fabs(s.i_motor);
-  s.i_f = a + (s.i_f - a) * filter_e;
-}
-
-uint16_t World::Impl::adc_counts(const Servo& s) const {
-  if (s.kind == ServoKind::Rotary) return s.model.adc_counts();
-  const double fs = cfg.servo.adc_full_scale_a;
-  if (!(fs > 0.0)) return 0;
-  const double c = std::floor(s.i_f / fs * 1023.0 + 0.5);
-  return static_cast<uint16_t>(std::clamp(c, 0.0, 1023.0));
-}
-
-void World::Impl::build() {
-  if (cfg.dt_us <= 0) throw std::invalid_argument("dt_us must be > 0");
-  h = static_cast<double>(cfg.dt_us) * 1e-6;
-  filter_e = cfg.servo.current_filter_tau_s > 0 ? std::exp(-h / cfg.servo.current_filter_tau_s) : 0.0;
+void World::Impl::build(const WorldConfig& cfg, const std::vector<std::string>& chain) {
+  const std::vector<ModuleDef> defs = resolve_chain(chain, cfg.module_types);
   ode_init_once();
   world = dWorldCreate();
   dWorldSetGravity(world, 0, 0, -cfg.gravity_m_s2);
@@ -535,23 +149,10 @@ void World::Impl::build() {
   dWorldSetContactSurfaceLayer(world, 1e-4);
   space = dSimpleSpaceCreate(nullptr);
   env = std::make_unique<EnvironmentGeoms>(cfg.environment, space);
-  for (const std::string& surface : env->surfaces())
-    env_materials.push_back(
-        contact_material(cfg.environment, surface, module_surface_name(), cfg.ground));
-  cfg.module_contact = contact_material(cfg.environment, module_surface_name(),
-                                        module_surface_name(), cfg.module_contact);
-  contact_group = dJointGroupCreate(0);
+  contacts = std::make_unique<Contacts>(world, resolve_materials(cfg, *env));
   rand_seed = static_cast<unsigned long>(cfg.seed);
   sensors.init(world, cfg.seed, cfg.gravity_m_s2);
 
-  std::vector<ModuleDef> defs;
-  defs.reserve(cfg.chain.size());
-  for (const std::string& name : cfg.chain) {
-    const auto custom = std::find_if(cfg.module_types.begin(), cfg.module_types.end(),
-                                     [&](const ModuleDef& d) { return d.type == name; });
-    defs.push_back(custom != cfg.module_types.end() ? *custom : builtin_module_def(name));
-    validate_module_def(defs.back());
-  }
   // head's front face at head_position, chain along +x rotated by heading
   // about z, or as head_orientation says
   Eigen::Isometry3d face = Eigen::Isometry3d::Identity();
@@ -560,15 +161,11 @@ void World::Impl::build() {
                       : Eigen::AngleAxisd(cfg.heading_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   face.translation() = cfg.head_position;
   for (size_t k = 0; k < defs.size(); ++k) {
-    const Eigen::Isometry3d frame = face * to_iso(defs[k].front.frame).inverse();
-    add_module(static_cast<int>(k), defs[k], frame);
-    face = frame * to_iso(defs[k].back.frame);
+    const Eigen::Isometry3d frame = face * to_isometry(defs[k].front.frame).inverse();
+    add_module(static_cast<int>(k), defs[k], frame, cfg);
+    face = frame * to_isometry(defs[k].back.frame);
   }
-  for (size_t k = 0; k + 1 < modules.size(); ++k) {
-    dJointID j = dJointCreateFixed(world, nullptr);
-    dJointAttach(j, bodies[modules[k].back_body].id, bodies[modules[k + 1].front_body].id);
-    dJointSetFixed(j);
-  }
+  for (size_t k = 0; k + 1 < modules.size(); ++k) dock(modules[k], modules[k + 1]);
 
   // memory for step(): ODE's stepper keeps what it reserved; the contact
   // group keeps its arenas when emptied, so fill it once and empty it
@@ -577,29 +174,108 @@ void World::Impl::build() {
   reserve.reserve_factor = 1.2f;
   reserve.reserve_minimum = kStepReserveBytes;
   dWorldSetStepMemoryReservationPolicy(world, &reserve);
-  dContact dummy{};
-  const size_t warm = 64 + kWarmContactsPerGeom * bodies.size();
-  for (size_t k = 0; k < warm; ++k) dJointCreateContact(world, contact_group, &dummy);
-  dJointGroupEmpty(contact_group);
+  contacts->warm_up(64 + kWarmContactsPerGeom * bodies.size());
 }
 
-World::World(const WorldConfig& config) : impl_(std::make_unique<Impl>()) {
-  impl_->cfg = config;
-  try {
-    impl_->build();
-  } catch (...) {
-    if (impl_->contact_group) dJointGroupDestroy(impl_->contact_group);
-    if (impl_->space) dSpaceDestroy(impl_->space);
-    if (impl_->world) dWorldDestroy(impl_->world);
-    throw;
+void World::Impl::add_module(int index, const ModuleDef& def, const Eigen::Isometry3d& frame,
+                             const WorldConfig& cfg) {
+  Module md;
+  md.type = def.type;
+  md.body0 = static_cast<int>(bodies.size());
+  md.nbody = static_cast<int>(def.bodies.size());
+  const ModuleBodies parts = build_module_bodies(world, space, def, frame);
+  for (int b = 0; b < md.nbody; ++b) {
+    contacts->add_body(parts.geoms[b], index);
+    bodies.push_back({parts.bodies[b], def.bodies[b].name});
+  }
+
+  // actuators, in definition order (module-local index -> the World's)
+  std::vector<int> act(def.actuators.size(), -1);
+  for (size_t a = 0; a < def.actuators.size(); ++a) {
+    act[a] = static_cast<int>(actuators.size());
+    md.all.push_back(act[a]);
+    actuators.push_back(
+        make_actuator(index, def, static_cast<int>(a), world, parts, frame, cfg.servo, h));
+  }
+  for (size_t a = 0; a < def.actuators.size(); ++a)
+    if (def.actuators[a].follows >= 0) actuators[act[a]].follows = act[def.actuators[a].follows];
+  for (int a : driven_servo_actuators(def)) md.driven.push_back(act[a]);
+
+  for (const SensorDef& sd : def.sensors) {
+    switch (sd.type) {
+      case SensorType::MotorCurrent:
+        md.channels.adc_actuator[sd.channel] = act[sd.actuator];
+        md.channels.n_adc = std::max(md.channels.n_adc, sd.channel + 1);
+        break;
+      case SensorType::Touch:
+        md.channels.touch.emplace_back(md.body0 + sd.body, sd.channel);
+        break;
+      case SensorType::Accelerometer:
+      case SensorType::WheelEncoder:
+        break;  // sensors.add_module
+    }
+  }
+  sensors.add_module(index, def, parts.bodies, parts.joints, frame.linear());
+
+  md.front_body = md.body0 + def.front.body;
+  md.back_body = md.body0 + def.back.body;
+  md.front_in_body =
+      to_isometry(def.bodies[def.front.body].pose).inverse() * to_isometry(def.front.frame);
+  md.back_in_body = to_isometry(def.bodies[def.back.body].pose).inverse() * to_isometry(def.back.frame);
+  modules.push_back(std::move(md));
+}
+
+// back face of `front` fixed to the front face of `back`
+void World::Impl::dock(const Module& front, const Module& back) {
+  dJointID j = dJointCreateFixed(world, nullptr);
+  dJointAttach(j, bodies[front.back_body].id, bodies[back.front_body].id);
+  dJointSetFixed(j);
+}
+
+void World::Impl::begin_actuators() {
+  for (Actuator& a : actuators) {
+    // a passive servo copies its master's set-point and enable
+    const Actuator& master = a.follows >= 0 ? actuators[a.follows] : a;
+    if (a.follows >= 0)
+      std::get<RotaryServo>(a.device).copy_setpoint(std::get<RotaryServo>(master.device));
+    const bool driven = modules[a.module].powered && master.enabled;
+    a.visit([&](auto& d) { d.begin_step(driven, h); });
   }
 }
 
-World::~World() {
-  dJointGroupDestroy(impl_->contact_group);
-  dSpaceDestroy(impl_->space);   // destroys its geoms (cleanup mode)
-  dWorldDestroy(impl_->world);   // destroys bodies and joints
+void World::Impl::end_actuators() {
+  for (Actuator& a : actuators) a.visit([](auto& d) { d.end_step(); });
 }
+
+const World::Impl::Module& World::Impl::mod(int m) const {
+  if (m < 0 || m >= static_cast<int>(modules.size()))
+    throw std::out_of_range("module index " + std::to_string(m) + " out of range");
+  return modules[m];
+}
+
+int World::Impl::actuator_index(int m, int s) const {
+  const Module& md = mod(m);
+  if (s < 0 || s >= static_cast<int>(md.driven.size()))
+    throw std::out_of_range("servo " + std::to_string(s) + " of module " + std::to_string(m) +
+                            " out of range");
+  return md.driven[s];
+}
+
+int World::Impl::body_index(int m, int b) const {
+  const Module& md = mod(m);
+  if (b < 0 || b >= md.nbody)
+    throw std::out_of_range("body " + std::to_string(b) + " of module " + std::to_string(m) +
+                            " out of range");
+  return md.body0 + b;
+}
+
+World::World(const WorldConfig& config, const std::vector<std::string>& chain) {
+  if (config.dt_us <= 0) throw std::invalid_argument("dt_us must be > 0");
+  impl_ = std::make_unique<Impl>(config.dt_us);
+  impl_->build(config, chain);  // on a throw, ~Impl frees what was created
+}
+
+World::~World() = default;
 
 int World::module_count() const { return static_cast<int>(impl_->modules.size()); }
 const std::string& World::module_type(int module) const { return impl_->mod(module).type; }
@@ -607,41 +283,23 @@ int World::servo_count(int module) const {
   return static_cast<int>(impl_->mod(module).driven.size());
 }
 
-void World::set_servo_setpoint(int module, int servo, double rad) {
-  Impl::Servo& s = impl_->servos[impl_->servo_index(module, servo)];
-  if (std::isnan(rad)) return;
-  if (s.kind == ServoKind::Rotary)
-    s.model.set_setpoint(std::clamp(rad, s.lo, s.hi));
-  else
-    s.cmd = std::clamp(rad, s.lo, s.hi);
+ServoKind World::servo_kind(int module, int servo) const {
+  return impl_->servo(module, servo).kind();
 }
 
-World::ServoKind World::servo_kind(int module, int servo) const {
-  return impl_->servos[impl_->servo_index(module, servo)].kind;
+void World::set_servo_setpoint(int module, int servo, double setpoint) {
+  impl_->actuators[impl_->actuator_index(module, servo)].visit(
+      [&](auto& a) { a.set_setpoint(setpoint); });
 }
 
-double World::servo_from_wire(ServoKind kind, int32_t wire) {
-  switch (kind) {
-    case ServoKind::Rotary: return wire * 1e-3 * kPi / 180.0;  // millidegrees
-    case ServoKind::Linear: return wire * 1e-6;                // micrometres
-    case ServoKind::Screw: return wire * 1e-3;                 // per mille
-  }
-  return 0.0;
-}
-
-int32_t World::servo_to_wire(ServoKind kind, double value) {
-  double w = 0;
-  switch (kind) {
-    case ServoKind::Rotary: w = value * 180.0 / kPi * 1e3; break;
-    case ServoKind::Linear: w = value * 1e6; break;
-    case ServoKind::Screw: w = value * 1e3; break;
-  }
-  if (!std::isfinite(w)) return 0;
-  return static_cast<int32_t>(std::lround(std::clamp(w, -2147483647.0, 2147483647.0)));
+void World::set_servo_setpoint_wire(int module, int servo, int32_t setpoint_wire) {
+  impl_->actuators[impl_->actuator_index(module, servo)].visit([&](auto& a) {
+    a.set_setpoint(std::decay_t<decltype(a)>::setpoint_from_wire(setpoint_wire));
+  });
 }
 
 void World::set_servo_enabled(int module, int servo, bool enabled) {
-  impl_->servos[impl_->servo_index(module, servo)].enabled = enabled;
+  impl_->actuators[impl_->actuator_index(module, servo)].enabled = enabled;
 }
 
 void World::set_module_powered(int module, bool powered) {
@@ -649,79 +307,45 @@ void World::set_module_powered(int module, bool powered) {
   impl_->modules[module].powered = powered;
 }
 
+// one physics step: ODE's demo loop with the actuator laws around it
 void World::step() {
   Impl& w = *impl_;
   dAllocateODEDataForThread(dAllocateMaskAll);  // no-op once done for this thread
-  // servo torque laws for this step (followers copy their master's set-point)
-  for (Impl::Servo& s : w.servos) {
-    if (s.kind != ServoKind::Rotary) {
-      w.begin_force_actuator(s);
-      continue;
-    }
-    if (s.follows >= 0) s.model.set_setpoint(w.servos[s.follows].model.setpoint());
-    const Impl::Module& md = w.modules[s.module];
-    const bool master_enabled = s.follows >= 0 ? w.servos[s.follows].enabled : s.enabled;
-    s.model.set_enabled(md.powered && master_enabled);
-    const ServoModel::StepLaw law = s.model.begin_step(dJointGetHingeAngle(s.hinge),
-                                                       dJointGetHingeAngleRate(s.hinge), w.h);
-    dJointSetAMotorParam(s.motor, dParamVel, law.target_rate);
-    dJointSetAMotorParam(s.motor, dParamCFM, 1.0 / law.damping);
-  }
-  for (Impl::Body& b : w.bodies) b.touched = false;
-  w.contact_count = 0;
-  dRandSetSeed(w.rand_seed);
-  dSpaceCollide(w.space, &w, &Impl::near_callback);
+  w.begin_actuators();             // each actuator's torque or force law for this step
+  dRandSetSeed(w.rand_seed);       // this world's random state (QuickStep reorders with it)
+  w.contacts->collide(w.space);    // contact joints, touch flags
   dWorldQuickStep(w.world, w.h);
   w.rand_seed = dRandGetSeed();
-  dJointGroupEmpty(w.contact_group);
-  for (Impl::Servo& s : w.servos) {
-    if (s.kind == ServoKind::Rotary)
-      s.model.end_step(dJointGetHingeAngleRate(s.hinge));
-    else
-      w.end_force_actuator(s);
-  }
-  w.sensors.step_end(w.h);
-  w.time_us += w.cfg.dt_us;
+  w.contacts->clear();
+  w.end_actuators();               // currents and forces from the rates the step produced
+  w.sensors.step_end(w.h);         // accelerometers, encoders
+  w.time_us += w.dt_us;
 }
 
 int64_t World::time_us() const { return impl_->time_us; }
-int64_t World::dt_us() const { return impl_->cfg.dt_us; }
+int64_t World::dt_us() const { return impl_->dt_us; }
 
 void World::sample(int module, ModuleSample* out) const {
   const Impl::Module& md = impl_->mod(module);
   *out = ModuleSample{};
   out->n_servos = static_cast<int>(md.driven.size());
-  out->n_adc = md.n_adc;
-  out->n_counters = 0;
+  out->n_adc = md.channels.n_adc;
   impl_->sensors.sample(module, md.powered, impl_->time_us, out);  // accelerometers, encoders
   if (!md.powered) return;
-  for (int s = 0; s < out->n_servos; ++s) {
-    const Impl::Servo& sv = impl_->servos[md.driven[s]];
-    switch (sv.kind) {
-      case ServoKind::Rotary: out->servo_angle_rad[s] = dJointGetHingeAngle(sv.hinge); break;
-      case ServoKind::Linear: out->servo_angle_rad[s] = dJointGetSliderPosition(sv.hinge); break;
-      case ServoKind::Screw: out->servo_angle_rad[s] = sv.cmd; break;
-    }
-  }
-  for (int c = 0; c < md.n_adc; ++c)
-    if (md.adc_servo[c] >= 0) out->adc[c] = impl_->adc_counts(impl_->servos[md.adc_servo[c]]);
-  for (const auto& [body, bit] : md.touch)
-    if (impl_->bodies[body].touched) out->digital_in |= static_cast<uint16_t>(1u << bit);
+  sample_channels(md.channels, md.driven, impl_->actuators, *impl_->contacts, out);
+}
+
+uint16_t World::digital_inputs(int module) const {
+  const Impl::Module& md = impl_->mod(module);
+  return md.powered ? touch_inputs(md.channels, *impl_->contacts) : 0;
 }
 
 double World::module_supply_current_a(int module) const {
   const Impl::Module& md = impl_->mod(module);
   if (!md.powered) return 0.0;
   double sum = 0;
-  // a servo without drive free-wheels: its decaying current is not drawn from the supply
-  for (int s : md.all) {
-    const Impl::Servo& sv = impl_->servos[s];
-    if (sv.kind == ServoKind::Rotary) {
-      if (sv.model.enabled()) sum += std::fabs(sv.model.current_a());
-    } else if (sv.on) {  // linear servo, screw drive: the motor current (module_library.h)
-      sum += std::fabs(sv.i_motor);
-    }
-  }
+  for (int a : md.all)
+    sum += impl_->actuators[a].visit([](const auto& x) { return x.supply_current_a(); });
   return sum;
 }
 
@@ -761,30 +385,23 @@ World::BodyState World::body_state(int module, int body) const {
   return s;
 }
 
-double World::servo_angle_rad(int module, int servo) const {
-  const Impl::Servo& s = impl_->servos[impl_->servo_index(module, servo)];
-  switch (s.kind) {
-    case ServoKind::Rotary: return dJointGetHingeAngle(s.hinge);
-    case ServoKind::Linear: return dJointGetSliderPosition(s.hinge);
-    case ServoKind::Screw: return impl_->actuator_rate(s);
-  }
-  return 0.0;
+double World::servo_setpoint(int module, int servo) const {
+  return impl_->servo(module, servo).visit([](const auto& a) { return a.setpoint(); });
 }
-double World::servo_setpoint_rad(int module, int servo) const {
-  const Impl::Servo& s = impl_->servos[impl_->servo_index(module, servo)];
-  return s.kind == ServoKind::Rotary ? s.model.setpoint() : s.cmd;
+double World::servo_position(int module, int servo) const {
+  return impl_->servo(module, servo).visit([](const auto& a) { return a.position(); });
+}
+double World::servo_rate(int module, int servo) const {
+  return impl_->servo(module, servo).visit([](const auto& a) { return a.rate(); });
 }
 double World::servo_current_a(int module, int servo) const {
-  const Impl::Servo& s = impl_->servos[impl_->servo_index(module, servo)];
-  return s.kind == ServoKind::Rotary ? s.model.current_a() : s.i_motor;
+  return impl_->servo(module, servo).visit([](const auto& a) { return a.current_a(); });
 }
 double World::servo_filtered_current_a(int module, int servo) const {
-  const Impl::Servo& s = impl_->servos[impl_->servo_index(module, servo)];
-  return s.kind == ServoKind::Rotary ? s.model.filtered_current_a() : s.i_f;
+  return impl_->servo(module, servo).visit([](const auto& a) { return a.filtered_current_a(); });
 }
 double World::servo_effort(int module, int servo) const {
-  const Impl::Servo& s = impl_->servos[impl_->servo_index(module, servo)];
-  return s.kind == ServoKind::Rotary ? s.model.motor_torque_nm() : s.force;
+  return impl_->servo(module, servo).visit([](const auto& a) { return a.effort(); });
 }
 
 void World::pin_body(int module, int body) {
@@ -806,80 +423,17 @@ void World::add_body_force(int module, int body, const Eigen::Vector3d& force_n)
 double World::max_docking_error_m() const {
   double worst = 0;
   const auto& mods = impl_->modules;
+  const auto& bodies = impl_->bodies;
   for (size_t k = 0; k + 1 < mods.size(); ++k) {
     const Eigen::Vector3d a =
-        (body_iso(impl_->bodies[mods[k].back_body].id) * mods[k].back_in_body).translation();
+        (body_isometry(bodies[mods[k].back_body].id) * mods[k].back_in_body).translation();
     const Eigen::Vector3d b =
-        (body_iso(impl_->bodies[mods[k + 1].front_body].id) * mods[k + 1].front_in_body)
-            .translation();
+        (body_isometry(bodies[mods[k + 1].front_body].id) * mods[k + 1].front_in_body).translation();
     worst = std::max(worst, (a - b).norm());
   }
   return worst;
 }
 
-int World::last_contact_count() const { return impl_->contact_count; }
-
-std::string World::trace_header() const {
-  std::string out = "t_s";
-  static const char* kBodyCols[] = {"x", "y", "z", "qw", "qx", "qy", "qz"};
-  for (size_t m = 0; m < impl_->modules.size(); ++m) {
-    const Impl::Module& md = impl_->modules[m];
-    const std::string pre = "m" + std::to_string(m) + ".";
-    for (int b = 0; b < md.nbody; ++b)
-      for (const char* c : kBodyCols) out += "," + pre + impl_->bodies[md.body0 + b].name + "." + c;
-    for (size_t s = 0; s < md.driven.size(); ++s) {
-      const std::string sp = pre + "s" + std::to_string(s) + ".";
-      switch (impl_->servos[md.driven[s]].kind) {
-        case ServoKind::Rotary: out += "," + sp + "setpoint_deg," + sp + "angle_deg"; break;
-        case ServoKind::Linear: out += "," + sp + "setpoint_mm," + sp + "position_mm"; break;
-        case ServoKind::Screw: out += "," + sp + "command," + sp + "speed_mm_s"; break;
-      }
-      out += "," + sp + "current_a";
-    }
-    out += "," + pre + "supply_a";
-  }
-  out += "\n";
-  return out;
-}
-
-void World::append_trace_row(std::string* out) const {
-  constexpr double kDeg = 180.0 / kPi;
-  char buf[160];
-  const int64_t t = impl_->time_us;
-  std::snprintf(buf, sizeof buf, "%" PRId64 ".%06" PRId64, t / 1000000, t % 1000000);
-  *out += buf;
-  for (size_t m = 0; m < impl_->modules.size(); ++m) {
-    const Impl::Module& md = impl_->modules[m];
-    for (int b = 0; b < md.nbody; ++b) {
-      dBodyID id = impl_->bodies[md.body0 + b].id;
-      const dReal* p = dBodyGetPosition(id);
-      const dReal* q = dBodyGetQuaternion(id);
-      std::snprintf(buf, sizeof buf, ",%.6f,%.6f,%.6f,%.6f,%.6f,%.6f,%.6f", p[0], p[1], p[2], q[0],
-                    q[1], q[2], q[3]);
-      *out += buf;
-    }
-    for (int s : md.driven) {
-      const Impl::Servo& sv = impl_->servos[s];
-      switch (sv.kind) {
-        case ServoKind::Rotary:
-          std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.5f", sv.model.setpoint() * kDeg,
-                        dJointGetHingeAngle(sv.hinge) * kDeg, sv.model.current_a());
-          break;
-        case ServoKind::Linear:
-          std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.5f", sv.cmd * 1e3,
-                        dJointGetSliderPosition(sv.hinge) * 1e3, sv.i_motor);
-          break;
-        case ServoKind::Screw:
-          std::snprintf(buf, sizeof buf, ",%.4f,%.4f,%.5f", sv.cmd, impl_->actuator_rate(sv) * 1e3,
-                        sv.i_motor);
-          break;
-      }
-      *out += buf;
-    }
-    std::snprintf(buf, sizeof buf, ",%.5f", module_supply_current_a(static_cast<int>(m)));
-    *out += buf;
-  }
-  *out += "\n";
-}
+int World::last_contact_count() const { return impl_->contacts->count(); }
 
 }  // namespace chainsim

@@ -1,6 +1,10 @@
 // The ODE world of one run: environment, the chain of modules, their actuator
 // models and sensors. Knows nothing of processes or sockets: the lockstep
 // server feeds it set-points and samples its sensors between steps.
+//
+// Files: world.cpp (assembly and the step), module_builder.cpp (a module's
+// bodies and joints), contact.cpp (the near callback, friction, materials),
+// actuators/ (one file per kind), sensors/ (sampling), placement.cpp.
 #pragma once
 
 #include <Eigen/Core>
@@ -15,48 +19,38 @@
 #include "environment/environment.h"
 #include "environment/material.h"
 #include "model/module_def.h"
+#include "physics/actuators/actuator.h"
 #include "physics/actuators/servo_model.h"
+#include "physics/sensors/module_sample.h"
 
 namespace chainsim {
 
+// how to build a World; read once by its constructor, never changed by it
 struct WorldConfig {
   int64_t dt_us = 500;                 // physics step
-  uint64_t seed = 1;                   // seeds ODE's dRandSetSeed
-  std::vector<std::string> chain;      // module type names, head first
+  uint64_t seed = 1;                   // seeds ODE's dRandSetSeed and the sensor noise
   Eigen::Vector3d head_position{0, 0, 0.02};  // centre of the head's front face, m
   double heading_rad = 0.0;            // the chain points along +x rotated by this about z
   // if set, overrides heading_rad: the head's front-face frame (module frame)
   // -> world; the chain is laid along its -x (e.g. along a pipe's axis)
   std::optional<Eigen::Quaterniond> head_orientation;
   Material ground;                     // module-environment contact (pairs not in environment.contacts)
+  // module-module contact (plastic on plastic), unless environment.contacts has (module, module)
+  Material module_contact{0.3, 0.0, 0.2, 1e-5};
   EnvironmentConfig environment;       // plane, terrain, pipe or mesh (environment.h)
   ServoParams servo;                   // every servo's model (paper Table 1 defaults)
   double gravity_m_s2 = 9.81;
-  // --- added by the physics implementation ---
-  Material module_contact{0.3, 0.0, 0.2, 1e-5};  // module-module contact (plastic on plastic)
   int solver_iterations = 30;          // ODE QuickStep iterations (see world.cpp for the measurements)
-  // more module types (e.g. test fixtures, types loaded from files): `chain`
-  // names are looked up here first, then among the built-ins
+  // module types the chain may name besides the built-ins (looked up first:
+  // test fixtures, a scene's own types)
   std::vector<ModuleDef> module_types;
-};
-
-// what one module's sensors read at a sample time; what TickBegin carries
-struct ModuleSample {
-  int n_servos = 0;
-  // the actuator's position sensor, in its set-point unit (World::ServoKind):
-  // rotary servo: output shaft angle, rad (potentiometer); linear servo: slider
-  // position, m; screw drive (no position sensor): its drive command, -1..1
-  double servo_angle_rad[4] = {};
-  int n_adc = 0;
-  uint16_t adc[8] = {};             // 10-bit counts
-  uint16_t digital_in = 0;          // bit n = digital input n
-  int n_counters = 0;
-  int32_t counter[4] = {};
 };
 
 class World {
  public:
-  explicit World(const WorldConfig& config);
+  // chain: module type names, head first; throws std::invalid_argument
+  // naming an unknown type or a bad definition
+  World(const WorldConfig& config, const std::vector<std::string>& chain);
   ~World();
   World(const World&) = delete;
   World& operator=(const World&) = delete;
@@ -67,29 +61,14 @@ class World {
 
   // Servo s of module m = the s-th actuator of its ModuleDef that firmware
   // drives (driven_servo_actuators: servos, linear servos and screw drives in
-  // definition order; rotation: 0 = pitch, 1 = yaw). The set-point's unit
-  // depends on the kind:
-  //  * Rotary (ActuatorType::Servo): radians, see below. Wire: millidegrees.
-  //  * Linear (LinearServo): the slider position, metres (0 = as assembled,
-  //    + = the child moved along the axis), clamped to the slider's limits.
-  //    Wire: micrometres (set-point and measured position alike).
-  //  * Screw (ScrewDrive): the signed drive command u, -1..1 (a fraction of
-  //    the supply voltage, like a PWM duty cycle; the force law is in
-  //    module_library.h), clamped. Wire: per mille (-1000..1000); its
-  //    "measured position" echoes the command.
-  // Rotary angles are the joint's:
-  // 0 as assembled (straight), + = the child side turned positively about the
-  // joint axis (rotation module: pitch + lifts the module's rear, yaw + swings
-  // it to the right); range +-90 degrees. The servo's own 0..180 degree scale
-  // is this angle + 90 degrees.
-  // set-point of servo s of module m (radians, metres or -1..1, above);
-  // clamped to the servo's range
-  void set_servo_setpoint(int module, int servo, double rad);
-  enum class ServoKind { Rotary, Linear, Screw };
+  // definition order; rotation: 0 = pitch, 1 = yaw). Values are in the
+  // actuator's unit: radians (rotary), metres (linear), the -1..1 drive
+  // command (screw); each kind's file (actuators/) says what they mean.
   ServoKind servo_kind(int module, int servo) const;
-  // wire units (cs_tick_begin/end servo_pos/servo_setpoint) <-> set-point units
-  static double servo_from_wire(ServoKind kind, int32_t wire);
-  static int32_t servo_to_wire(ServoKind kind, double value);
+  // the set-point in the actuator's unit, clamped to its range (NaN: ignored)
+  void set_servo_setpoint(int module, int servo, double setpoint);
+  // the set-point from the wire (cs_tick_end.servo_setpoint), in the actuator's wire unit
+  void set_servo_setpoint_wire(int module, int servo, int32_t setpoint_wire);
   // a disabled servo gets no drive voltage (no pulses): it is limp
   void set_servo_enabled(int module, int servo, bool enabled);
   // an unpowered module: all servos limp, sensors read zero (limp mode after a fault)
@@ -100,8 +79,10 @@ class World {
   int64_t time_us() const;
   int64_t dt_us() const;
 
-  // sensor readings of module m now
+  // sensor readings of module m now, in wire units
   void sample(int module, ModuleSample* out) const;
+  // module m's digital inputs now (its touch sensors; 0 when unpowered)
+  uint16_t digital_inputs(int module) const;
 
   // supply current drawn by module m now, A (sum over its motors)
   double module_supply_current_a(int module) const;
@@ -109,7 +90,7 @@ class World {
   // mass-weighted centre of all module bodies, world frame, m
   Eigen::Vector3d chain_com() const;
 
-  // --- diagnostics and test fixtures (added by the physics implementation) ---
+  // --- what traces, diagnostics and tests read ---
   struct BodyState {
     double mass_kg = 0;
     Eigen::Matrix3d inertia_kg_m2;        // about the centre of mass, body frame (from ODE)
@@ -120,10 +101,12 @@ class World {
   int body_count(int module) const;
   const std::string& body_name(int module, int body) const;
   BodyState body_state(int module, int body) const;
-  // true hinge angle (slider position, m; screw: the body's speed along its
-  // drive axis, m/s), even if unpowered
-  double servo_angle_rad(int module, int servo) const;
-  double servo_setpoint_rad(int module, int servo) const;   // in set-point units
+  double servo_setpoint(int module, int servo) const;   // in the actuator's unit
+  // what its position sensor reads, in the actuator's unit, even when
+  // unpowered: hinge angle, slider position; a screw drive echoes its command
+  double servo_position(int module, int servo) const;
+  // rad/s (hinge) or m/s (slider; screw drive: its body's speed along the drive axis)
+  double servo_rate(int module, int servo) const;
   double servo_current_a(int module, int servo) const;      // motor current now (signed)
   double servo_filtered_current_a(int module, int servo) const;
   // effort of the last step: rotary N m (Kt dz(i)); linear servo, screw drive N
@@ -142,11 +125,6 @@ class World {
   double max_docking_error_m() const;
   // contact joints created in the last step
   int last_contact_count() const;
-
-  // trace: one CSV header line, then one row per call; fixed formatting so
-  // that equal states give equal bytes
-  std::string trace_header() const;
-  void append_trace_row(std::string* out) const;
 
  private:
   struct Impl;

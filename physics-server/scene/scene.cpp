@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 
+#include "physics/units.h"
 #include "scene/scene_environment.h"
 #include "scene/scene_modules.h"
 #include "scene/scene_yaml.h"
@@ -65,10 +66,15 @@ void load_chain(const Ctx& c, const YAML::Node& root, Scene* s) {
     c.fail(n, "'chain' must be a string of module letters or a list of modules");
   }
   if (s->modules.size() > 64) c.fail(n, "'chain' has more than 64 modules");
-  for (const auto& m : s->modules) s->world.chain.push_back(m.type);
 }
 
 }  // namespace
+
+std::vector<std::string> Scene::chain_types() const {
+  std::vector<std::string> types;
+  for (const SceneModule& m : modules) types.push_back(m.type);
+  return types;
+}
 
 std::string module_type_for_letter(char letter) {
   switch (letter) {
@@ -97,8 +103,7 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
   s.source = name;
   s.name = c.string(root, "name", "unnamed", "scene");
   s.duration_s = c.number(root, "duration_s", s.duration_s, 0.001, 86400.0, "scene");
-  s.seed = static_cast<uint64_t>(c.integer(root, "seed", 1, 0, INT64_MAX, "scene"));
-  s.world.seed = s.seed;
+  s.world.seed = static_cast<uint64_t>(c.integer(root, "seed", 1, 0, INT64_MAX, "scene"));
 
   if (const YAML::Node p = root["physics"]) {
     c.keys(p, "physics", {"dt_us", "tick_us", "gravity_m_s2", "solver_iterations"});
@@ -134,8 +139,8 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
         }
       }
     }
-    s.world.heading_rad = c.number(p, "heading_deg", 0.0, -360.0, 360.0, "placement") * M_PI / 180.0;
-    load_scene_placement_at(name, p, &s.world);  // at: pipe_entry
+    s.world.heading_rad = deg_to_rad(c.number(p, "heading_deg", 0.0, -360.0, 360.0, "placement"));
+    load_scene_placement_at(name, p, s.chain_types(), &s.world);  // at: pipe_entry
   }
 
   s.central = {"central", "fw-central", {}};

@@ -29,12 +29,18 @@ struct Scene {
   std::string source;          // file name, or "<built-in default>"
   std::string name;
   double duration_s = 10.0;
-  uint64_t seed = 1;
   int64_t tick_us = 1000;      // HAL timer tick
-  WorldConfig world;           // physics step, chain types, placement, ground
-  std::vector<SceneModule> modules;  // same order as world.chain
+  // physics step, seed (the run's one seed: ODE, sensor noise, WELCOME),
+  // placement, environment, materials, the scene's own module types
+  WorldConfig world;
+  // the chain, head first: each module's type and program. The one list of
+  // modules: the World is built from chain_types().
+  std::vector<SceneModule> modules;
   SceneModule central;         // the central control program
   double trace_hz = 100.0;     // trace rows per simulated second
+
+  // the module types of the chain, head first (what World's constructor takes)
+  std::vector<std::string> chain_types() const;
 };
 
 // letters of chain strings: T touch, R rotation, H helicoidal, S support,

@@ -13,12 +13,10 @@
 #include "environment/pipe_path.h"
 #include "physics/placement.h"
 #include "environment/terrain.h"
+#include "physics/units.h"
 
 namespace chainsim {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-
 
 PipeSegment load_segment(const SceneYaml& y, const YAML::Node& n, const std::string& p, double diameter) {
   PipeSegment g;
@@ -115,7 +113,7 @@ void load_mesh(const SceneYaml& y, const YAML::Node& n, const std::string& base_
   m->surface = y.text(n, "surface", m->surface, p);
   try {
     TriMesh mesh = load_mesh_file(m->file, m->scale);
-    transform_mesh(&mesh, m->position_m, m->rpy_deg * (kPi / 180.0));
+    transform_mesh(&mesh, m->position_m, m->rpy_deg * kRadPerDeg);
     m->data = std::make_shared<const TriMesh>(std::move(mesh));
   } catch (const MeshError& e) {
     y.fail(n["file"], "'" + p + ".file': " + e.what());
@@ -192,7 +190,7 @@ void load_scene_environment(const std::string& file, const std::string& base_dir
 }
 
 void load_scene_placement_at(const std::string& file, const YAML::Node& placement,
-                             WorldConfig* world) {
+                             const std::vector<std::string>& chain, WorldConfig* world) {
   const SceneYaml y{file};
   const YAML::Node at = placement["at"];
   if (!at) {
@@ -205,7 +203,7 @@ void load_scene_placement_at(const std::string& file, const YAML::Node& placemen
       y.fail(placement[k], std::string("'placement.") + k + "' cannot be used with 'placement.at'");
   const double inset = y.number(placement, "inset_m", 0.005, 0, 1000, "placement");
   try {
-    place_chain_at_pipe_entry(world, inset);
+    place_chain_at_pipe_entry(world, chain, inset);
   } catch (const std::invalid_argument& e) {
     y.fail(at, std::string("'placement.at: pipe_entry': ") + e.what());
   }

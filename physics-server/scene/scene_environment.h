@@ -8,6 +8,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <string>
+#include <vector>
 
 #include "scene/scene.h"
 
@@ -20,8 +21,8 @@ void load_scene_environment(const std::string& file, const std::string& base_dir
                             const YAML::Node& environment, const YAML::Node& contacts,
                             WorldConfig* world);
 
-// `placement.at` and `placement.inset_m` (the chain must be loaded)
+// `placement.at` and `placement.inset_m` for `chain` (module type names, head first)
 void load_scene_placement_at(const std::string& file, const YAML::Node& placement,
-                             WorldConfig* world);
+                             const std::vector<std::string>& chain, WorldConfig* world);
 
 }  // namespace chainsim

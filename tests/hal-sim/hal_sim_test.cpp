@@ -4,12 +4,10 @@
 // exit status.
 #include <cinttypes>
 #include <climits>
-#include <cstdarg>
 #include <cstdio>
-#include <map>
 #include <optional>
 
-#include "test_peer.h"
+#include "hal_sim_peer.h"
 
 extern "C" {
 #include "hal.h"
@@ -19,131 +17,7 @@ using namespace chainsim_test;
 
 namespace {
 
-class HalSim : public ::testing::Test {
-protected:
-    void SetUp() override
-    {
-        lfd_ = listen_unix(dir_.path());
-        ASSERT_GE(lfd_, 0) << "cannot listen on " << dir_.path();
-    }
-
-    void TearDown() override
-    {
-        conn_.close_fd();
-        if (pid_ > 0 && !reaped_) {
-            kill(pid_, SIGKILL);
-            waitpid(pid_, nullptr, 0);
-        }
-        if (err_fd_ >= 0)
-            close(err_fd_);
-        if (lfd_ >= 0)
-            close(lfd_);
-    }
-
-    using Env = std::map<std::string, std::optional<std::string>>;
-
-    // run body in a forked child (stderr captured); the HAL ends the child
-    // (exit 0/2/3); if body returns, the child exits 99
-    void spawn(const std::function<void()> &body, uint16_t index = 0,
-               const std::string &type = "rotation", const Env &env = {})
-    {
-        int pfd[2];
-        ASSERT_EQ(pipe(pfd), 0);
-        fflush(stdout);
-        fflush(stderr);
-        pid_ = fork();
-        ASSERT_GE(pid_, 0);
-        if (pid_ == 0) {
-            dup2(pfd[1], 2);
-            close(pfd[0]);
-            close(pfd[1]);
-            setenv("CHAINSIM_SOCKET", dir_.path().c_str(), 1);
-            setenv("CHAINSIM_MODULE_INDEX", std::to_string(index).c_str(), 1);
-            setenv("CHAINSIM_MODULE_TYPE", type.c_str(), 1);
-            for (const auto &e : env) {
-                if (e.second)
-                    setenv(e.first.c_str(), e.second->c_str(), 1);
-                else
-                    unsetenv(e.first.c_str());
-            }
-            body();
-            _exit(99);
-        }
-        close(pfd[1]);
-        err_fd_ = pfd[0];
-    }
-
-    // accept the child's connection, check HELLO, send WELCOME and the first TICK_BEGIN
-    void handshake(const cs_msg &welcome, const cs_msg &first_tick)
-    {
-        accept_conn();
-        cs_msg m{};
-        ASSERT_TRUE(conn_.expect(m, CS_MSG_HELLO));
-        ASSERT_TRUE(conn_.send(welcome));
-        ASSERT_TRUE(conn_.send(first_tick));
-    }
-    void handshake(uint32_t tick_us = 1000) { handshake(make_welcome(0, tick_us), make_tick(0)); }
-
-    void accept_conn()
-    {
-        int fd = accept_timeout(lfd_);
-        ASSERT_GE(fd, 0) << "the child did not connect";
-        conn_ = Conn(fd);
-    }
-
-    // receive the next TICK_END into te
-    void tick_end(cs_msg &te) { ASSERT_TRUE(conn_.expect(te, CS_MSG_TICK_END)); }
-
-    int child_exit()
-    {
-        int st = wait_child(pid_);
-        reaped_ = true;
-        return exit_code(st);
-    }
-
-    int shutdown_and_wait()
-    {
-        EXPECT_TRUE(conn_.send(make_reason(CS_MSG_SHUTDOWN, "done")));
-        return child_exit();
-    }
-
-    std::string child_stderr()
-    {
-        std::string s;
-        char b[512];
-        int fl = fcntl(err_fd_, F_GETFL);
-        fcntl(err_fd_, F_SETFL, fl | O_NONBLOCK);
-        ssize_t n;
-        while ((n = read(err_fd_, b, sizeof b)) > 0)
-            s.append(b, size_t(n));
-        return s;
-    }
-
-    SocketDir dir_;
-    int lfd_ = -1;
-    int err_fd_ = -1;
-    pid_t pid_ = -1;
-    bool reaped_ = false;
-    Conn conn_;
-};
-
-// log a printf-formatted line from the child
-void tlog(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
-void tlog(const char *fmt, ...)
-{
-    char b[128];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(b, sizeof b, fmt, ap);
-    va_end(ap);
-    hal_log(b);
-}
-
-[[noreturn]] void tick_forever()
-{
-    for (;;)
-        hal_tick_wait();
-}
+class HalSim : public HalSimPeer {};
 
 } // namespace
 
@@ -428,6 +302,10 @@ TEST_F(HalSim, ExtraLogLinesAreDroppedWithOneNotice)
         hal_log_int("", 0);
         hal_log_int("neg ", -5);
         hal_tick_wait();
+        // a prefix too long for the line is cut so that the whole number fits
+        hal_log_int(std::string(200, 'p').c_str(), INT32_MIN);
+        hal_log_int(std::string(HAL_LOG_LINE_MAX - HAL_LOG_INT_CHARS_MAX, 'q').c_str(), 7);
+        hal_tick_wait();
         tick_forever();
     });
     handshake();
@@ -442,6 +320,12 @@ TEST_F(HalSim, ExtraLogLinesAreDroppedWithOneNotice)
     tick_end(te);
     EXPECT_EQ(logs_of(te), (std::vector<std::string>{std::string(CS_LOG_LINE_MAX - 1, 'x'),
                                                       "v=-2147483648", "0", "neg -5"}));
+    ASSERT_TRUE(conn_.send(make_tick(3000)));
+    tick_end(te);
+    EXPECT_EQ(logs_of(te),
+              (std::vector<std::string>{std::string(84, 'p') + "-2147483648",
+                                        std::string(84, 'q') + "7"}));
+    EXPECT_EQ(logs_of(te)[0].size(), size_t(HAL_LOG_LINE_MAX));
     EXPECT_EQ(shutdown_and_wait(), 0);
 }
 

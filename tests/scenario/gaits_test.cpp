@@ -20,16 +20,14 @@
 #include <map>
 #include <sstream>
 
+#include "physics/units.h"
 #include "scenario_util.h"
 
 using namespace scenario;
+using chainsim::kDegPerRad;
+using chainsim::kPi;
 
 namespace {
-
-
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = 180.0 / kPi;
 
 struct Motion {
   double dx = 0, dy = 0;        // centroid displacement, m
@@ -79,7 +77,7 @@ Motion measure(const std::string& run_dir, int n = 8) {
   Motion r;
   r.dx = mean(cx, end - 1, end) - mean(cx, 0, 0.2);
   r.dy = mean(cy, end - 1, end) - mean(cy, 0, 0.2);
-  r.heading_deg = (mean(hd, end - 1, end) - mean(hd, 0, 0.2)) * kDeg;
+  r.heading_deg = (mean(hd, end - 1, end) - mean(hd, 0, 0.2)) * kDegPerRad;
   // the centroid's path in 0.5 s windows, split along / across the heading
   size_t w0 = 0;
   for (size_t i = 1; i < T; ++i) {
@@ -100,7 +98,7 @@ Motion measure(const std::string& run_dir, int n = 8) {
     double w = w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2;
     double z = w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2;
     if (w < 0) w = -w, z = -z;
-    r.twist_deg += 2 * std::atan2(z, w) * kDeg;
+    r.twist_deg += 2 * std::atan2(z, w) * kDegPerRad;
   }
   return r;
 }

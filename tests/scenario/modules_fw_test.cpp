@@ -11,6 +11,7 @@
 #include <map>
 #include <sstream>
 
+#include "physics/units.h"
 #include "scenario_util.h"
 
 using namespace scenario;
@@ -24,7 +25,7 @@ namespace {
 // displacement of body b along the unit direction (ux, 0, uz) between t_from and the end
 double advance(const std::map<std::string, std::vector<double>>& tr, const std::string& b, double slope_deg,
                double t_from) {
-  const double a = slope_deg * M_PI / 180.0, ux = std::cos(a), uz = std::sin(a);
+  const double a = chainsim::deg_to_rad(slope_deg), ux = std::cos(a), uz = std::sin(a);
   const auto& t = tr.at("t_s");
   size_t i0 = 0;
   while (i0 + 1 < t.size() && t[i0] < t_from) ++i0;

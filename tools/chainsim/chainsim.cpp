@@ -56,10 +56,7 @@ int cmd_run(const RunArgs& a) {
     return kExitBadInput;
   }
   if (a.duration > 0) scene.duration_s = a.duration;
-  if (a.seed >= 0) {
-    scene.seed = static_cast<uint64_t>(a.seed);
-    scene.world.seed = scene.seed;
-  }
+  if (a.seed >= 0) scene.world.seed = static_cast<uint64_t>(a.seed);
   RunOptions opt;
   opt.out_dir = a.out.empty() ? default_out_dir(scene) : a.out;
   opt.on_fault = a.fault == "limp" ? FaultMode::Limp : FaultMode::Stop;
@@ -118,11 +115,9 @@ int cmd_bench_lockstep(const BenchArgs& a) {
     scene.name = "bench-" + std::to_string(n);
     scene.duration_s = a.duration;
     scene.modules.clear();
-    scene.world.chain.clear();
     for (int i = 0; i < n; ++i) {
       scene.modules.push_back({"rotation", default_firmware("rotation"), {}});
       if (a.control_ms > 0) scene.modules.back().params["control_ms"] = static_cast<int32_t>(a.control_ms);
-      scene.world.chain.push_back("rotation");
     }
     RunOptions opt;
     opt.out_dir = a.out + "/" + std::to_string(n);

@@ -7,11 +7,11 @@
 #include <stdexcept>
 
 #include "readers/csv_table.h"
+#include "physics/units.h"
 
 namespace chainsim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 bool ends_with(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;

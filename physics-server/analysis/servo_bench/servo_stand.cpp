@@ -14,6 +14,7 @@
 // Angles: the bench angle is the hinge angle in degrees, continuous (no stops,
 // no wrap at +-180), so the paper's 30 -> 120 degree test is written as is.
 #include "analysis/servo_bench/servo_stand.h"
+#include "physics/units.h"
 
 #include <ode/ode.h>
 
@@ -25,7 +26,6 @@
 namespace chainsim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // The coupling below (motor FMax, ERP/CFM, dParamVel/dParamCFM from the step
 // law) is a copy of the World's rotary-servo coupling (physics/world.cpp),
 // constants included: one shared coupling is due when the World's actuators

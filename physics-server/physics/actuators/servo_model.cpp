@@ -4,11 +4,9 @@
 #include <algorithm>
 #include <cmath>
 
-namespace chainsim {
+#include "physics/units.h"
 
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-}
+namespace chainsim {
 
 ServoModel::ServoModel(const ServoParams& params) : p_(params) {
   engaged_ = !(p_.backlash_deg > 0.0);  // backlash: start in the middle of the play
@@ -67,7 +65,7 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
   if (drive_) {
     double err = applied_ - theta;
     if (p_.deadband_deg > 0.0) {  // deadband: errors within +-width/2 are ignored
-      const double half = 0.5 * p_.deadband_deg * kPi / 180.0;
+      const double half = deg_to_rad(0.5 * p_.deadband_deg);
       err = std::fabs(err) <= half ? 0.0 : err - std::copysign(half, err);
     }
     ea_ = std::clamp(p_.kp * err, -p_.supply_v, p_.supply_v);
@@ -137,7 +135,7 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
     return law;
   }
   if (backlash) {
-    const double g = 0.5 * p_.backlash_deg * kPi / 180.0;
+    const double g = deg_to_rad(0.5 * p_.backlash_deg);
     const double tq = i0 - ci * wr;  // sign of the motor torque about to act
     if (engaged_ && !impact && tq * delta_ < 0.0) {  // pulls away from the contact side: the gap opens
       engaged_ = false;

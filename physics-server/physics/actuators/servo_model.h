@@ -1,4 +1,5 @@
-// The paper's DC servomotor model (section 3.2, Table 1). Owned by the physics helper; see world.h.
+// The paper's DC servomotor model (section 3.2, Table 1); coupled to ODE by
+// rotary_servo.h.
 //
 // Continuous model (output-shaft quantities; theta, w = joint angle and rate):
 //   ea    = clamp(Kp (theta_r - theta), -Vs, Vs)      position loop + supply limit
@@ -20,7 +21,7 @@
 //    -J (w' - w_n)/h;
 //  * B w is taken at w' (implicit).
 // The total shaft torque over the step is therefore tau = D (v - w'), a linear
-// damper towards a target rate v, with damping D. The World realises it as a
+// damper towards a target rate v, with damping D. rotary_servo.h realises it as a
 // one-axis ODE angular motor on the hinge with dParamVel = v and
 // dParamCFM = 1/D (ODE's constraint-force mixing makes a motor row exactly an
 // implicit damper: lambda = D (v - w_next)), so ODE solves it together with the

@@ -5,12 +5,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include "physics/world.h"
+#include "physics/sensors/module_sample.h"
+#include "physics/units.h"
 
 namespace chainsim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kG0 = 9.80665;         // standard gravity, m/s^2: the sensor's "g"
 constexpr double kFrictionFMax = 10.0;  // N m; far above any wheel's friction torque
 

@@ -1,6 +1,6 @@
 // Module sensors the World keeps state for (paper 4.3), and the traveller's
 // wheel friction (paper 3.3.6). Servo position, motor current and touch are
-// read by world.cpp directly; this file does:
+// read from the actuators and contacts (module_channels.h); this file does:
 //
 //  * Accelerometer (paper 4.3.2, Fig. 8): 3 axes on ADC channels c, c+1, c+2
 //    = the sensor frame's x, y, z (SensorDef::orientation; by default the
@@ -39,10 +39,10 @@
 #include <vector>
 
 #include "model/module_def.h"
+#include "physics/sensors/module_sample.h"
 
 namespace chainsim {
 
-struct ModuleSample;
 
 class Sensors {
  public:

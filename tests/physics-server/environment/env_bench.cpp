@@ -30,6 +30,7 @@
 #include "environment/pipe_path.h"
 #include "pipe_probe.h"
 #include "physics/placement.h"
+#include "physics/units.h"
 #include "physics/world.h"
 
 using namespace chainsim;
@@ -49,7 +50,8 @@ struct Pipe {
   int around;
 };
 
-WorldConfig scene(const Pipe& p, double slope_deg, const std::string& type, double diameter) {
+// four modules of `type` in a 2 m straight pipe
+WorldConfig scene(const Pipe& p, double slope_deg, const std::vector<std::string>& chain, double diameter) {
   WorldConfig c;
   c.environment.type = EnvironmentType::Pipe;
   c.environment.ground_plane = false;
@@ -60,9 +62,8 @@ WorldConfig scene(const Pipe& p, double slope_deg, const std::string& type, doub
   c.environment.pipe.inner_diameter_m = diameter;
   c.environment.pipe.collider = p.collider;
   c.environment.pipe.mesh_segments = p.around;
-  c.chain.assign(4, type);
   c.ground.mu = 0.3;
-  place_chain_at_pipe_entry(&c, slope_deg > 0 ? 1.6 - chain_length_m(c.chain) : 0.5);
+  place_chain_at_pipe_entry(&c, chain, slope_deg > 0 ? 1.6 - chain_length_m(chain) : 0.5);
   return c;
 }
 
@@ -84,17 +85,18 @@ double collider_depth(const PipeLayout& l, const Pipe& p, const Eigen::Vector3d&
   const double u = q.dot(piece.start.up), v = q.dot(left);
   double best = -1;
   for (int k = 0; k < p.around; ++k) {
-    const double a = 2 * M_PI * (k + 0.5) / p.around;  // face normals (pipe_mesh.cpp ring vertices at 2 pi j / n)
-    best = std::max(best, u * std::cos(a) + v * std::sin(a) + r - l.radius_m * std::cos(M_PI / p.around));
+    const double a = 2 * kPi * (k + 0.5) / p.around;  // face normals (pipe_mesh.cpp ring vertices at 2 pi j / n)
+    best = std::max(best, u * std::cos(a) + v * std::sin(a) + r - l.radius_m * std::cos(kPi / p.around));
   }
   return best;
 }
 
 Figures slide(const Pipe& p, double seconds) {
-  WorldConfig c = scene(p, 30, "passive", 0.03);
-  World w(c);
+  const std::vector<std::string> chain(4, "passive");
+  WorldConfig c = scene(p, 30, chain, 0.03);
+  World w(c, chain);
   const PipeLayout l = layout_pipe(c.environment.pipe);
-  const std::vector<ModuleDef> defs = chain_defs(c);
+  const std::vector<ModuleDef> defs = chain_defs(c, chain);
   const Eigen::Vector3d start = w.chain_com();
   Figures f;
   const int steps = static_cast<int>(seconds / 5e-4);
@@ -139,12 +141,12 @@ Figures elbow(const Pipe& p, double seconds, double* exit_time_s) {
   c.environment.pipe.slope_deg = -45;
   c.environment.pipe.collider = p.collider;
   c.environment.pipe.mesh_segments = p.around;
-  c.chain = {"passive"};  // a docked chain is rigid: longer ones jam in the bend
+  const std::vector<std::string> chain = {"passive"};  // a docked chain is rigid: longer ones jam in the bend
   c.ground.mu = 0.3;
-  place_chain_at_pipe_entry(&c, 0.01);
-  World w(c);
+  place_chain_at_pipe_entry(&c, chain, 0.01);
+  World w(c, chain);
   const PipeLayout l = layout_pipe(c.environment.pipe);
-  const std::vector<ModuleDef> defs = chain_defs(c);
+  const std::vector<ModuleDef> defs = chain_defs(c, chain);
   Figures f;
   *exit_time_s = -1;
   const int steps = static_cast<int>(seconds / 5e-4);
@@ -172,10 +174,11 @@ Figures elbow(const Pipe& p, double seconds, double* exit_time_s) {
 }
 
 Figures rest(const Pipe& p, const std::string& type, double diameter, double seconds) {
-  WorldConfig c = scene(p, 0, type, diameter);
-  World w(c);  // rotation modules: servos powered, holding the chain straight
+  const std::vector<std::string> chain(4, type);
+  WorldConfig c = scene(p, 0, chain, diameter);
+  World w(c, chain);  // rotation modules: servos powered, holding the chain straight
   const PipeLayout l = layout_pipe(c.environment.pipe);
-  const std::vector<ModuleDef> defs = chain_defs(c);
+  const std::vector<ModuleDef> defs = chain_defs(c, chain);
   for (int k = 0; k < 1000; ++k) w.step();  // settle 0.5 s
   const int steps = static_cast<int>(seconds / 5e-4);
   int nb = 0;
@@ -260,7 +263,7 @@ int main(int argc, char** argv) {
                         {"mesh 16", PipeCollider::Mesh, 16},
                         {"mesh 32", PipeCollider::Mesh, 32},
                         {"mesh 64", PipeCollider::Mesh, 64}};
-  const double theory = 0.5 * 9.81 * (0.5 - 0.3 * std::cos(M_PI / 6)) * seconds * seconds;
+  const double theory = 0.5 * 9.81 * (0.5 - 0.3 * std::cos(kPi / 6)) * seconds * seconds;
   std::printf("slide: 4 passive modules down a 30 degree pipe, %.1f s (theory %.3f m)\n", seconds, theory);
   std::printf("%-10s %9s %9s %12s %12s %9s\n", "collider", "us/step", "contacts", "depth max mm",
               "depth avg mm", "slid m");

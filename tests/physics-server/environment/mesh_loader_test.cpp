@@ -133,15 +133,14 @@ TEST(MeshLoader, MeshEnvironmentCarriesAModule) {
   c.environment.ground_plane = false;
   c.environment.mesh.file = floor;
   c.environment.mesh.position_m = Eigen::Vector3d(0, 0, 0.1);
-  c.chain = {"passive"};
   c.head_position = Eigen::Vector3d(0, 0, 0.125);
-  World w(c);
+  World w(c, {"passive"});
   for (int k = 0; k < 1000; ++k) w.step();
   EXPECT_NEAR(w.body_state(0, 0).position.z(), 0.112, 0.001);  // resting on the mesh at z = 0.1
 
   c.environment.mesh.file = temp_path("nope.obj");
   try {
-    World bad(c);
+    World bad(c, {"passive"});
     FAIL() << "no error";
   } catch (const MeshError& e) {
     EXPECT_NE(std::string(e.what()).find("nope.obj"), std::string::npos);

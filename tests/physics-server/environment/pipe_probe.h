@@ -12,14 +12,15 @@
 
 #include "model/module_def.h"
 #include "environment/pipe_path.h"
+#include "physics/units.h"
 #include "physics/world.h"
 
 namespace chainsim {
 
-// ModuleDef of each module of cfg's chain
-inline std::vector<ModuleDef> chain_defs(const WorldConfig& cfg) {
+// ModuleDef of each module of chain (types looked up as the World does)
+inline std::vector<ModuleDef> chain_defs(const WorldConfig& cfg, const std::vector<std::string>& chain) {
   std::vector<ModuleDef> out;
-  for (const std::string& name : cfg.chain) out.push_back(find_module_def(cfg.module_types, name));
+  for (const std::string& name : chain) out.push_back(find_module_def(cfg.module_types, name));
   return out;
 }
 
@@ -56,7 +57,7 @@ PipeProbe probe_bodies(const World& w, const std::vector<ModuleDef>& defs, const
         case Shape::Cylinder:
           for (int i = 0; i <= samples; ++i)
             for (int j = 0; j < samples; ++j) {
-              const double a = 2 * M_PI * j / samples;
+              const double a = 2 * kPi * j / samples;
               take(c + (static_cast<double>(i) / samples - 0.5) * bd.length_m * r.col(2) +
                        bd.radius_m * (std::cos(a) * r.col(0) + std::sin(a) * r.col(1)),
                    0.0);
@@ -103,7 +104,7 @@ inline ModuleDef one_body_module(const std::string& type, Shape shape, double ra
   b.pose.position = Eigen::Vector3d(-extent / 2, 0, 0);
   // capsule and cylinder axes (body z) along the chain (module x)
   if (shape == Shape::Capsule || shape == Shape::Cylinder)
-    b.pose.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()));
+    b.pose.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitY()));
   d.bodies.push_back(b);
   d.front.body = 0;
   d.back.body = 0;

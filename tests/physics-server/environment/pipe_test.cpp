@@ -15,12 +15,11 @@
 #include "environment/pipe_path.h"
 #include "pipe_probe.h"
 #include "physics/placement.h"
+#include "physics/units.h"
 #include "physics/world.h"
 
 namespace chainsim {
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 PipeSegment straight(double length, double slope = NAN) {
   PipeSegment s;
@@ -56,14 +55,12 @@ PipeSpec pipe_of(std::vector<PipeSegment> segments, double diameter = 0.03) {
   return p;
 }
 
-WorldConfig pipe_world(const PipeSpec& pipe, std::vector<std::string> chain,
-                       PipeCollider collider = PipeCollider::Analytic) {
+WorldConfig pipe_world(const PipeSpec& pipe, PipeCollider collider = PipeCollider::Analytic) {
   WorldConfig c;
   c.environment.type = EnvironmentType::Pipe;
   c.environment.ground_plane = false;
   c.environment.pipe = pipe;
   c.environment.pipe.collider = collider;
-  c.chain = std::move(chain);
   return c;
 }
 
@@ -90,7 +87,7 @@ TEST(PipeLayout, StraightElbowStraightEndsWhereTheGeometrySays) {
 TEST(PipeLayout, SlopeAndUpwardElbowTurnTheAxisInTheVerticalPlane) {
   // 30 degrees up, then an elbow of 60 degrees towards "up": vertical
   const PipeLayout l = layout_pipe(pipe_of({straight(0.2, 30), elbow(0.06, 60, 0)}));
-  EXPECT_NEAR((l.entry.tangent - Eigen::Vector3d(std::cos(30 * kDeg), 0, 0.5)).norm(), 0, 1e-12);
+  EXPECT_NEAR((l.entry.tangent - Eigen::Vector3d(std::cos(30 * kRadPerDeg), 0, 0.5)).norm(), 0, 1e-12);
   EXPECT_NEAR((l.exit.tangent - Eigen::Vector3d::UnitZ()).norm(), 0, 1e-12);
   EXPECT_NEAR(l.exit.up.dot(l.exit.tangent), 0, 1e-12);
 }
@@ -163,7 +160,7 @@ TEST(PipeGeom, CapsuleAlongTheBottomTouchesAtBothEnds) {
   dInitODE2(0);
   dGeomID cap = dCreateCapsule(nullptr, 0.012, 0.022);
   dMatrix3 r;
-  dRFromAxisAndAngle(r, 0, 1, 0, M_PI / 2);  // axis along x
+  dRFromAxisAndAngle(r, 0, 1, 0, kPi / 2);  // axis along x
   dGeomSetRotation(cap, r);
   dGeomSetPosition(cap, 0.2, 0.0, -0.0035);  // 0.5 mm in
   const Collision c = collide(l, 0, cap);
@@ -181,7 +178,7 @@ TEST(PipeGeom, CylinderAndBoxCornersAreFound) {
   // a cylinder lying along the pipe: its two rims touch the bottom
   dGeomID cyl = dCreateCylinder(nullptr, 0.012, 0.02);
   dMatrix3 r;
-  dRFromAxisAndAngle(r, 0, 1, 0, M_PI / 2);
+  dRFromAxisAndAngle(r, 0, 1, 0, kPi / 2);
   dGeomSetRotation(cyl, r);
   dGeomSetPosition(cyl, 0.2, 0.0, -0.0035);
   const Collision c = collide(l, 0, cyl);
@@ -234,17 +231,18 @@ TEST(PipeGeom, ChordInAnElbowTouchesTheInnerSideMidway) {
 TEST(PipeWorld, AnalyticPipeHoldsAModuleAtAnySlope) {
   for (const char* type : {"passive", "rotation"})
     for (double slope : {0.0, 30.0, 60.0, 90.0}) {
-      WorldConfig c = pipe_world(pipe_of({straight(1.5, slope)}, 0.03), {type});
+      const std::vector<std::string> chain = {type};
+      WorldConfig c = pipe_world(pipe_of({straight(1.5, slope)}, 0.03));
       const PipeLayout l = layout_pipe(c.environment.pipe);
       c.head_position = l.entry.point + 0.75 * l.entry.tangent;
       Eigen::Matrix3d r;
       r << l.entry.tangent, l.entry.up.cross(l.entry.tangent), l.entry.up;
       c.head_orientation = Eigen::Quaterniond(r);
       c.ground.mu = 0.3;
-      World w(c);
+      World w(c, chain);
       const Eigen::Vector3d com0 = w.chain_com();
       for (int s = 0; s < w.servo_count(0); ++s) w.set_servo_enabled(0, s, false);
-      const std::vector<ModuleDef> defs = chain_defs(c);
+      const std::vector<ModuleDef> defs = chain_defs(c, chain);
       double worst = -1;
       bool inside = true;
       for (int k = 0; k < 700; ++k) {  // 0.35 s: a free fall of 0.6 m at 90 degrees
@@ -285,12 +283,13 @@ TEST(PipeWorld, MeshPipeAndAnalyticPipeMoveABodyAlike) {
                         Case{"passive", -30, 0, 5e-4, 0.015}, Case{"passive", -30, 0.3, 5e-4, 0.03}}) {
     std::vector<Eigen::Vector3d> track[2];
     for (int mesh = 0; mesh < 2; ++mesh) {
-      WorldConfig c = pipe_world(pipe_of({straight(1.0, k.slope)}), {k.type},
+      const std::vector<std::string> chain = {k.type};
+      WorldConfig c = pipe_world(pipe_of({straight(1.0, k.slope)}),
                                  mesh ? PipeCollider::Mesh : PipeCollider::Analytic);
       c.module_types = {one_body_module("ball", Shape::Sphere, 0.011, 0, Eigen::Vector3d::Zero(), 0.02)};
       c.ground.mu = k.mu;
-      place_chain_at_pipe_entry(&c, 0.1);
-      World w(c);
+      place_chain_at_pipe_entry(&c, chain, 0.1);
+      World w(c, chain);
       track[mesh].push_back(w.body_state(0, 0).position);
       for (int i = 0; i < 800; ++i) {  // 0.4 s
         w.step();
@@ -322,13 +321,14 @@ TEST(PipeWorld, BodiesSlideThroughAnElbow) {
   for (const char* type : {"passive", "ball", "can", "brick"}) {
     PipeSpec p = pipe_of({straight(0.15), elbow(0.06, 90, 90), straight(1.0)});
     p.slope_deg = -45;
-    WorldConfig c = pipe_world(p, {type});
+    const std::vector<std::string> chain = {type};
+    WorldConfig c = pipe_world(p);
     c.module_types = types;
     c.ground.mu = 0.2;
-    place_chain_at_pipe_entry(&c, 0.01);
-    World w(c);
+    place_chain_at_pipe_entry(&c, chain, 0.01);
+    World w(c, chain);
     const PipeLayout l = layout_pipe(c.environment.pipe);
-    const std::vector<ModuleDef> defs = chain_defs(c);
+    const std::vector<ModuleDef> defs = chain_defs(c, chain);
     double worst = -1;
     bool inside = true;
     for (int k = 0; k < 2400; ++k) {  // 1.2 s
@@ -354,13 +354,14 @@ TEST(PipeWorld, BodiesSlideThroughAnElbow) {
 TEST(PipeWorld, SphereSlidesPastATeeOpening) {
   PipeSpec p = pipe_of({straight(0.1), tee(0.1, 0.06, 90, false), straight(1.0)});
   p.slope_deg = -30;
-  WorldConfig c = pipe_world(p, {"ball"});
+  const std::vector<std::string> chain = {"ball"};
+  WorldConfig c = pipe_world(p);
   c.module_types = {one_body_module("ball", Shape::Sphere, 0.011, 0, Eigen::Vector3d::Zero(), 0.02)};
   c.ground.mu = 0.2;
-  place_chain_at_pipe_entry(&c, 0.02);
-  World w(c);
+  place_chain_at_pipe_entry(&c, chain, 0.02);
+  World w(c, chain);
   const PipeLayout l = layout_pipe(c.environment.pipe);
-  const std::vector<ModuleDef> defs = chain_defs(c);
+  const std::vector<ModuleDef> defs = chain_defs(c, chain);
   double worst = -1;
   bool inside = true;
   for (int k = 0; k < 1600; ++k) {
@@ -377,21 +378,32 @@ TEST(PipeWorld, SphereSlidesPastATeeOpening) {
   EXPECT_GT(along, 0.0);
 }
 
-// same seed, same scene: the same trace bytes, with an analytic and a mesh pipe
+// same seed, same scene: the same states to the last bit, with an analytic and a mesh pipe
 TEST(PipeWorld, DeterministicWithPipes) {
   for (PipeCollider collider : {PipeCollider::Analytic, PipeCollider::Mesh}) {
     auto trace = [&] {
       PipeSpec p = pipe_of({straight(0.4, -20), elbow(0.06, 90, 60), straight(0.3)});
-      WorldConfig c = pipe_world(p, {"passive", "rotation", "passive"}, collider);
+      const std::vector<std::string> chain = {"passive", "rotation", "passive"};
+      WorldConfig c = pipe_world(p, collider);
       c.ground.mu = 0.2;
       c.seed = 7;
-      place_chain_at_pipe_entry(&c, 0.01);
-      World w(c);
-      std::string out = w.trace_header();
+      place_chain_at_pipe_entry(&c, chain, 0.01);
+      World w(c, chain);
+      std::string out;
+      char buf[64];
       for (int k = 0; k < 2000; ++k) {
         if (k % 20 == 0) w.set_servo_setpoint(1, 0, 0.5 * std::sin(0.01 * k));
         w.step();
-        if (k % 10 == 0) w.append_trace_row(&out);
+        if (k % 10 != 0) continue;
+        for (int m = 0; m < w.module_count(); ++m)
+          for (int b = 0; b < w.body_count(m); ++b) {
+            const World::BodyState s = w.body_state(m, b);
+            for (int i = 0; i < 3; ++i) {
+              std::snprintf(buf, sizeof buf, "%.17g,%.17g,", s.position[i], s.quaternion_wxyz[i]);
+              out += buf;
+            }
+          }
+        out += "\n";
       }
       return out;
     };
@@ -402,9 +414,10 @@ TEST(PipeWorld, DeterministicWithPipes) {
 }
 
 TEST(PipeWorld, PlacementAtTheEntryLaysTheChainOnTheAxisHeadFirst) {
-  WorldConfig c = pipe_world(pipe_of({straight(0.5, 30)}), {"passive", "passive", "passive"});
-  place_chain_at_pipe_entry(&c, 0.01);
-  World w(c);
+  const std::vector<std::string> chain = {"passive", "passive", "passive"};
+  WorldConfig c = pipe_world(pipe_of({straight(0.5, 30)}));
+  place_chain_at_pipe_entry(&c, chain, 0.01);
+  World w(c, chain);
   const PipeLayout l = layout_pipe(c.environment.pipe);
   for (int m = 0; m < 3; ++m) {
     const Eigen::Vector3d x = w.body_state(m, 0).position - l.entry.point;
@@ -413,8 +426,9 @@ TEST(PipeWorld, PlacementAtTheEntryLaysTheChainOnTheAxisHeadFirst) {
     EXPECT_NEAR(along, 0.01 + 0.046 * (2.5 - m), 1e-12);         // head deepest
   }
   // too long for the first straight
-  WorldConfig d = pipe_world(pipe_of({straight(0.1), elbow(0.05, 90, 0)}), std::vector<std::string>(3, "passive"));
-  EXPECT_THROW(place_chain_at_pipe_entry(&d, 0.0), std::invalid_argument);
+  const std::vector<std::string> chain_d(3, "passive");
+  WorldConfig d = pipe_world(pipe_of({straight(0.1), elbow(0.05, 90, 0)}));
+  EXPECT_THROW(place_chain_at_pipe_entry(&d, chain_d, 0.0), std::invalid_argument);
 }
 
 // the contacts table: a pipe with a pair (pipe, module) of mu 0 lets a module
@@ -422,16 +436,17 @@ TEST(PipeWorld, PlacementAtTheEntryLaysTheChainOnTheAxisHeadFirst) {
 TEST(PipeWorld, ContactPairTableSetsThePipesFriction) {
   double slid[2];
   for (int frictionless = 0; frictionless < 2; ++frictionless) {
-    WorldConfig c = pipe_world(pipe_of({straight(1.0, -10)}), {"passive"});
+    const std::vector<std::string> chain = {"passive"};
+    WorldConfig c = pipe_world(pipe_of({straight(1.0, -10)}));
     if (frictionless) c.environment.contacts.push_back({"pipe", "module", Material{0.0, 0, 0.2, 1e-5}});
-    place_chain_at_pipe_entry(&c, 0.1);
-    World w(c);
+    place_chain_at_pipe_entry(&c, chain, 0.1);
+    World w(c, chain);
     const double x0 = w.chain_com().x();
     run(w, 0.5);
     slid[frictionless] = w.chain_com().x() - x0;
   }
   EXPECT_LT(slid[0], 0.005);
-  EXPECT_NEAR(slid[1], 0.5 * 9.81 * std::sin(10 * kDeg) * 0.25 * std::cos(10 * kDeg), 0.01);
+  EXPECT_NEAR(slid[1], 0.5 * 9.81 * std::sin(10 * kRadPerDeg) * 0.25 * std::cos(10 * kRadPerDeg), 0.01);
 }
 
 }  // namespace

@@ -10,12 +10,11 @@
 
 #include "pipe_probe.h"
 #include "environment/terrain.h"
+#include "physics/units.h"
 #include "physics/world.h"
 
 namespace chainsim {
 namespace {
-
-constexpr double kDeg = M_PI / 180.0;
 
 // how far a body reaches from its centre along unit direction d, m
 double reach(const BodyDef& b, const World::BodyState& s, const Eigen::Vector3d& d) {
@@ -67,17 +66,17 @@ TEST(Terrain, CrawlingSnakeStaysBetweenTheWalls) {
   t.wavelength_m = 0.3;
   t.width_m = 0.2;
   t.length_m = 2.0;
-  c.chain.assign(8, "rotation");
-  c.heading_rad = 25 * kDeg;
+  c.heading_rad = 25 * kRadPerDeg;
   c.head_position = Eigen::Vector3d(0.1, 0.075, 0.04);
-  World w(c);
-  for (int m = 0; m < 8; ++m) w.set_servo_setpoint(m, 1, (m == 0 ? 25 : (m % 2 ? -50 : 50)) * kDeg);
-  const std::vector<ModuleDef> defs = chain_defs(c);
+  const std::vector<std::string> chain(8, "rotation");
+  World w(c, chain);
+  for (int m = 0; m < 8; ++m) w.set_servo_setpoint(m, 1, (m == 0 ? 25 : (m % 2 ? -50 : 50)) * kRadPerDeg);
+  const std::vector<ModuleDef> defs = chain_defs(c, chain);
   double max_y = 0, min_gap = 1, max_abs_y = 0;  // max_y, max_abs_y: the bodies' outer surfaces
   for (int k = 0; k < 16000; ++k) {  // 8 s
     if (k % 20 == 0) {
       const double time = w.time_us() * 1e-6;
-      for (int m = 0; m < 8; ++m) w.set_servo_setpoint(m, 0, 20 * kDeg * std::sin(14 * time + m * 1.36));
+      for (int m = 0; m < 8; ++m) w.set_servo_setpoint(m, 0, 20 * kRadPerDeg * std::sin(14 * time + m * 1.36));
     }
     w.step();
     if (k % 10) continue;

@@ -8,11 +8,11 @@
 #include <string>
 
 #include "model/module_def.h"
+#include "physics/units.h"
 
 namespace chainsim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // a small valid module: a box body and a wheel on a hinge
 const char* kGood = R"(type: cart

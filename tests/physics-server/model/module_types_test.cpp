@@ -28,9 +28,8 @@ TEST(ShippedModules, BodiesHaveTheDefinedMassAndInertia) {
   for (const std::string& type : kShipped) {
     const ModuleDef d = builtin_module_def(type);
     WorldConfig c;
-    c.chain = {type};
     c.gravity_m_s2 = 0;
-    World w(c);
+    World w(c, {type});
     ASSERT_EQ(w.body_count(0), static_cast<int>(d.bodies.size())) << type;
     double total = 0;
     for (int b = 0; b < w.body_count(0); ++b) {
@@ -63,8 +62,7 @@ TEST(ShippedModules, ServosAndSensorsPerType) {
                        {"passive", 0, 0, 0}};
   for (const Want& x : want) {
     WorldConfig c;
-    c.chain = {x.type};
-    World w(c);
+    World w(c, {x.type});
     ModuleSample s;
     w.sample(0, &s);
     EXPECT_EQ(s.n_servos, x.servos) << x.type;
@@ -73,10 +71,9 @@ TEST(ShippedModules, ServosAndSensorsPerType) {
   }
   // the support module's two follower arms are not addressable but move
   WorldConfig c;
-  c.chain = {"support"};
   c.gravity_m_s2 = 0;
   c.head_position = Eigen::Vector3d(0, 0, 0.5);
-  World w(c);
+  World w(c, {"support"});
   w.pin_body(0, 0);
   w.set_servo_setpoint(0, 0, 1.2);
   for (int k = 0; k < 1000; ++k) w.step();
@@ -93,9 +90,8 @@ TEST(ShippedModules, ServosAndSensorsPerType) {
 TEST(ShippedModules, EachComesToRestOnTheFloor) {
   for (const std::string& type : kShipped) {
     WorldConfig c;
-    c.chain = {type};
     c.head_position = Eigen::Vector3d(0, 0, 0.014);
-    World w(c);
+    World w(c, {type});
     for (int k = 0; k < 2000; ++k) w.step();  // 1 s
     double vmax = 0, zmin = 1;
     for (int b = 0; b < w.body_count(0); ++b) {
@@ -113,10 +109,9 @@ TEST(ShippedModules, EachComesToRestOnTheFloor) {
 // stretch less than a millimetre while it swings and settles
 TEST(ShippedModules, MixedChainHangingFromItsHeadHolds) {
   WorldConfig c;
-  c.chain = {"touch",      "rotation",  "support", "extension",
-             "helicoidal", "traveller", "passive", "rotation"};
   c.head_position = Eigen::Vector3d(0, 0, 0.6);
-  World w(c);
+  World w(c, {"touch", "rotation", "support", "extension", "helicoidal", "traveller", "passive",
+              "rotation"});
   w.pin_body(0, 0);
   double worst = 0;
   for (int k = 0; k < 6000; ++k) {  // 1 s powered (stiff), then 2 s limp (swinging)
@@ -178,8 +173,8 @@ TEST(SceneModuleTypes, UserTypeFromASceneFileWorksEndToEnd) {
                                       "placement: {position_m: [0, 0, 0.0125]}\n");
   const Scene s = load_scene_file(scene);
   ASSERT_EQ(s.world.module_types.size(), 1u);
-  EXPECT_EQ(s.world.chain, (std::vector<std::string>{"rotation", "bead"}));
-  World w(s.world);
+  EXPECT_EQ(s.chain_types(), (std::vector<std::string>{"rotation", "bead"}));
+  World w(s.world, s.chain_types());
   ASSERT_EQ(w.module_count(), 2);
   EXPECT_EQ(w.module_type(1), "bead");
   EXPECT_NEAR(w.body_state(1, 0).mass_kg, 0.02, 1e-15);
@@ -201,7 +196,7 @@ TEST(SceneModuleTypes, SceneTypeReplacesABuiltInOne) {
   dir.write("heavy.yaml", heavy);
   const Scene s =
       load_scene_file(dir.write("s.yaml", "module_types: {passive: heavy.yaml}\nchain: RP\n"));
-  World w(s.world);
+  World w(s.world, s.chain_types());
   EXPECT_EQ(w.module_type(1), "passive");
   EXPECT_NEAR(w.body_state(1, 0).mass_kg, 0.02, 1e-15);
 }

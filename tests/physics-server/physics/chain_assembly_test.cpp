@@ -9,12 +9,12 @@
 #include <string>
 
 #include "model/module_def.h"
+#include "physics/units.h"
 #include "physics/world.h"
 
 namespace chainsim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 TEST(ModuleLibrary, BuiltinsAreValid) {
   for (const std::string& name : builtin_module_names()) {
@@ -34,9 +34,7 @@ TEST(ModuleLibrary, UnknownTypeListsKnownTypes) {
     EXPECT_NE(msg.find("rotation"), std::string::npos) << msg;
     EXPECT_NE(msg.find("passive"), std::string::npos) << msg;
   }
-  WorldConfig c;
-  c.chain = {"rotation", "wormhole"};
-  EXPECT_THROW(World w(c), std::invalid_argument);
+  EXPECT_THROW(World w(WorldConfig{}, {"rotation", "wormhole"}), std::invalid_argument);
 }
 
 TEST(ModuleLibrary, RotationModuleIsTheDescribedOne) {
@@ -92,9 +90,7 @@ TEST(ModuleLibrary, AnalyticInertias) {
 
 // the bodies ODE simulates have the masses and inertias of the definition
 TEST(ModuleLibrary, WorldBodiesHaveTheDefinedMassAndInertia) {
-  WorldConfig c;
-  c.chain = {"rotation", "passive", "rotation"};
-  World w(c);
+  World w(WorldConfig{}, {"rotation", "passive", "rotation"});
   ASSERT_EQ(w.module_count(), 3);
   for (int m = 0; m < w.module_count(); ++m) {
     const ModuleDef d = builtin_module_def(w.module_type(m));
@@ -120,11 +116,10 @@ TEST(ModuleLibrary, WorldBodiesHaveTheDefinedMassAndInertia) {
 // chain along +x rotated by the heading
 TEST(ModuleLibrary, ChainAssembledHeadFirstAlongHeading) {
   WorldConfig c;
-  c.chain = {"rotation", "rotation", "passive", "rotation"};
   c.head_position = Eigen::Vector3d(0.1, -0.2, 0.5);
   c.heading_rad = 0.7;
   c.gravity_m_s2 = 0;
-  World w(c);
+  World w(c, {"rotation", "rotation", "passive", "rotation"});
   EXPECT_LT(w.max_docking_error_m(), 1e-12);
   const ModuleDef rot = builtin_module_def("rotation");
   // front connector of the head: its centre is half its thickness behind the face

@@ -30,13 +30,11 @@
 #include <cmath>
 #include <cstdio>
 
+#include "physics/units.h"
 #include "physics/world.h"
 
 namespace chainsim {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
 
 struct Gait {
   double amplitude_deg = 20;
@@ -54,15 +52,14 @@ struct Outcome {
 
 Outcome crawl(const Gait& g, double heading, double mu, uint64_t seed, double seconds) {
   WorldConfig c;
-  c.chain.assign(8, "rotation");
   c.head_position = Eigen::Vector3d(0, 0, 0.0126);  // the rings' radius + 0.1 mm
   c.heading_rad = heading;
   c.ground.mu = mu;
   c.seed = seed;
-  World w(c);
+  World w(c, std::vector<std::string>(8, "rotation"));
   for (int m = 0; m < 8; ++m)
     w.set_servo_setpoint(
-        m, 1, (m == 0 ? 0.5 : (m % 2 ? -1.0 : 1.0)) * g.yaw_zigzag_deg * kDeg);
+        m, 1, (m == 0 ? 0.5 : (m % 2 ? -1.0 : 1.0)) * g.yaw_zigzag_deg * kRadPerDeg);
   const Eigen::Vector3d start = w.chain_com();
   const int steps = static_cast<int>(std::lround(seconds / 5e-4));
   double max_roll = 0;
@@ -71,7 +68,7 @@ Outcome crawl(const Gait& g, double heading, double mu, uint64_t seed, double se
       const double t = w.time_us() * 1e-6;
       for (int m = 0; m < 8; ++m)
         w.set_servo_setpoint(m, 0,
-                             g.amplitude_deg * kDeg *
+                             g.amplitude_deg * kRadPerDeg *
                                  std::sin(g.omega_rad_s * t + g.sign * m * g.phase_rad));
       // mean over the modules of the tilt of the capsules' pitch axes: ~90
       // when the chain has rolled onto its side
@@ -81,7 +78,7 @@ Outcome crawl(const Gait& g, double heading, double mu, uint64_t seed, double se
         const Eigen::Quaterniond qq(q[0], q[1], q[2], q[3]);
         mean += (qq * Eigen::Vector3d::UnitY()).z() / 8;
       }
-      max_roll = std::max(max_roll, std::asin(std::min(1.0, std::fabs(mean))) / kDeg);
+      max_roll = std::max(max_roll, std::asin(std::min(1.0, std::fabs(mean))) / kRadPerDeg);
     }
     w.step();
   }

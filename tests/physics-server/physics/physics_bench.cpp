@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <algorithm>
 
+#include "physics/units.h"
 #include "physics/world.h"
 
 using namespace chainsim;
@@ -15,16 +16,15 @@ using namespace chainsim;
 int main(int argc, char** argv) {
   const double seconds = argc > 1 ? std::atof(argv[1]) : 5.0;
   const int iterations = argc > 2 ? std::atoi(argv[2]) : WorldConfig{}.solver_iterations;
-  const double deg = 3.14159265358979323846 / 180.0;
+  const double deg = kRadPerDeg;
   std::printf("QuickStep iterations %d, %.1f s simulated per chain\n", iterations, seconds);
   std::printf("%8s %7s %10s %12s %10s %12s %10s\n", "modules", "bodies", "us/step", "x real time",
               "contacts", "dock max mm", "moved m");
   for (int n : {2, 8, 32}) {
     WorldConfig c;
-    c.chain.assign(n, "rotation");
     c.head_position = Eigen::Vector3d(0, 0, 0.0126);
     c.solver_iterations = iterations;
-    World w(c);
+    World w(c, std::vector<std::string>(n, "rotation"));
     for (int m = 0; m < n; ++m)
       w.set_servo_setpoint(m, 1, (m == 0 ? 25 : (m % 2 ? -50 : 50)) * deg);
     auto drive = [&](int k) {

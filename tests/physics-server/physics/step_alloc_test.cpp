@@ -19,11 +19,10 @@ TEST(World, StepDoesNotAllocate) {
 #ifndef CHAINSIM_COUNT_MALLOC
   GTEST_SKIP() << "needs glibc malloc interposition";
 #else
-  const double deg = 3.14159265358979323846 / 180.0;
+  const double deg = kRadPerDeg;
   WorldConfig c;
-  c.chain.assign(8, "rotation");
   c.head_position = Eigen::Vector3d(0, 0, 0.0126);
-  World w(c);
+  World w(c, std::vector<std::string>(8, "rotation"));
   for (int m = 0; m < 8; ++m) w.set_servo_setpoint(m, 1, (m == 0 ? 25 : (m % 2 ? -50 : 50)) * deg);
   w.step();  // ODE sets up its stepping context here
   long total = 0;
@@ -57,10 +56,9 @@ TEST(World, StepDoesNotAllocateInPipesAndOnTerrain) {
 #ifndef CHAINSIM_COUNT_MALLOC
   GTEST_SKIP() << "needs glibc malloc interposition";
 #else
-  const double deg = 3.14159265358979323846 / 180.0;
+  const double deg = kRadPerDeg;
   for (int env = 0; env < 3; ++env) {
     WorldConfig c;
-    c.chain.assign(3, "rotation");
     c.environment.ground_plane = false;
     if (env < 2) {
       c.environment.type = EnvironmentType::Pipe;
@@ -80,7 +78,7 @@ TEST(World, StepDoesNotAllocateInPipesAndOnTerrain) {
       c.environment.type = EnvironmentType::Terrain;
       c.head_position = Eigen::Vector3d(0.1, 0, 0.04);
     }
-    World w(c);
+    World w(c, std::vector<std::string>(3, "rotation"));
     long total = 0;
     for (int k = 0; k < 6000; ++k) {  // 3 s
       if (k % 20 == 0) {
@@ -105,10 +103,9 @@ TEST(ShippedModules, StepAndSampleDoNotAllocate) {
   GTEST_SKIP() << "needs glibc malloc interposition";
 #else
   WorldConfig c;
-  c.chain = {"touch",     "rotation",  "support", "extension", "helicoidal",
-             "traveller", "traveller", "passive", "rotation"};
   c.head_position = Eigen::Vector3d(0, 0, 0.0126);
-  World w(c);
+  World w(c, {"touch", "rotation", "support", "extension", "helicoidal", "traveller", "traveller",
+              "passive", "rotation"});
   w.step();  // ODE sets up its stepping context here
   long total = 0;
   ModuleSample s;

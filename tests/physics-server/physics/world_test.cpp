@@ -1,5 +1,6 @@
 // The World: docking holds, the servo step of the paper's Fig. 4, holding
-// against gravity, limp/unpowered modules, sensors, trace format, determinism.
+// against gravity, limp/unpowered modules, sensors, determinism. (The trace
+// format: tests/physics-server/output/trace_writer_test.cpp.)
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,32 +10,33 @@
 #include <string>
 #include <vector>
 
+#include "physics/units.h"
 #include "physics/world.h"
 
 namespace chainsim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
 
 void run(World& w, double seconds) {
   const int n = static_cast<int>(std::lround(seconds * 1e6 / static_cast<double>(w.dt_us())));
   for (int k = 0; k < n; ++k) w.step();
 }
 
-WorldConfig chain_config(int n, double z) {
+// the head's front face at height z
+WorldConfig config_at(double z) {
   WorldConfig c;
-  c.chain.assign(n, "rotation");
   c.head_position = Eigen::Vector3d(0, 0, z);
   return c;
 }
+
+std::vector<std::string> rotations(int n) { return std::vector<std::string>(n, "rotation"); }
 
 // An 8-module chain hangs from its head: limp, it swings down from the
 // horizontal and hits the +-90 degree stops; powered, it holds as a sagging
 // cantilever. The docking joints stretch < 1 mm throughout.
 TEST(World, DockedChainHangingFromAFixedPointHolds) {
   for (bool limp : {true, false}) {
-    World w(chain_config(8, 0.6));
+    World w(config_at(0.6), rotations(8));
     w.pin_body(0, 0);
     for (int m = 0; m < 8; ++m)
       for (int s = 0; s < 2; ++s) w.set_servo_enabled(m, s, !limp);
@@ -69,21 +71,21 @@ struct StepRecord {
 // (0 = straight, +-90 = the stops); the servo's own 0..180 scale is ours + 90,
 // so the paper's 30 -> 120 move is -60 -> +30 here.
 StepRecord servo_step(int64_t dt_us) {
-  WorldConfig c = chain_config(1, 0.3);
+  WorldConfig c = config_at(0.3);
   c.gravity_m_s2 = 0;  // unloaded
   c.dt_us = dt_us;
-  World w(c);
+  World w(c, rotations(1));
   w.pin_body(0, 0);
-  w.set_servo_setpoint(0, 0, -60 * kDeg);
+  w.set_servo_setpoint(0, 0, -60 * kRadPerDeg);
   run(w, 0.5);
-  EXPECT_NEAR(w.servo_angle_rad(0, 0), -60 * kDeg, 0.5 * kDeg);
-  w.set_servo_setpoint(0, 0, 30 * kDeg);
+  EXPECT_NEAR(w.servo_position(0, 0), -60 * kRadPerDeg, 0.5 * kRadPerDeg);
+  w.set_servo_setpoint(0, 0, 30 * kRadPerDeg);
   StepRecord r;
   const int n = static_cast<int>(500000 / dt_us);
   for (int k = 0; k < n; ++k) {
     w.step();
     r.t.push_back((k + 1) * dt_us * 1e-6);
-    r.angle.push_back(w.servo_angle_rad(0, 0) / kDeg);
+    r.angle.push_back(w.servo_position(0, 0) / kRadPerDeg);
     r.current.push_back(w.servo_current_a(0, 0));
   }
   return r;
@@ -158,12 +160,12 @@ TEST(World, ServoStepAt500usAgreesWith50usWithinOnePercent) {
 // stall torque, 1.6 degrees peak to peak and a +0.43 degree bias.
 TEST(World, ServoHoldsAConstantExternalTorqueLoad) {
   for (int iterations : {200, 30}) {
-    WorldConfig c = chain_config(1, 0.3);
+    WorldConfig c = config_at(0.3);
     c.gravity_m_s2 = 0;
     c.solver_iterations = iterations;
-    World w(c);
+    World w(c, rotations(1));
     w.pin_body(0, 0);
-    w.set_servo_setpoint(0, 0, 20 * kDeg);
+    w.set_servo_setpoint(0, 0, 20 * kRadPerDeg);
     const double tau = 0.02;  // N m, a third of the stall torque (0.058 N m)
     // the module lies along x, the pitch axis is y; the torque acts on the
     // capsule (the pitch joint's child), + about the axis
@@ -177,14 +179,14 @@ TEST(World, ServoHoldsAConstantExternalTorqueLoad) {
     for (int k = 0; k < n; ++k) {
       w.add_body_torque(0, 1, load);
       w.step();
-      const double a = w.servo_angle_rad(0, 0) / kDeg;
+      const double a = w.servo_position(0, 0) / kRadPerDeg;
       lo = std::min(lo, a);
       hi = std::max(hi, a);
       (k < n / 2 ? first : second) += a / (n / 2);
       current += w.servo_current_a(0, 0) / n;
     }
     const ServoParams p;
-    const double expect = 20 + tau * p.r / (p.kt * p.kp) / kDeg;
+    const double expect = 20 + tau * p.r / (p.kt * p.kp) / kRadPerDeg;
     std::printf("%d iterations, holding %.3f N m: mean %.4f deg (expected %.4f), spread %.4f deg, "
                 "drift %.4f deg/s, mean current %.4f A (expected %.4f)\n",
                 iterations, tau, second, expect, hi - lo, second - first, current, -tau / p.kt);
@@ -203,15 +205,15 @@ TEST(World, ServoHoldsAConstantExternalTorqueLoad) {
 }
 
 TEST(World, ServoHolds45DegreesAgainstGravity) {
-  World w(chain_config(1, 0.3));
+  World w(config_at(0.3), rotations(1));
   w.pin_body(0, 0);  // front connector fixed, the rest is a cantilever
-  w.set_servo_setpoint(0, 0, 45 * kDeg);
+  w.set_servo_setpoint(0, 0, 45 * kRadPerDeg);
   run(w, 1.0);
   double lo = 1e9, hi = -1e9, sum = 0;
   const int n = 2000;  // the last second
   for (int k = 0; k < n; ++k) {
     w.step();
-    const double a = w.servo_angle_rad(0, 0) / kDeg;
+    const double a = w.servo_position(0, 0) / kRadPerDeg;
     lo = std::min(lo, a);
     hi = std::max(hi, a);
     sum += a;
@@ -223,112 +225,95 @@ TEST(World, ServoHolds45DegreesAgainstGravity) {
 }
 
 TEST(World, UnpoweredModuleIsLimpAndReadsZero) {
-  World w(chain_config(1, 0.3));
+  World w(config_at(0.3), rotations(1));
   w.pin_body(0, 0);
-  w.set_servo_setpoint(0, 0, 20 * kDeg);
+  w.set_servo_setpoint(0, 0, 20 * kRadPerDeg);
   run(w, 0.5);
   ModuleSample s;
   w.sample(0, &s);
   EXPECT_EQ(s.n_servos, 2);
   EXPECT_EQ(s.n_adc, 2);
-  EXPECT_NEAR(s.servo_angle_rad[0], 20 * kDeg, 2 * kDeg);
+  EXPECT_NEAR(s.servo_position_wire[0], 20000, 2000);  // millidegrees
   EXPECT_GT(s.adc[0], 0);  // holding the cantilever takes current
   EXPECT_GT(w.module_supply_current_a(0), 0.0);
   w.set_module_powered(0, false);
   run(w, 1.0);
   w.sample(0, &s);
-  EXPECT_EQ(s.servo_angle_rad[0], 0.0);
-  EXPECT_EQ(s.servo_angle_rad[1], 0.0);
+  EXPECT_EQ(s.servo_position_wire[0], 0);
+  EXPECT_EQ(s.servo_position_wire[1], 0);
   EXPECT_EQ(s.adc[0], 0);
   EXPECT_EQ(s.adc[1], 0);
   EXPECT_EQ(w.module_supply_current_a(0), 0.0);
   EXPECT_LT(std::fabs(w.servo_current_a(0, 0)), 1e-6);
   // limp: the cantilever has fallen onto a stop (the module is horizontal, so
   // gravity pulls the capsule down: towards -90 degrees of pitch)
-  EXPECT_LT(w.servo_angle_rad(0, 0), -80 * kDeg);
+  EXPECT_LT(w.servo_position(0, 0), -80 * kRadPerDeg);
   // powered again: it lifts itself back
   w.set_module_powered(0, true);
   run(w, 1.0);
-  EXPECT_NEAR(w.servo_angle_rad(0, 0), 20 * kDeg, 2 * kDeg);
+  EXPECT_NEAR(w.servo_position(0, 0), 20 * kRadPerDeg, 2 * kRadPerDeg);
 }
 
 TEST(World, DisabledServoIsLimp) {
-  World w(chain_config(1, 0.3));
+  World w(config_at(0.3), rotations(1));
   w.pin_body(0, 0);
   w.set_servo_enabled(0, 0, false);
   run(w, 1.0);
-  EXPECT_LT(w.servo_angle_rad(0, 0), -80 * kDeg);
+  EXPECT_LT(w.servo_position(0, 0), -80 * kRadPerDeg);
   ModuleSample s;
   w.sample(0, &s);
-  EXPECT_LT(s.servo_angle_rad[0], -80 * kDeg);  // the module is powered: sensors read
+  EXPECT_LT(s.servo_position_wire[0], -80000);  // the module is powered: sensors read
   EXPECT_EQ(s.adc[0], 0);
 }
 
 TEST(World, SetpointsAreClampedToTheServoRange) {
-  World w(chain_config(1, 0.3));
+  World w(config_at(0.3), rotations(1));
   w.set_servo_setpoint(0, 0, 3.0);
-  EXPECT_NEAR(w.servo_setpoint_rad(0, 0), kPi / 2, 1e-12);
+  EXPECT_NEAR(w.servo_setpoint(0, 0), kPi / 2, 1e-12);
   w.set_servo_setpoint(0, 1, -3.0);
-  EXPECT_NEAR(w.servo_setpoint_rad(0, 1), -kPi / 2, 1e-12);
+  EXPECT_NEAR(w.servo_setpoint(0, 1), -kPi / 2, 1e-12);
   EXPECT_THROW(w.set_servo_setpoint(0, 2, 0.0), std::out_of_range);
   EXPECT_THROW(w.set_servo_setpoint(1, 0, 0.0), std::out_of_range);
 }
 
-int count_fields(const std::string& line) {
-  return static_cast<int>(std::count(line.begin(), line.end(), ',')) + 1;
+// every body's pose and velocity at full precision: equal text = equal states
+void append_state(const World& w, std::string* out) {
+  char buf[64];
+  for (int m = 0; m < w.module_count(); ++m)
+    for (int b = 0; b < w.body_count(m); ++b) {
+      const World::BodyState s = w.body_state(m, b);
+      for (double v : {s.position.x(), s.position.y(), s.position.z(), s.quaternion_wxyz[0],
+                       s.quaternion_wxyz[1], s.quaternion_wxyz[2], s.quaternion_wxyz[3],
+                       s.linear_velocity.x(), s.linear_velocity.y(), s.linear_velocity.z()}) {
+        std::snprintf(buf, sizeof buf, "%.17g,", v);
+        *out += buf;
+      }
+    }
+  *out += "\n";
 }
 
-TEST(World, TraceFormat) {
-  WorldConfig c = chain_config(2, 0.0126);
-  c.chain[1] = "passive";
-  World w(c);
-  const std::string header = w.trace_header();
-  ASSERT_FALSE(header.empty());
-  EXPECT_EQ(header.back(), '\n');
-  EXPECT_EQ(header.rfind("t_s,m0.front.x,m0.front.y,m0.front.z,m0.front.qw,", 0), 0u) << header;
-  for (const char* col : {"m0.body.qz", "m0.back.x", "m0.s0.setpoint_deg", "m0.s0.angle_deg",
-                          "m0.s0.current_a", "m0.s1.current_a", "m0.supply_a", "m1.body.x",
-                          "m1.supply_a"})
-    EXPECT_NE(header.find(std::string(",") + col), std::string::npos) << col;
-  EXPECT_EQ(header.find("m1.s0"), std::string::npos);
-  std::string rows;
-  w.append_trace_row(&rows);
-  w.step();
-  w.append_trace_row(&rows);
-  std::istringstream in(rows);
-  std::string r0, r1;
-  std::getline(in, r0);
-  std::getline(in, r1);
-  EXPECT_EQ(count_fields(header.substr(0, header.size() - 1)), count_fields(r0));
-  EXPECT_EQ(count_fields(r0), count_fields(r1));
-  EXPECT_EQ(r0.rfind("0.000000,", 0), 0u) << r0;
-  EXPECT_EQ(r1.rfind("0.000500,", 0), 0u) << r1;
-  // 3 + 1 bodies x 7, 2 servos x 3, 2 supplies, time
-  EXPECT_EQ(count_fields(r0), 1 + 4 * 7 + 2 * 3 + 2);
-}
-
-// the gait of gait_test.cpp for `seconds`, a trace row every 10 ms
+// the gait of gait_test.cpp for `seconds`, the state every 10 ms
 std::string gait_trace(uint64_t seed, double seconds) {
-  WorldConfig c = chain_config(8, 0.0126);
+  WorldConfig c = config_at(0.0126);
   c.seed = seed;
-  World w(c);
-  std::string out = w.trace_header();
+  World w(c, rotations(8));
+  std::string out;
   const int n = static_cast<int>(seconds / 5e-4);
   for (int k = 0; k < n; ++k) {
     if (k % 20 == 0) {
       const double t = w.time_us() * 1e-6;
       for (int m = 0; m < 8; ++m) {
-        w.set_servo_setpoint(m, 0, 20 * kDeg * std::sin(14 * t + m * 1.36));
-        w.set_servo_setpoint(m, 1, m == 0 ? 25 * kDeg : (m % 2 ? -50 : 50) * kDeg);
+        w.set_servo_setpoint(m, 0, 20 * kRadPerDeg * std::sin(14 * t + m * 1.36));
+        w.set_servo_setpoint(m, 1, m == 0 ? 25 * kRadPerDeg : (m % 2 ? -50 : 50) * kRadPerDeg);
       }
-      w.append_trace_row(&out);
+      append_state(w, &out);
     }
     w.step();
   }
   return out;
 }
 
-TEST(World, SameConfigAndSeedGiveIdenticalTraceBytes) {
+TEST(World, SameConfigAndSeedGiveIdenticalStates) {
   const std::string a = gait_trace(7, 2.0);
   const std::string b = gait_trace(7, 2.0);
   EXPECT_GT(a.size(), 100000u);
@@ -339,19 +324,19 @@ TEST(World, SameConfigAndSeedGiveIdenticalTraceBytes) {
 // (ODE's random state is saved and restored per World)
 TEST(World, InterleavedWorldsDoNotDisturbEachOther) {
   const std::string alone = gait_trace(3, 0.5);
-  WorldConfig c = chain_config(8, 0.0126);
+  WorldConfig c = config_at(0.0126);
   c.seed = 3;
-  World a(c), b(c);
-  std::string ta = a.trace_header(), tb = b.trace_header();
+  World a(c, rotations(8)), b(c, rotations(8));
+  std::string ta, tb;
   for (int k = 0; k < 1000; ++k) {
     for (World* w : {&a, &b}) {
       if (k % 20 == 0) {
         const double t = w->time_us() * 1e-6;
         for (int m = 0; m < 8; ++m) {
-          w->set_servo_setpoint(m, 0, 20 * kDeg * std::sin(14 * t + m * 1.36));
-          w->set_servo_setpoint(m, 1, m == 0 ? 25 * kDeg : (m % 2 ? -50 : 50) * kDeg);
+          w->set_servo_setpoint(m, 0, 20 * kRadPerDeg * std::sin(14 * t + m * 1.36));
+          w->set_servo_setpoint(m, 1, m == 0 ? 25 * kRadPerDeg : (m % 2 ? -50 : 50) * kRadPerDeg);
         }
-        w->append_trace_row(w == &a ? &ta : &tb);
+        append_state(*w, w == &a ? &ta : &tb);
       }
       w->step();
     }

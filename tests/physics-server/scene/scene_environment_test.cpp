@@ -14,6 +14,7 @@
 #include "environment/mesh_loader.h"
 #include "scene/scene.h"
 #include "output/scene_json.h"
+#include "physics/units.h"
 
 namespace chainsim {
 namespace {
@@ -64,7 +65,7 @@ TEST(SceneEnvironment, PipeSceneLoadsWithContactsAndEntryPlacement) {
   EXPECT_DOUBLE_EQ(e.contacts[0].material.soft_erp, 0.2);  // unset keys from environment.material
   ASSERT_TRUE(s.world.head_orientation.has_value());
   // three passive modules (46 mm) 10 mm into a 30 degree pipe: head 0.148 m up the axis
-  const Eigen::Vector3d axis(std::cos(M_PI / 6), 0, 0.5);
+  const Eigen::Vector3d axis(std::cos(kPi / 6), 0, 0.5);
   EXPECT_NEAR((s.world.head_position - 0.148 * axis).norm(), 0, 1e-12);
   EXPECT_NEAR((*s.world.head_orientation * Eigen::Vector3d::UnitX() - axis).norm(), 0, 1e-12);
 }
@@ -138,10 +139,10 @@ TEST(SceneEnvironment, BadValuesAreNamed) {
   EXPECT_HAS(e, "only allowed on the first segment");
   e = error_of("chain: R\nenvironment:\n  type: pipe\n  pipe:\n    segments: [{type: bend}]\n");
   EXPECT_HAS(e, "'bend' is not known (known: straight, elbow, tee)");
-  e = error_of("chain: R\nenvironment: {type: pipe}\n");
-  EXPECT_HAS(e, "needs an 'environment.pipe' mapping");
-  e = error_of("chain: R\nenvironment: {type: plane, pipe: {}}\n");
-  EXPECT_HAS(e, "'environment.pipe' is only used with type: pipe");
+  EXPECT_EQ(error_of("chain: R\nenvironment: {type: pipe}\n"),
+            "s.yaml:2:14: environment type 'pipe' needs an 'environment.pipe' mapping");
+  EXPECT_EQ(error_of("chain: R\nenvironment: {type: plane, pipe: {}}\n"),
+            "s.yaml:2:34: 'environment.pipe' is only used with type: pipe (type is 'plane')");
   e = error_of("chain: R\nenvironment: {type: terrain, terrain: {width_m: -1}}\n");
   EXPECT_HAS(e, "'environment.terrain.width_m' = -1 must be > 0");
 }
@@ -150,25 +151,34 @@ TEST(SceneEnvironment, ContactsNameUnknownSurfacesAndRepeats) {
   std::string e = error_of("chain: R\ncontacts:\n  - {between: [steel, module], mu: 0.4}\n");
   EXPECT_HAS(e, "s.yaml:3:16");
   EXPECT_HAS(e, "surface 'steel' is not in this scene (known: ground, module)");
-  e = error_of("chain: R\ncontacts:\n  - {between: [ground, module]}\n  - {between: [module, ground]}\n");
-  EXPECT_HAS(e, "listed twice");
-  e = error_of("chain: R\nenvironment: {type: terrain, terrain: {}}\ncontacts:\n  - {between: [ground, wall]}\n");
-  EXPECT_HAS(e, "environment surfaces never touch each other");
+  EXPECT_EQ(error_of("chain: R\ncontacts:\n  - {between: [ground, module]}\n  - {between: [module, ground]}\n"),
+            "s.yaml:4:15: 'contacts[1].between': the pair module-ground is listed twice");
+  EXPECT_EQ(error_of("chain: R\nenvironment: {type: terrain, terrain: {}}\ncontacts:\n"
+                     "  - {between: [ground, wall]}\n"),
+            "s.yaml:4:15: 'contacts[0].between': environment surfaces never touch each other; pair one "
+            "with 'module'");
   e = error_of("chain: R\ncontacts:\n  - {between: [ground, module], friction: 1}\n");
   EXPECT_HAS(e, "unknown key 'friction' in 'contacts[0]'");
 }
 
 TEST(SceneEnvironment, PlacementAtThePipeEntryNeedsAPipeThatFits) {
-  std::string e = error_of("chain: R\nplacement: {at: pipe_entry}\n");
-  EXPECT_HAS(e, "s.yaml:2:17");
-  EXPECT_HAS(e, "needs environment type 'pipe'");
-  e = error_of(
-      "chain: PPPP\nenvironment:\n  type: pipe\n  pipe: {segments: [{type: straight, length_m: 0.1}]}\n"
-      "placement: {at: pipe_entry}\n");
-  EXPECT_HAS(e, "does not fit in the pipe's first straight segment");
-  e = error_of("chain: R\nplacement: {at: pipe_entry, heading_deg: 10}\n");
-  EXPECT_HAS(e, "'placement.heading_deg' cannot be used with 'placement.at'");
-  e = error_of("chain: R\nplacement: {at: door}\n");
+  EXPECT_EQ(error_of("chain: R\nplacement: {at: pipe_entry}\n"),
+            "s.yaml:2:17: 'placement.at: pipe_entry': placement at the pipe entry needs environment type "
+            "'pipe'");
+  // four passive modules (4 x 46 mm) and the default 5 mm inset in a 0.1 m straight
+  EXPECT_EQ(error_of("chain: PPPP\nenvironment:\n  type: pipe\n  pipe: {segments: [{type: straight, "
+                     "length_m: 0.1}]}\nplacement: {at: pipe_entry}\n"),
+            "s.yaml:5:17: 'placement.at: pipe_entry': the chain (0.184 m) plus the inset (0.005 m) does "
+            "not fit in the pipe's first straight segment (0.1 m; it must start with a straight segment "
+            "at least that long)");
+  // two fit in 0.1 m
+  EXPECT_EQ(error_of("chain: PP\nenvironment:\n  type: pipe\n  pipe: {segments: [{type: straight, "
+                     "length_m: 0.1}]}\nplacement: {at: pipe_entry}\n"),
+            "(no error)");
+  EXPECT_EQ(error_of("chain: R\nplacement: {at: pipe_entry, heading_deg: 10}\n"),
+            "s.yaml:2:42: 'placement.heading_deg' cannot be used with 'placement.at'");
+  const std::string e = error_of("chain: R\nplacement: {at: door}\n");
+  EXPECT_EQ(e.rfind("s.yaml:2:17: ", 0), 0u) << e;
   EXPECT_HAS(e, "'door' is not known (known: pipe_entry)");
 }
 

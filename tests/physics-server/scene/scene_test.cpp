@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "scene/scene.h"
 
@@ -26,7 +27,7 @@ TEST(Scene, BuiltInDefaultIsASnakeOfEightRotationModules) {
     EXPECT_EQ(m.type, "rotation");
     EXPECT_EQ(m.firmware, "fw-rotation");
   }
-  EXPECT_EQ(s.world.chain.size(), 8u);
+  EXPECT_EQ(s.chain_types(), std::vector<std::string>(8, "rotation"));
   EXPECT_EQ(s.tick_us, 1000);
   EXPECT_EQ(s.world.dt_us, 500);
   EXPECT_EQ(s.central.firmware, "fw-central");
@@ -38,6 +39,24 @@ TEST(Scene, ChainLettersBecomeModuleTypes) {
   const std::vector<std::string> want{"touch", "rotation", "helicoidal", "support", "extension", "traveller", "passive"};
   ASSERT_EQ(s.modules.size(), want.size());
   for (size_t i = 0; i < want.size(); ++i) EXPECT_EQ(s.modules[i].type, want[i]);
+}
+
+// the modules are one list: the World's chain is derived from it
+TEST(Scene, ChainTypesFollowTheModuleList) {
+  auto s = load_scene_text("chain: RPR\n", "s.yaml");
+  EXPECT_EQ(s.chain_types(), (std::vector<std::string>{"rotation", "passive", "rotation"}));
+  s.modules.pop_back();
+  s.modules[0].type = "touch";
+  EXPECT_EQ(s.chain_types(), (std::vector<std::string>{"touch", "passive"}));
+}
+
+// one seed: the scene's seed is the world's (ODE, sensor noise, WELCOME)
+TEST(Scene, SeedIsTheWorldsSeed) {
+  EXPECT_EQ(load_scene_text("chain: R\n", "s.yaml").world.seed, 1u);
+  EXPECT_EQ(load_scene_text("chain: R\nseed: 42\n", "s.yaml").world.seed, 42u);
+  const std::string e = error_of("chain: R\nseed: -3\n");
+  EXPECT_EQ(e.rfind("s.yaml:2:7: ", 0), 0u) << e;
+  EXPECT_NE(e.find("'scene.seed' = -3 is out of range"), std::string::npos) << e;
 }
 
 TEST(Scene, ExplicitModuleListCarriesFirmwareAndParams) {
@@ -56,29 +75,31 @@ TEST(Scene, UnknownKeyIsNamedWithItsLineAndColumn) {
 }
 
 TEST(Scene, UnknownChainLetterIsAnError) {
-  const std::string e = error_of("chain: RRX\n");
-  EXPECT_NE(e.find("s.yaml:1:8"), std::string::npos) << e;
-  EXPECT_NE(e.find("'X'"), std::string::npos) << e;
+  EXPECT_EQ(error_of("chain: RRX\n"),
+            "s.yaml:1:8: 'chain' has unknown module letter 'X' (T touch, R rotation, H helicoidal, "
+            "S support, E extension, W traveller, P passive)");
 }
 
 TEST(Scene, MissingChainIsAnError) {
-  EXPECT_NE(error_of("name: x\n").find("missing key 'chain'"), std::string::npos);
+  EXPECT_EQ(error_of("name: x\n"),
+            "s.yaml:1:1: missing key 'chain' (a string such as \"RRRRRRRR\" or a list of modules)");
 }
 
 TEST(Scene, NumberOfTheWrongTypeNamesTheKey) {
   const std::string e = error_of("chain: R\nduration_s: long\n");
-  EXPECT_NE(e.find("s.yaml:2:13"), std::string::npos) << e;
-  EXPECT_NE(e.find("duration_s"), std::string::npos) << e;
+  EXPECT_EQ(e.rfind("s.yaml:2:13: 'scene.duration_s' ", 0), 0u) << e;
 }
 
 TEST(Scene, TickMustBeAMultipleOfThePhysicsStep) {
-  const std::string e = error_of("chain: R\nphysics: {dt_us: 400, tick_us: 1000}\n");
-  EXPECT_NE(e.find("multiple"), std::string::npos) << e;
+  EXPECT_EQ(error_of("chain: R\nphysics: {dt_us: 400, tick_us: 1000}\n"),
+            "s.yaml:2:10: 'physics.tick_us' (1000) must be a multiple of 'physics.dt_us' (400)");
+  EXPECT_EQ(error_of("chain: R\nphysics: {dt_us: 400, tick_us: 1200}\n"), "(no error)");
 }
 
 TEST(Scene, OutOfRangeValueIsAnError) {
   const std::string e = error_of("chain: R\nenvironment: {material: {bounce: 2}}\n");
-  EXPECT_NE(e.find("environment.material.bounce"), std::string::npos) << e;
+  EXPECT_EQ(e.rfind("s.yaml:2:34: 'environment.material.bounce' = 2 ", 0), 0u) << e;
+  EXPECT_EQ(error_of("chain: R\nenvironment: {material: {bounce: 1}}\n"), "(no error)");
 }
 
 TEST(Scene, MalformedYamlGivesTheParserPosition) {
@@ -91,6 +112,5 @@ TEST(Scene, SolverIterationsAreAPhysicsSetting) {
   EXPECT_EQ(load_scene_text("chain: R\n", "s.yaml").world.solver_iterations, 30);
   EXPECT_EQ(load_scene_text("chain: R\nphysics: {solver_iterations: 200}\n", "s.yaml").world.solver_iterations, 200);
   const std::string e = error_of("chain: R\nphysics: {solver_iterations: 0}\n");
-  EXPECT_NE(e.find("s.yaml:2:"), std::string::npos) << e;
-  EXPECT_NE(e.find("solver_iterations"), std::string::npos) << e;
+  EXPECT_EQ(e.rfind("s.yaml:2:30: 'physics.solver_iterations' = 0 ", 0), 0u) << e;
 }

@@ -10,11 +10,11 @@
 #include "analysis/robot_calibration/head_speed.h"
 #include "analysis/robot_calibration/speed_table.h"
 #include "readers/csv_table.h"
+#include "physics/units.h"
 
 namespace chainsim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // the head moves 2 cm/s along axis u and wobbles across it (zero at whole seconds)
 std::string trace(const Axis& u, double until_s = 2.0) {

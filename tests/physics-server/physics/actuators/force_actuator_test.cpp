@@ -2,7 +2,7 @@
 // module) in the World, on test module types given through
 // WorldConfig::module_types: reaching and holding a reference, force
 // saturation, the drive along a body axis and its force/speed limits, the
-// supply current and energy (rotary servos too), the wire units.
+// supply current and energy (rotary servos too), what firmware reads.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -13,13 +13,11 @@
 #include <string>
 
 #include "model/module_def.h"
+#include "physics/units.h"
 #include "physics/world.h"
 
 namespace chainsim {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
 constexpr double kG = 9.81;
 
 BodyDef box(const std::string& name, double mass, const Eigen::Vector3d& centre,
@@ -96,7 +94,6 @@ ModuleDef screw_def(const Eigen::Vector3d& direction, double mass, double fmax, 
 WorldConfig config_for(const ModuleDef& def, double gravity, double z = 0.5) {
   WorldConfig c;
   c.module_types = {def};
-  c.chain = {def.type};
   c.gravity_m_s2 = gravity;
   c.head_position = Eigen::Vector3d(0, 0, z);
   return c;
@@ -114,15 +111,16 @@ void run(World& w, double seconds, double* energy_j = nullptr) {
 
 TEST(LinearServo, ReachesItsReferenceAndHolds) {
   // 1 N, 2 mm band, 20 mm/s no-load speed (a micro linear servo)
-  World w(config_for(slide_def(-Eigen::Vector3d::UnitX(), 0.005, 1.0, 0.002, 0.02), 0.0));
+  World w(config_for(slide_def(-Eigen::Vector3d::UnitX(), 0.005, 1.0, 0.002, 0.02), 0.0),
+          {"slide_test"});
   w.pin_body(0, 0);
   ASSERT_EQ(w.servo_count(0), 1);
-  EXPECT_EQ(w.servo_kind(0, 0), World::ServoKind::Linear);
+  EXPECT_EQ(w.servo_kind(0, 0), ServoKind::Linear);
   w.set_servo_setpoint(0, 0, 0.010);
   double vmax = 0, pos_prev = 0, law_err = 0, early_effort = 0;
   for (int k = 0; k < 4000; ++k) {  // 2 s: 0.4 s at full speed, then the band (l0/v_free = 0.1 s)
     w.step();
-    const double pos = w.servo_angle_rad(0, 0);
+    const double pos = w.servo_position(0, 0);
     const double v = (pos - pos_prev) / 5e-4;  // ODE: pos' = pos + h v'
     vmax = std::max(vmax, v);
     pos_prev = pos;
@@ -133,8 +131,8 @@ TEST(LinearServo, ReachesItsReferenceAndHolds) {
   double lo = 1e9, hi = -1e9;
   for (int k = 0; k < 2000; ++k) {  // the next second
     w.step();
-    lo = std::min(lo, w.servo_angle_rad(0, 0));
-    hi = std::max(hi, w.servo_angle_rad(0, 0));
+    lo = std::min(lo, w.servo_position(0, 0));
+    hi = std::max(hi, w.servo_position(0, 0));
   }
   std::printf("linear servo: first-step force %.3f N, top speed %.2f mm/s, final %.4f mm, spread "
               "%.2g mm, force law error %.2g N\n", early_effort, vmax * 1e3, hi * 1e3, (hi - lo) * 1e3,
@@ -150,25 +148,26 @@ TEST(LinearServo, ReachesItsReferenceAndHolds) {
   EXPECT_NEAR(w.servo_effort(0, 0), 0.0, 1e-6);
   // a set-point beyond the stroke is clamped to it
   w.set_servo_setpoint(0, 0, 0.1);
-  EXPECT_NEAR(w.servo_setpoint_rad(0, 0), 0.015, 1e-12);
+  EXPECT_NEAR(w.servo_setpoint(0, 0), 0.015, 1e-12);
 }
 
 // the paper's law exactly (no speed term): an undamped spring in continuous
 // time; the implicit proportional term keeps it stable and it settles
 TEST(LinearServo, PurePaperLawIsStable) {
-  World w(config_for(slide_def(-Eigen::Vector3d::UnitX(), 0.005, 1.0, 0.002, 0.0), 0.0));
+  World w(config_for(slide_def(-Eigen::Vector3d::UnitX(), 0.005, 1.0, 0.002, 0.0), 0.0),
+          {"slide_test"});
   w.pin_body(0, 0);
   w.set_servo_setpoint(0, 0, 0.008);
   double peak = 0;
   for (int k = 0; k < 2000; ++k) {
     w.step();
-    const double p = w.servo_angle_rad(0, 0);
+    const double p = w.servo_position(0, 0);
     ASSERT_TRUE(std::isfinite(p));
     peak = std::max(peak, p);
   }
-  std::printf("pure law: peak %.3f mm, after 1 s %.4f mm\n", peak * 1e3, w.servo_angle_rad(0, 0) * 1e3);
+  std::printf("pure law: peak %.3f mm, after 1 s %.4f mm\n", peak * 1e3, w.servo_position(0, 0) * 1e3);
   EXPECT_LE(peak, 0.015 + 1e-4);   // at most up to the stop
-  EXPECT_NEAR(w.servo_angle_rad(0, 0), 0.008, 2e-5);
+  EXPECT_NEAR(w.servo_position(0, 0), 0.008, 2e-5);
 }
 
 // slider vertical: the servo lifts a light slide to its reference less the
@@ -176,12 +175,13 @@ TEST(LinearServo, PurePaperLawIsStable) {
 // saturates at fmax and the slide stays on its lower stop)
 TEST(LinearServo, HoldsALoadWithDroopAndSaturatesOnAnOverload) {
   for (double mass : {0.05, 0.2}) {
-    World w(config_for(slide_def(Eigen::Vector3d::UnitZ(), mass, 1.0, 0.002, 0.02), kG));
+    World w(config_for(slide_def(Eigen::Vector3d::UnitZ(), mass, 1.0, 0.002, 0.02), kG),
+            {"slide_test"});
     w.pin_body(0, 0);
     w.set_servo_setpoint(0, 0, 0.010);
     double energy = 0;
     run(w, 2.0, &energy);
-    const double pos = w.servo_angle_rad(0, 0), f = w.servo_effort(0, 0);
+    const double pos = w.servo_position(0, 0), f = w.servo_effort(0, 0);
     std::printf("slide %.0f g: position %.4f mm, force %.4f N, supply %.4f A, energy %.4f J\n",
                 mass * 1e3, pos * 1e3, f, w.module_supply_current_a(0), energy);
     const double weight = mass * kG;
@@ -206,8 +206,8 @@ TEST(ScrewDrive, PushesABodyAlongItsAxisUpToTheNoLoadSpeed) {
   // heading rotates the chain: the drive axis turns with the body
   WorldConfig c = config_for(screw_def(Eigen::Vector3d::UnitX(), 0.02, 0.5, 0.03), 0.0);
   c.heading_rad = 0.6;
-  World w(c);
-  EXPECT_EQ(w.servo_kind(0, 0), World::ServoKind::Screw);
+  World w(c, {"screw_test"});
+  EXPECT_EQ(w.servo_kind(0, 0), ServoKind::Screw);
   w.set_servo_setpoint(0, 0, 1.0);
   w.step();
   // the implicit law: F = fmax (1 - v'/v_free) with v' the end-of-step speed
@@ -221,7 +221,7 @@ TEST(ScrewDrive, PushesABodyAlongItsAxisUpToTheNoLoadSpeed) {
               v.dot(axis), (v - v.dot(axis) * axis).norm(), w.servo_effort(0, 0));
   EXPECT_NEAR(v.dot(axis), 0.03, 1e-5);              // stops accelerating at v_free
   EXPECT_LT((v - v.dot(axis) * axis).norm(), 1e-9);  // along its axis only
-  EXPECT_NEAR(w.servo_angle_rad(0, 0), 0.03, 1e-5);  // diagnostic: speed along the axis
+  EXPECT_NEAR(w.servo_rate(0, 0), 0.03, 1e-5);  // speed along the axis
   EXPECT_NEAR(w.servo_effort(0, 0), 0.0, 1e-3);
   // half reverse: half the no-load speed backwards
   w.set_servo_setpoint(0, 0, -0.5);
@@ -229,10 +229,10 @@ TEST(ScrewDrive, PushesABodyAlongItsAxisUpToTheNoLoadSpeed) {
   EXPECT_NEAR(w.body_state(0, 0).linear_velocity.dot(axis), -0.015, 1e-5);
   ModuleSample s;
   w.sample(0, &s);
-  EXPECT_DOUBLE_EQ(s.servo_angle_rad[0], -0.5);   // "position" echoes the command
+  EXPECT_EQ(s.servo_position_wire[0], -500);   // no sensor: echoes the command, per mille
   // commands are clamped to -1..1
   w.set_servo_setpoint(0, 0, 7.0);
-  EXPECT_DOUBLE_EQ(w.servo_setpoint_rad(0, 0), 1.0);
+  EXPECT_DOUBLE_EQ(w.servo_setpoint(0, 0), 1.0);
 }
 
 // climbing straight up: speed v_free (1 - m g / fmax) while the drive can lift
@@ -240,7 +240,7 @@ TEST(ScrewDrive, PushesABodyAlongItsAxisUpToTheNoLoadSpeed) {
 TEST(ScrewDrive, ClimbsAtTheSpeedItsForceAllowsAndSaturatesBeyond) {
   for (double fmax : {0.5, 0.1}) {
     const double m = 0.02;
-    World w(config_for(screw_def(Eigen::Vector3d::UnitZ(), m, fmax, 0.03), kG, 5.0));
+    World w(config_for(screw_def(Eigen::Vector3d::UnitZ(), m, fmax, 0.03), kG, 5.0), {"screw_test"});
     w.set_servo_setpoint(0, 0, 1.0);
     double energy = 0;
     run(w, 0.3, &energy);
@@ -264,7 +264,7 @@ TEST(ScrewDrive, ClimbsAtTheSpeedItsForceAllowsAndSaturatesBeyond) {
 }
 
 TEST(ScrewDrive, WithoutSpeedTermItIsAConstantForce) {
-  World w(config_for(screw_def(Eigen::Vector3d::UnitX(), 0.02, 0.2, 0.0), 0.0));
+  World w(config_for(screw_def(Eigen::Vector3d::UnitX(), 0.02, 0.2, 0.0), 0.0), {"screw_test"});
   w.set_servo_setpoint(0, 0, 0.5);
   run(w, 0.1);
   // F = 0.1 N on 20 g for 0.1 s: 0.5 m/s
@@ -274,7 +274,7 @@ TEST(ScrewDrive, WithoutSpeedTermItIsAConstantForce) {
 
 TEST(ScrewDrive, DisabledOrUnpoweredPushesNothingAndDrawsNothing) {
   for (bool unpowered : {false, true}) {
-    World w(config_for(screw_def(Eigen::Vector3d::UnitX(), 0.02, 0.5, 0.03), 0.0));
+    World w(config_for(screw_def(Eigen::Vector3d::UnitX(), 0.02, 0.5, 0.03), 0.0), {"screw_test"});
     w.set_servo_setpoint(0, 0, 1.0);
     if (unpowered)
       w.set_module_powered(0, false);
@@ -292,16 +292,15 @@ TEST(ScrewDrive, DisabledOrUnpoweredPushesNothingAndDrawsNothing) {
 // servo: > 0 while it moves, 0 when the module is unpowered
 TEST(Power, MovingServoUsesEnergyAndUnpoweredNone) {
   WorldConfig c;
-  c.chain = {"rotation"};
   c.gravity_m_s2 = 0;
   c.head_position = Eigen::Vector3d(0, 0, 0.3);
   for (bool powered : {true, false}) {
-    World w(c);
+    World w(c, {"rotation"});
     w.pin_body(0, 0);
     w.set_module_powered(0, powered);
     double energy = 0;
     for (int k = 0; k < 4; ++k) {  // four 90 degree moves
-      w.set_servo_setpoint(0, 0, (k % 2 ? -45 : 45) * kDeg);
+      w.set_servo_setpoint(0, 0, (k % 2 ? -45 : 45) * kRadPerDeg);
       run(w, 0.25, &energy);
     }
     std::printf("rotation module, %s: %.4f J for four 90 degree moves\n",
@@ -318,48 +317,69 @@ TEST(Power, MovingServoUsesEnergyAndUnpoweredNone) {
 
 TEST(LinearServo, MovingUsesEnergyAndUnpoweredNone) {
   for (bool powered : {true, false}) {
-    World w(config_for(slide_def(-Eigen::Vector3d::UnitX(), 0.005, 1.0, 0.002, 0.02), 0.0));
+    World w(config_for(slide_def(-Eigen::Vector3d::UnitX(), 0.005, 1.0, 0.002, 0.02), 0.0),
+          {"slide_test"});
     w.pin_body(0, 0);
     w.set_module_powered(0, powered);
     w.set_servo_setpoint(0, 0, 0.012);
     double energy = 0;
     run(w, 2.0, &energy);
     std::printf("linear servo 12 mm move, %s: %.5f J, final %.3f mm\n",
-                powered ? "powered" : "unpowered", energy, w.servo_angle_rad(0, 0) * 1e3);
+                powered ? "powered" : "unpowered", energy, w.servo_position(0, 0) * 1e3);
     if (powered) {
       // accelerating 5 g to 20 mm/s takes < 1 ms at 1 N: it runs at no-load
       // speed with almost no force; the energy is that of the short start
       // and stop, tiny but not zero
       EXPECT_GT(energy, 0.0);
-      EXPECT_NEAR(w.servo_angle_rad(0, 0), 0.012, 1e-6);
+      EXPECT_NEAR(w.servo_position(0, 0), 0.012, 1e-6);
     } else {
       EXPECT_EQ(energy, 0.0);
-      EXPECT_NEAR(w.servo_angle_rad(0, 0), 0.0, 1e-12);
+      EXPECT_NEAR(w.servo_position(0, 0), 0.0, 1e-12);
     }
   }
 }
 
-TEST(ForceActuators, TraceColumnsAndWireUnits) {
-  WorldConfig c;
-  c.module_types = {slide_def(-Eigen::Vector3d::UnitX(), 0.005, 1.0, 0.002, 0.02),
-                    screw_def(Eigen::Vector3d::UnitX(), 0.02, 0.5, 0.03)};
-  c.chain = {"rotation", "slide_test", "screw_test"};
-  c.gravity_m_s2 = 0;
-  c.head_position = Eigen::Vector3d(0, 0, 0.5);
-  World w(c);
-  const std::string h = w.trace_header();
-  for (const char* col : {",m0.s0.angle_deg,", ",m1.s0.setpoint_mm,", ",m1.s0.position_mm,",
-                          ",m1.s0.current_a,", ",m2.s0.command,", ",m2.s0.speed_mm_s,",
-                          ",m2.s0.current_a,", ",m2.supply_a"})
-    EXPECT_NE(h.find(col), std::string::npos) << col;
-  EXPECT_EQ(w.servo_kind(0, 1), World::ServoKind::Rotary);
-  using K = World::ServoKind;
-  EXPECT_NEAR(World::servo_from_wire(K::Rotary, 90000), kPi / 2, 1e-12);
-  EXPECT_NEAR(World::servo_from_wire(K::Linear, 12345), 0.012345, 1e-15);
-  EXPECT_NEAR(World::servo_from_wire(K::Screw, -250), -0.25, 1e-15);
-  EXPECT_EQ(World::servo_to_wire(K::Rotary, -kPi / 4), -45000);
-  EXPECT_EQ(World::servo_to_wire(K::Linear, 0.0071), 7100);
-  EXPECT_EQ(World::servo_to_wire(K::Screw, 1.0), 1000);
+// set-points from the wire and what firmware reads back, each kind in its
+// wire unit: a rotary servo in millidegrees, a linear servo in micrometres,
+// a screw drive's per mille command echoed
+TEST(ForceActuators, SetPointsAndSamplesUseEachKindsWireUnit) {
+  ModuleSample s;
+  {
+    WorldConfig c;
+    c.gravity_m_s2 = 0;
+    c.head_position = Eigen::Vector3d(0, 0, 0.3);
+    World w(c, {"rotation"});
+    w.pin_body(0, 0);
+    EXPECT_EQ(w.servo_kind(0, 1), ServoKind::Rotary);
+    w.set_servo_setpoint_wire(0, 0, 30000);  // 30 degrees
+    EXPECT_NEAR(w.servo_setpoint(0, 0), 30 * kRadPerDeg, 1e-15);
+    run(w, 0.5);
+    w.sample(0, &s);
+    EXPECT_EQ(s.servo_position_wire[0], RotaryServo::to_wire(w.servo_position(0, 0)));
+    EXPECT_NEAR(s.servo_position_wire[0], 30000, 200);
+  }
+  {
+    World w(config_for(slide_def(-Eigen::Vector3d::UnitX(), 0.005, 1.0, 0.002, 0.02), 0.0),
+            {"slide_test"});
+    w.pin_body(0, 0);
+    EXPECT_EQ(w.servo_kind(0, 0), ServoKind::Linear);
+    w.set_servo_setpoint_wire(0, 0, 7100);  // 7.1 mm
+    EXPECT_NEAR(w.servo_setpoint(0, 0), 0.0071, 1e-15);
+    run(w, 1.0);
+    w.sample(0, &s);
+    EXPECT_EQ(s.servo_position_wire[0], LinearServo::to_wire(w.servo_position(0, 0)));
+    EXPECT_NEAR(s.servo_position_wire[0], 7100, 1);
+  }
+  {
+    World w(config_for(screw_def(Eigen::Vector3d::UnitX(), 0.02, 0.5, 0.03), 0.0), {"screw_test"});
+    EXPECT_EQ(w.servo_kind(0, 0), ServoKind::Screw);
+    w.set_servo_setpoint_wire(0, 0, -250);  // a quarter reverse
+    EXPECT_NEAR(w.servo_setpoint(0, 0), -0.25, 1e-15);
+    run(w, 0.1);
+    w.sample(0, &s);
+    EXPECT_EQ(s.servo_position_wire[0], -250);
+    EXPECT_LT(w.servo_rate(0, 0), 0.0);  // and it drives backwards
+  }
 }
 
 TEST(ForceActuators, ValidationRejectsBadParameters) {

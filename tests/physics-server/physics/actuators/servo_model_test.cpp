@@ -8,12 +8,10 @@
 #include <vector>
 
 #include "physics/actuators/servo_model.h"
+#include "physics/units.h"
 
 namespace chainsim {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
 
 struct Traj {
   std::vector<double> t, theta, current;
@@ -92,32 +90,32 @@ constexpr double kLoad = 2.5e-6;
 
 TEST(ServoModel, StepMatchesContinuousReferenceAndConverges) {
   const ServoParams p;
-  const double th0 = -60 * kDeg, sp = 30 * kDeg, dur = 0.2, sample = 0.002;
+  const double th0 = -60 * kRadPerDeg, sp = 30 * kRadPerDeg, dur = 0.2, sample = 0.002;
   const Traj ref = reference(p, kLoad, th0, sp, dur, sample);
   double prev_err = 1e9;
   for (double h : {0.002, 0.001, 0.0005, 0.00025}) {
     const Traj d = discrete(p, kLoad, th0, sp, dur, h, sample);
     const double err = max_abs_diff(ref.theta, d.theta);
     const double ierr = max_abs_diff(ref.current, d.current);
-    RecordProperty("theta_err_deg_h" + std::to_string(static_cast<int>(h * 1e6)), err / kDeg);
+    RecordProperty("theta_err_deg_h" + std::to_string(static_cast<int>(h * 1e6)), err / kRadPerDeg);
     std::printf("h=%6.0f us: max angle error %.3f deg, max current error %.4f A\n", h * 1e6,
-                err / kDeg, ierr);
+                err / kRadPerDeg, ierr);
     EXPECT_LT(err, prev_err * 0.8) << "error must shrink with the step";
     prev_err = err;
     if (h == 0.0005) {
-      EXPECT_LT(err, 2.0 * kDeg);
+      EXPECT_LT(err, 2.0 * kRadPerDeg);
       EXPECT_LT(ierr, 0.05);
     }
   }
   // both settle at the set-point without overshoot worth mentioning
-  EXPECT_NEAR(ref.theta.back(), sp, 0.5 * kDeg);
-  EXPECT_LT(max_of(ref.theta), sp + 2 * kDeg);
+  EXPECT_NEAR(ref.theta.back(), sp, 0.5 * kRadPerDeg);
+  EXPECT_LT(max_of(ref.theta), sp + 2 * kRadPerDeg);
 }
 
 TEST(ServoModel, StableWithoutLoadAndWithHeavyLoad) {
   const ServoParams p;
   for (double load : {0.0, 1e-8, kLoad}) {
-    const Traj d = discrete(p, load, 0.0, 45 * kDeg, 0.5, 0.0005, 0.0005);
+    const Traj d = discrete(p, load, 0.0, 45 * kRadPerDeg, 0.5, 0.0005, 0.0005);
     for (double th : d.theta) ASSERT_TRUE(std::isfinite(th));
     // the last 10% of the run: settled, no oscillation
     const size_t from = d.theta.size() * 9 / 10;
@@ -126,18 +124,18 @@ TEST(ServoModel, StableWithoutLoadAndWithHeavyLoad) {
       lo = std::min(lo, d.theta[k]);
       hi = std::max(hi, d.theta[k]);
     }
-    EXPECT_LT((hi - lo) / kDeg, 0.05) << "load " << load;
-    EXPECT_NEAR(d.theta.back(), 45 * kDeg, 0.5 * kDeg) << "load " << load;
+    EXPECT_LT((hi - lo) / kRadPerDeg, 0.05) << "load " << load;
+    EXPECT_NEAR(d.theta.back(), 45 * kRadPerDeg, 0.5 * kRadPerDeg) << "load " << load;
   }
   // 400 times the module's own load (about a 40 cm chain swung about the
   // axis): lightly damped (zeta ~ 0.07), it rings for seconds, as the
   // continuous model does; the discrete one follows it
   const double heavy = 1e-3;
-  const Traj ref = reference(p, heavy, 0.0, 45 * kDeg, 3.0, 0.01);
-  const Traj d = discrete(p, heavy, 0.0, 45 * kDeg, 3.0, 0.0005, 0.01);
+  const Traj ref = reference(p, heavy, 0.0, 45 * kRadPerDeg, 3.0, 0.01);
+  const Traj d = discrete(p, heavy, 0.0, 45 * kRadPerDeg, 3.0, 0.0005, 0.01);
   const double err = max_abs_diff(ref.theta, d.theta);
-  std::printf("heavy load: max angle error %.3f deg over 3 s\n", err / kDeg);
-  EXPECT_LT(err, 1.0 * kDeg);
+  std::printf("heavy load: max angle error %.3f deg over 3 s\n", err / kRadPerDeg);
+  EXPECT_LT(err, 1.0 * kRadPerDeg);
 }
 
 // the paper's static-friction threshold: no torque while |i| <= I_th
@@ -146,23 +144,23 @@ TEST(ServoModel, CurrentThresholdDeadZone) {
   p.i_threshold_a = 0.05;
   // a 2 degree error drives Kp 2deg / R = 0.035 A < 0.05 A: the current flows
   // (and is measured) but the motor does not move
-  const Traj small = discrete(p, kLoad, 0.0, 2 * kDeg, 0.2, 0.0005, 0.0005);
+  const Traj small = discrete(p, kLoad, 0.0, 2 * kRadPerDeg, 0.2, 0.0005, 0.0005);
   for (double th : small.theta) ASSERT_EQ(th, 0.0);
-  EXPECT_NEAR(small.current.back(), p.kp * 2 * kDeg / p.r, 1e-6);
+  EXPECT_NEAR(small.current.back(), p.kp * 2 * kRadPerDeg / p.r, 1e-6);
   // the 90 degree move: the discrete model follows the continuous one with
   // the dead zone, stops within the band I_th R / Kp of the set-point and
   // stays there
-  const double th0 = -60 * kDeg, sp = 30 * kDeg, band = p.i_threshold_a * p.r / p.kp;
+  const double th0 = -60 * kRadPerDeg, sp = 30 * kRadPerDeg, band = p.i_threshold_a * p.r / p.kp;
   const Traj ref = reference(p, kLoad, th0, sp, 0.3, 0.002);
   const Traj d = discrete(p, kLoad, th0, sp, 0.3, 0.0005, 0.002);
   const double err = max_abs_diff(ref.theta, d.theta);
   std::printf("threshold 0.05 A: max angle error %.3f deg, final %.3f deg (ref %.3f, band %.2f)\n",
-              err / kDeg, d.theta.back() / kDeg, ref.theta.back() / kDeg, band / kDeg);
-  EXPECT_LT(err, 2.0 * kDeg);
-  EXPECT_LE(std::fabs(d.theta.back() - sp), band + 0.01 * kDeg);
-  EXPECT_GT(std::fabs(d.theta.back() - sp), 0.1 * kDeg);   // the dead zone shows
+              err / kRadPerDeg, d.theta.back() / kRadPerDeg, ref.theta.back() / kRadPerDeg, band / kRadPerDeg);
+  EXPECT_LT(err, 2.0 * kRadPerDeg);
+  EXPECT_LE(std::fabs(d.theta.back() - sp), band + 0.01 * kRadPerDeg);
+  EXPECT_GT(std::fabs(d.theta.back() - sp), 0.1 * kRadPerDeg);   // the dead zone shows
   const size_t from = d.theta.size() * 2 / 3;
-  for (size_t k = from; k < d.theta.size(); ++k) EXPECT_NEAR(d.theta[k], d.theta.back(), 1e-4 * kDeg);
+  for (size_t k = from; k < d.theta.size(); ++k) EXPECT_NEAR(d.theta[k], d.theta.back(), 1e-4 * kRadPerDeg);
   // the torque reported is Kt dz(i)
   ServoModel s(p);
   s.set_setpoint(1.0);

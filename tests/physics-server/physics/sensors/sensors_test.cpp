@@ -8,13 +8,11 @@
 #include <string>
 
 #include "model/module_def.h"
+#include "physics/units.h"
 #include "physics/world.h"
 
 namespace chainsim {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
 // counts for +1 g of 9.81 m/s^2 at range 3 g: 512 + 9.81 / 9.80665 * 512 / 3
 constexpr double kUp = 512.0 + 9.81 / 9.80665 * 512.0 / 3.0;    // 682.7
 constexpr double kDown = 512.0 - 9.81 / 9.80665 * 512.0 / 3.0;  // 341.3
@@ -40,10 +38,9 @@ TEST(TouchSensor, ReportsTheFloorOnlyWhenTheHeadTouchesIt) {
   // > 0: both ends up: the head lifts)
   auto touched = [](double pitch_deg, uint16_t* last) {
     WorldConfig c;
-    c.chain = {"touch", "rotation", "rotation", "rotation"};
     c.head_position = Eigen::Vector3d(0, 0, 0.0126);
-    World w(c);
-    w.set_servo_setpoint(1, 0, pitch_deg * kDeg);
+    World w(c, {"touch", "rotation", "rotation", "rotation"});
+    w.set_servo_setpoint(1, 0, pitch_deg * kRadPerDeg);
     run(w, 0.5);
     int n = 0;
     for (int k = 0; k < 1000; ++k) {
@@ -65,15 +62,14 @@ TEST(TouchSensor, ReportsTheFloorOnlyWhenTheHeadTouchesIt) {
 
 TEST(TouchSensor, LoneModuleTipsOntoItsCoverAndReadsNothingInTheAir) {
   WorldConfig c;
-  c.chain = {"touch"};
   c.head_position = Eigen::Vector3d(0, 0, 0.0126);
-  World on_floor(c);
+  World on_floor(c, {"touch"});
   run(on_floor, 0.5);  // centre of mass ahead of the ring: it tips forward onto the cover
   EXPECT_EQ(sample(on_floor, 0).digital_in, 1u);
   on_floor.set_module_powered(0, false);
   EXPECT_EQ(sample(on_floor, 0).digital_in, 0u);  // unpowered reads nothing
   c.head_position.z() = 0.2;
-  World lifted(c);
+  World lifted(c, {"touch"});
   lifted.pin_body(0, 1);
   for (int k = 0; k < 1000; ++k) {
     lifted.step();
@@ -87,10 +83,9 @@ TEST(TouchSensor, LoneModuleTipsOntoItsCoverAndReadsNothingInTheAir) {
 // in the air in a given orientation of the module
 Eigen::Vector3d held_reading(const Eigen::Quaterniond& orientation) {
   WorldConfig c;
-  c.chain = {"touch"};
   c.head_position = Eigen::Vector3d(0, 0, 0.3);
   c.head_orientation = orientation;
-  World w(c);
+  World w(c, {"touch"});
   w.pin_body(0, 1);
   run(w, 0.1);
   const ModuleSample s = sample(w, 0);
@@ -106,46 +101,44 @@ TEST(Accelerometer, ReadsGravityInThreeOrientations) {
   EXPECT_NEAR(r.y(), 512, tol);
   EXPECT_NEAR(r.z(), kUp, tol);
   // nose up: the module's x points up
-  r = held_reading(Eigen::Quaterniond(Eigen::AngleAxisd(-90 * kDeg, Eigen::Vector3d::UnitY())));
+  r = held_reading(Eigen::Quaterniond(Eigen::AngleAxisd(-90 * kRadPerDeg, Eigen::Vector3d::UnitY())));
   EXPECT_NEAR(r.x(), kUp, tol);
   EXPECT_NEAR(r.y(), 512, tol);
   EXPECT_NEAR(r.z(), 512, tol);
   // rolled onto its right side: y (left) points up
-  r = held_reading(Eigen::Quaterniond(Eigen::AngleAxisd(90 * kDeg, Eigen::Vector3d::UnitX())));
+  r = held_reading(Eigen::Quaterniond(Eigen::AngleAxisd(90 * kRadPerDeg, Eigen::Vector3d::UnitX())));
   EXPECT_NEAR(r.x(), 512, tol);
   EXPECT_NEAR(r.y(), kUp, tol);
   EXPECT_NEAR(r.z(), 512, tol);
   // upside down
-  r = held_reading(Eigen::Quaterniond(Eigen::AngleAxisd(180 * kDeg, Eigen::Vector3d::UnitX())));
+  r = held_reading(Eigen::Quaterniond(Eigen::AngleAxisd(180 * kRadPerDeg, Eigen::Vector3d::UnitX())));
   EXPECT_NEAR(r.z(), kDown, tol);
   // tilted 30 degrees nose down: x reads -sin 30 g, z cos 30 g (paper eqs 6-7)
-  r = held_reading(Eigen::Quaterniond(Eigen::AngleAxisd(30 * kDeg, Eigen::Vector3d::UnitY())));
+  r = held_reading(Eigen::Quaterniond(Eigen::AngleAxisd(30 * kRadPerDeg, Eigen::Vector3d::UnitY())));
   EXPECT_NEAR(r.x(), 512 - 0.5 * (kUp - 512), tol);
-  EXPECT_NEAR(r.z(), 512 + std::cos(30 * kDeg) * (kUp - 512), tol);
+  EXPECT_NEAR(r.z(), 512 + std::cos(30 * kRadPerDeg) * (kUp - 512), tol);
 }
 
 // lying on the floor in a chain it reads 1 g up; falling freely it reads 0 g;
 // pushed at 1 g in weightlessness it reads +1 g along the push
 TEST(Accelerometer, MeasuresSpecificForce) {
   WorldConfig c;
-  c.chain = {"touch", "rotation"};
   c.head_position = Eigen::Vector3d(0, 0, 0.0126);
-  World flat(c);
+  World flat(c, {"touch", "rotation"});
   run(flat, 0.5);
   ModuleSample s = sample(flat, 0);
   EXPECT_NEAR(s.adc[0], 512, 2);
   EXPECT_NEAR(s.adc[1], 512, 2);
   EXPECT_NEAR(s.adc[2], kUp, 2);
 
-  c.chain = {"touch"};
   c.head_position.z() = 0.5;
-  World falling(c);
+  World falling(c, {"touch"});
   run(falling, 0.1);  // falls 5 cm, still in the air
   s = sample(falling, 0);
   for (int a = 0; a < 3; ++a) EXPECT_NEAR(s.adc[a], 512, 2) << "axis " << a;
 
   c.gravity_m_s2 = 0;
-  World pushed(c);
+  World pushed(c, {"touch"});
   for (int k = 0; k < 200; ++k) {  // 0.1 s; the module is 10 g, so 0.0981 N is 1 g
     pushed.add_body_force(0, 1, Eigen::Vector3d(0.010 * 9.80665, 0, 0));
     pushed.step();
@@ -160,10 +153,9 @@ TEST(Accelerometer, MeasuresSpecificForce) {
 TEST(Accelerometer, NoiseIsSeededAndDeterministic) {
   auto readings = [](uint64_t seed) {
     WorldConfig c;
-    c.chain = {"touch"};
     c.seed = seed;
     c.head_position = Eigen::Vector3d(0, 0, 0.3);
-    World w(c);
+    World w(c, {"touch"});
     w.pin_body(0, 1);
     run(w, 0.05);
     std::vector<int> out;
@@ -187,9 +179,8 @@ TEST(Accelerometer, NoiseIsSeededAndDeterministic) {
 
 TEST(Accelerometer, UnpoweredReadsZero) {
   WorldConfig c;
-  c.chain = {"support"};
   c.head_position = Eigen::Vector3d(0, 0, 0.0126);
-  World w(c);
+  World w(c, {"support"});
   run(w, 0.5);
   ModuleSample s = sample(w, 0);
   EXPECT_EQ(s.n_adc, 4);  // motor current on ADC 0, accelerometer on 1..3
@@ -214,10 +205,9 @@ double wheel_distance_m(int32_t counts) { return counts / kCountsPerRev * 2 * kP
 TEST(Traveller, EncodersCountTheDistanceWhileTheWheelsTouch) {
   for (const double heading_deg : {0.0, 45.0}) {
     WorldConfig c;
-    c.chain = {"traveller", "traveller"};
     c.head_position = Eigen::Vector3d(0, 0, 0.0092);  // wheels 0.15 mm above the floor
-    c.heading_rad = heading_deg * kDeg;
-    World w(c);
+    c.heading_rad = heading_deg * kRadPerDeg;
+    World w(c, {"traveller", "traveller"});
     run(w, 0.3);  // settle on the four lower wheels
     const ModuleSample a0 = sample(w, 0), b0 = sample(w, 1);
     ASSERT_EQ(a0.n_counters, 3);
@@ -253,10 +243,9 @@ TEST(Traveller, WheelFrictionIsProportionalToSpeed) {
   const double inertia = 0.5 * 0.0006 * 0.006 * 0.006;  // the wheel about its axle
   const double torque = 2e-5;                           // N m: w_ss = 40 rad/s
   WorldConfig c;
-  c.chain = {"traveller"};
   c.gravity_m_s2 = 0;
   c.head_position = Eigen::Vector3d(0, 0, 0.3);
-  World w(c);
+  World w(c, {"traveller"});
   w.pin_body(0, 0);
   const Eigen::Vector3d axle(0, -1, 0);  // the top wheel's (traveller.yaml)
   auto spin = [&](double seconds) {

@@ -1,5 +1,8 @@
-// Test side of the lockstep protocol: a listening Unix socket in a temp dir,
-// frame send/receive with timeouts (never hang a test), child processes.
+// The physics server's side of the lockstep protocol, scripted by a test:
+// a listening Unix socket in a temp dir, frame send/receive with timeouts
+// (never hang a test), and HalSimPeer, a fixture that runs code linked with
+// hal-sim (the HAL itself, or firmware/common on it) in a forked child.
+// Used by tests/hal-sim and tests/firmware.
 #pragma once
 
 #include <fcntl.h>
@@ -13,6 +16,10 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdarg>
+#include <cstdio>
+#include <map>
+#include <optional>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -24,6 +31,10 @@
 #include <gtest/gtest.h>
 
 #include "chainsim_protocol.h"
+
+extern "C" {
+#include "hal.h"
+}
 
 namespace chainsim_test {
 
@@ -292,6 +303,136 @@ inline std::vector<std::string> logs_of(const cs_msg &te)
     for (unsigned i = 0; i < te.u.tick_end.n_log; i++)
         v.emplace_back(te.u.tick_end.log[i]);
     return v;
+}
+
+
+// A test is the server; the code under test runs in a child forked by
+// spawn(), which reports what it saw through hal_log lines (checked in its
+// TICK_END) and its exit status.
+class HalSimPeer : public ::testing::Test {
+protected:
+    void SetUp() override
+    {
+        lfd_ = listen_unix(dir_.path());
+        ASSERT_GE(lfd_, 0) << "cannot listen on " << dir_.path();
+    }
+
+    void TearDown() override
+    {
+        conn_.close_fd();
+        if (pid_ > 0 && !reaped_) {
+            kill(pid_, SIGKILL);
+            waitpid(pid_, nullptr, 0);
+        }
+        if (err_fd_ >= 0)
+            close(err_fd_);
+        if (lfd_ >= 0)
+            close(lfd_);
+    }
+
+    using Env = std::map<std::string, std::optional<std::string>>;
+
+    // run body in a forked child (stderr captured); the HAL ends the child
+    // (exit 0/2/3); if body returns, the child exits 99
+    void spawn(const std::function<void()> &body, uint16_t index = 0,
+               const std::string &type = "rotation", const Env &env = {})
+    {
+        int pfd[2];
+        ASSERT_EQ(pipe(pfd), 0);
+        fflush(stdout);
+        fflush(stderr);
+        pid_ = fork();
+        ASSERT_GE(pid_, 0);
+        if (pid_ == 0) {
+            dup2(pfd[1], 2);
+            close(pfd[0]);
+            close(pfd[1]);
+            setenv("CHAINSIM_SOCKET", dir_.path().c_str(), 1);
+            setenv("CHAINSIM_MODULE_INDEX", std::to_string(index).c_str(), 1);
+            setenv("CHAINSIM_MODULE_TYPE", type.c_str(), 1);
+            for (const auto &e : env) {
+                if (e.second)
+                    setenv(e.first.c_str(), e.second->c_str(), 1);
+                else
+                    unsetenv(e.first.c_str());
+            }
+            body();
+            _exit(99);
+        }
+        close(pfd[1]);
+        err_fd_ = pfd[0];
+    }
+
+    // accept the child's connection, check HELLO, send WELCOME and the first TICK_BEGIN
+    void handshake(const cs_msg &welcome, const cs_msg &first_tick)
+    {
+        accept_conn();
+        cs_msg m{};
+        ASSERT_TRUE(conn_.expect(m, CS_MSG_HELLO));
+        ASSERT_TRUE(conn_.send(welcome));
+        ASSERT_TRUE(conn_.send(first_tick));
+    }
+    void handshake(uint32_t tick_us = 1000) { handshake(make_welcome(0, tick_us), make_tick(0)); }
+
+    void accept_conn()
+    {
+        int fd = accept_timeout(lfd_);
+        ASSERT_GE(fd, 0) << "the child did not connect";
+        conn_ = Conn(fd);
+    }
+
+    // receive the next TICK_END into te
+    void tick_end(cs_msg &te) { ASSERT_TRUE(conn_.expect(te, CS_MSG_TICK_END)); }
+
+    int child_exit()
+    {
+        int st = wait_child(pid_);
+        reaped_ = true;
+        return exit_code(st);
+    }
+
+    int shutdown_and_wait()
+    {
+        EXPECT_TRUE(conn_.send(make_reason(CS_MSG_SHUTDOWN, "done")));
+        return child_exit();
+    }
+
+    std::string child_stderr()
+    {
+        std::string s;
+        char b[512];
+        int fl = fcntl(err_fd_, F_GETFL);
+        fcntl(err_fd_, F_SETFL, fl | O_NONBLOCK);
+        ssize_t n;
+        while ((n = read(err_fd_, b, sizeof b)) > 0)
+            s.append(b, size_t(n));
+        return s;
+    }
+
+    SocketDir dir_;
+    int lfd_ = -1;
+    int err_fd_ = -1;
+    pid_t pid_ = -1;
+    bool reaped_ = false;
+    Conn conn_;
+};
+
+// log a printf-formatted line from the child
+inline void tlog(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+inline void tlog(const char *fmt, ...)
+{
+    char b[128];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(b, sizeof b, fmt, ap);
+    va_end(ap);
+    hal_log(b);
+}
+
+[[noreturn]] inline void tick_forever()
+{
+    for (;;)
+        hal_tick_wait();
 }
 
 } // namespace chainsim_test

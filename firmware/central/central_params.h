@@ -1,0 +1,43 @@
+/* The central control's parameters (the scene's central.params, hal_param),
+ * read once after discovery. Every parameter's name, default and range is
+ * in central_params.c and nowhere else; docs/firmware.md lists them. */
+#ifndef CENTRAL_PARAMS_H
+#define CENTRAL_PARAMS_H
+
+#include <stdint.h>
+
+typedef struct {
+    /* the gait and its wave (gaits 1-7) */
+    uint8_t gait;          /* gait code, 0 = don't start */
+    int16_t amp_cdeg;      /* amplitude A */
+    int16_t omega_mrad_s;  /* angular velocity */
+    int16_t phase_mrad;    /* phase step between modules */
+    uint8_t axis;          /* CC_AXIS_* */
+    int16_t posture_cdeg;  /* zig-zag of the other axis */
+    int16_t amp2_cdeg;     /* yaw wave of roll, rotate, lateral shift */
+    int16_t shift_mrad;    /* yaw wave's phase against the pitch wave */
+    int16_t bias_cdeg;     /* yaw offset of the turns */
+    /* gait 9 (helicoidal drive) and gait 8 (inchworm) */
+    int16_t drive_permille;
+    int16_t step_ms;
+    int16_t grip_cdeg;
+    int16_t stroke_um;
+    /* schedule */
+    uint32_t start_ms;     /* START at this simulated time */
+    uint32_t stop_ms;      /* STOP at this time, 0 = never */
+    uint32_t poll_ms;      /* READ_SENSORS every poll_ms, 0 = never */
+    /* elbows (gait 9): which way the pipe turns relative to the chain (0 up,
+     * 90 left, 180 down, 270 right; -1 = off), how far and how long to bend */
+    int16_t elbow_dir_deg;
+    int16_t bend_cdeg;
+    uint16_t bend_ms;
+} central_params;
+
+/* the parameters as read by central_params_read (a global: SDCC reaches it
+ * by direct addressing, cheaper than through a pointer) */
+extern central_params params;
+
+/* read every parameter, each clamped to its range */
+void central_params_read(void);
+
+#endif

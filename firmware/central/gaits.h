@@ -1,0 +1,21 @@
+/* The gait commands: SET_GAIT to the modules a gait moves, addressed so that
+ * other module types never see it (gaits 1-7: rotation modules; 8 inchworm:
+ * supports and extensions, each with its index; 9 helicoidal drive:
+ * helicoidal modules; 10 bend: rotation modules). START and STOP go by
+ * general call from main.c. Parameters: central_params.h. */
+#ifndef GAITS_H
+#define GAITS_H
+
+#include <stdint.h>
+
+/* log the gait's parameters ("gait: code=... ", and a second line for
+ * gaits 3 and up) */
+void gaits_log(void);
+
+/* SET_GAIT of params.gait to every module it moves */
+void gaits_send(void);
+
+/* gait 10 to every rotation module: hold pitch and yaw (cdeg) */
+void gaits_send_bend(int16_t pitch_cdeg, int16_t yaw_cdeg);
+
+#endif

@@ -1,0 +1,74 @@
+/* Replies from the modules: see replies.h. */
+#include "replies.h"
+
+#include "central_io.h"
+#include "chain_commands.h"
+#include "hal.h"
+
+#define LONG_SLEEP_MS 60000UL
+
+static uint8_t touch_contact; /* a TOUCH contact frame came in */
+
+static void log_reply(const uint8_t *buf, uint8_t len)
+{
+    uint8_t i;
+    sb_reset(&cio_sb);
+    if (buf[0] == CC_SENSORS && len >= 3u && len == CC_SENSORS_LEN(buf[2])) {
+        sb_str(&cio_sb, "sensors ");
+        sb_hex8(&cio_sb, buf[1]);
+        sb_char(&cio_sb, ':');
+        for (i = 0; i < buf[2]; i++) {
+            sb_char(&cio_sb, ' ');
+            sb_int(&cio_sb, cc_get_i16(buf + 3u + 2u * i));
+        }
+    } else if (buf[0] == CC_STATUS_REPLY && len == CC_STATUS_REPLY_LEN) {
+        sb_str(&cio_sb, "status ");
+        sb_hex8(&cio_sb, buf[1]);
+        cio_put(": type=", buf[2]);
+        cio_put(" state=", buf[3]);
+        cio_put(" gait=", buf[4]);
+        sb_str(&cio_sb, " flags=");
+        sb_hex8(&cio_sb, buf[5]);
+    } else if (buf[0] == CC_TOUCH && len == CC_TOUCH_LEN) {
+        sb_str(&cio_sb, "touch ");
+        sb_hex8(&cio_sb, buf[1]);
+        sb_str(&cio_sb, buf[2] ? ": contact" : ": released");
+        if (buf[2])
+            touch_contact = 1;
+    } else if (buf[0] == CC_ENUM_REPLY || buf[0] == CC_ENUM_OFFER) {
+        return; /* late discovery traffic */
+    } else {
+        sb_str(&cio_sb, "unexpected frame code ");
+        sb_hex8(&cio_sb, buf[0]);
+        cio_put(" len ", len);
+    }
+    cio_log_line(cio_sb.buf);
+}
+
+void replies_drain(void)
+{
+    uint8_t len, to;
+    while (hal_i2c_receive(cio_rx, sizeof cio_rx, &len, &to) == HAL_OK)
+        if (len != 0)
+            log_reply(cio_rx, len);
+}
+
+uint8_t replies_take_touch(void)
+{
+    uint8_t t = touch_contact;
+    touch_contact = 0;
+    return t;
+}
+
+void replies_sleep_until(uint32_t until_ms)
+{
+    for (;;) {
+        uint32_t now = hal_millis();
+        uint32_t left;
+        replies_drain();
+        if ((int32_t)(now - until_ms) >= 0)
+            return;
+        left = until_ms - now;
+        (void)cio_wait_event((uint16_t)(left > LONG_SLEEP_MS ? LONG_SLEEP_MS : left), HAL_EV_I2C);
+    }
+}

@@ -1,0 +1,18 @@
+/* What the modules send the central control: each reply (SENSORS,
+ * STATUS_REPLY, TOUCH, anything unexpected) becomes a log line; a TOUCH
+ * contact is also kept for the elbow negotiation. */
+#ifndef REPLIES_H
+#define REPLIES_H
+
+#include <stdint.h>
+
+/* log every received frame */
+void replies_drain(void);
+
+/* 1 when a TOUCH contact came in since the last call (then cleared) */
+uint8_t replies_take_touch(void);
+
+/* sleep until hal_millis() >= until_ms, logging replies */
+void replies_sleep_until(uint32_t until_ms);
+
+#endif

@@ -1,0 +1,233 @@
+// A run's processes and links. See endpoints.h.
+#include "cosim/endpoints.h"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "output/decimal.h"
+
+namespace chainsim {
+
+namespace asio = boost::asio;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+constexpr int kTerminateGraceMs = 1000;
+
+std::string last_line_of(const std::string& path) {
+  std::ifstream in(path);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  return last;
+}
+
+std::string make_socket_dir() {
+  std::string tmpl = (std::filesystem::temp_directory_path() / "chainsim-XXXXXX").string();
+  if (!mkdtemp(tmpl.data())) throw std::runtime_error("cannot create a private socket directory in /tmp");
+  chmod(tmpl.c_str(), 0700);
+  return tmpl;
+}
+
+}  // namespace
+
+Endpoints::Endpoints(const Scene& scene, const RunOptions& options, RunOutput* out,
+                     asio::io_context* io)
+    : scene_(scene), opt_(options), out_(out), io_(io) {
+  const int n = static_cast<int>(scene.modules.size());
+  for (int m = 0; m <= n; ++m) {
+    const SceneModule& sm = m < n ? scene.modules[m] : scene.central;
+    auto e = std::make_unique<Endpoint>();
+    e->index = m;
+    e->type = m < n ? sm.type : "central";
+    e->program = sm.firmware;
+    e->params = sm.params;
+    ep_.push_back(std::move(e));
+  }
+}
+
+Endpoints::~Endpoints() {
+  if (socket_dir_.empty()) return;
+  std::error_code ec;
+  std::filesystem::remove_all(socket_dir_, ec);
+}
+
+std::vector<std::string> endpoint_types(const Scene& scene) {
+  std::vector<std::string> types = scene.chain_types();
+  types.push_back("central");
+  return types;
+}
+
+std::string Endpoints::name_of(const Endpoint& e) const {
+  const uint32_t pid = e.pid ? e.pid : (e.proc.pid() > 0 ? static_cast<uint32_t>(e.proc.pid()) : 0);
+  std::string s = (e.index == size() - 1 ? "central control" : "module " + std::to_string(e.index)) +
+                  " (" + e.type;
+  if (pid) s += ", pid " + std::to_string(pid);
+  return s + ")";
+}
+
+std::string Endpoints::program_path(const std::string& program) const {
+  if (program.find('/') != std::string::npos) return program;
+  return (opt_.firmware_dir.empty() ? executable_dir() : opt_.firmware_dir) + "/" + program;
+}
+
+void Endpoints::start() {
+  socket_dir_ = make_socket_dir();
+  socket_path_ = socket_dir_ + "/chainsim.sock";
+  acceptor_ = std::make_unique<asio::local::stream_protocol::acceptor>(
+      *io_, asio::local::stream_protocol::endpoint(socket_path_));
+  chmod(socket_path_.c_str(), 0600);
+  for (auto& ep : ep_) {
+    Endpoint& e = *ep;
+    const std::string prog = program_path(e.program);
+    e.attached = opt_.attach.count(e.index) > 0;
+    if (e.attached) {
+      say(opt_, "waiting for " + name_of(e) + " started by hand:\n  CHAINSIM_SOCKET=" + socket_path_ +
+                    " CHAINSIM_MODULE_INDEX=" + std::to_string(e.index) + " CHAINSIM_MODULE_TYPE=" +
+                    e.type + " gdb " + prog);
+      continue;
+    }
+    if (access(prog.c_str(), X_OK) != 0)
+      throw std::runtime_error("program for " + name_of(e) + " not found or not executable: " + prog);
+    ChildSpec spec;
+    spec.program = prog;
+    spec.env = {"CHAINSIM_SOCKET=" + socket_path_, "CHAINSIM_MODULE_INDEX=" + std::to_string(e.index),
+                "CHAINSIM_MODULE_TYPE=" + e.type};
+    spec.stdout_path = out_->module_file(e.index, "out");
+    e.proc.spawn(spec);
+  }
+}
+
+void Endpoints::on_hello(std::shared_ptr<ModuleLink> link) {
+  link->async_receive([this, link](const std::string& err) {
+    // a peer that breaks the handshake is dropped; the module it should have
+    // been is then reported when it does not connect in time
+    if (!err.empty() || link->received().type != CS_MSG_HELLO) {
+      say(opt_, "dropped a connection: " +
+                    (err.empty() ? std::string("it sent ") + cs_msg_name(link->received().type) + " instead of HELLO"
+                                 : err));
+      link->close();
+      return;
+    }
+    const cs_hello& h = link->received().u.hello;
+    cs_msg reply{};
+    std::string why;
+    if (h.module_index >= ep_.size())
+      why = "module index " + std::to_string(h.module_index) + " is not in this scene (" +
+            std::to_string(ep_.size()) + " endpoints)";
+    else if (ep_[h.module_index]->link)
+      why = "module index " + std::to_string(h.module_index) + " is already connected";
+    else if (ep_[h.module_index]->type != h.type)
+      why = "module " + std::to_string(h.module_index) + " is a " + ep_[h.module_index]->type + ", not a " + h.type;
+    else if (!ep_[h.module_index]->attached && ep_[h.module_index]->proc.pid() != static_cast<pid_t>(h.pid))
+      why = "module " + std::to_string(h.module_index) + " was not started by this server (pid " +
+            std::to_string(h.pid) + ")";
+    if (!why.empty()) {
+      reply.type = CS_MSG_REJECT;
+      std::snprintf(reply.u.reject.reason, CS_REASON_MAX, "%s", why.c_str());
+      link->send(reply);
+      link->close();
+      say(opt_, "rejected a connection: " + why);
+      return;
+    }
+    Endpoint& e = *ep_[h.module_index];
+    e.pid = h.pid;
+    reply.type = CS_MSG_WELCOME;
+    cs_welcome& w = reply.u.welcome;
+    w.version = CS_VERSION;
+    w.module_index = h.module_index;
+    w.tick_us = static_cast<uint32_t>(scene_.tick_us);
+    w.seed = scene_.world.seed;
+    for (const auto& [k, v] : e.params) {
+      if (w.n_params >= CS_PARAMS_MAX) break;
+      std::snprintf(w.params[w.n_params].name, CS_PARAM_NAME_MAX, "%s", k.c_str());
+      w.params[w.n_params].value = v;
+      ++w.n_params;
+    }
+    if (!link->send(reply).empty()) return;
+    e.link = link;
+  });
+}
+
+bool Endpoints::handshake(const FaultHandler& on_fault, const int* interrupted) {
+  // accept until every endpoint has said HELLO; children that die first are faults
+  std::function<void()> accept_next = [&]() {
+    acceptor_->async_accept([&](const boost::system::error_code& ec, asio::local::stream_protocol::socket s) {
+      if (ec) return;
+      on_hello(std::make_shared<ModuleLink>(std::move(s)));
+      accept_next();
+    });
+  };
+  accept_next();
+  const auto deadline = Clock::now() + std::chrono::duration<double>(opt_.module_timeout_s);
+  for (;;) {
+    bool all = true;
+    for (auto& e : ep_) all &= static_cast<bool>(e->link) || !e->fault.empty();
+    if (all) break;
+    if (*interrupted) return false;
+    for (auto& ep : ep_) {
+      Endpoint& e = *ep;
+      if (e.link || !e.fault.empty() || e.attached) continue;
+      if (e.proc.poll()) {
+        if (!on_fault(e, "ended before connecting: " + e.proc.poll()->text())) return false;
+      } else if (Clock::now() > deadline) {
+        if (!on_fault(e, "did not connect within " + fixed_text(opt_.module_timeout_s, 1) + " s"))
+          return false;
+      }
+    }
+    io_->run_one_for(std::chrono::milliseconds(20));
+  }
+  acceptor_->close();
+  io_->poll();
+  return true;
+}
+
+std::string Endpoints::describe_end(Endpoint& e, const std::string& what, int64_t now_us) {
+  std::string s = name_of(e) + " " + what;
+  if (!e.attached && e.proc.pid() > 0) {
+    // a process that closed its socket is on its way out: give it a moment to be reaped
+    const bool dying = what.rfind("closed its socket", 0) == 0;
+    if (const auto& st = e.proc.wait_for(dying ? 1000 : 0)) {
+      if (dying) s = name_of(e) + " ended: " + st->text();
+      else if (what.find(st->text()) == std::string::npos) s += " (then ended: " + st->text() + ")";
+    }
+    const std::string last = last_line_of(out_->module_file(e.index, "out"));
+    if (!last.empty()) s += "; its last output: \"" + last + "\"";
+  }
+  return s + " at t=" + fixed_text(now_us * 1e-6, 6) + " s";
+}
+
+void Endpoints::cut_off(Endpoint& e) {
+  if (e.link) e.link->close();
+  if (!e.attached) e.proc.terminate(kTerminateGraceMs);
+}
+
+void Endpoints::shutdown(bool finished) {
+  cs_msg bye{};
+  bye.type = CS_MSG_SHUTDOWN;
+  std::snprintf(bye.u.shutdown.reason, CS_REASON_MAX, "%s", finished ? "run finished" : "run stopped");
+  for (auto& e : ep_) {
+    if (e->link && e->link->open()) {
+      e->link->send(bye);
+      e->link->close();
+    }
+  }
+  std::vector<ChildProcess*> kids;
+  for (auto& e : ep_) {
+    if (!e->attached && e->proc.running()) e->proc.wait_for(300);
+    kids.push_back(&e->proc);
+  }
+  terminate_all(kids, kTerminateGraceMs);
+  if (acceptor_) acceptor_->close();
+  std::error_code ec;
+  std::filesystem::remove_all(socket_dir_, ec);
+  socket_dir_.clear();
+}
+
+}  // namespace chainsim

@@ -1,0 +1,89 @@
+// The processes of a run and their links: one endpoint per module plus the
+// central control (the last one). Spawns them with their environment in a
+// private socket directory, accepts their connections and checks each HELLO,
+// says in words how one ended, and ends them all.
+#pragma once
+
+#include <utility>  // before Asio: Boost 1.74 awaitable.hpp uses std::exchange without it
+#include <boost/asio.hpp>
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cosim/child_process.h"
+#include "cosim/module_link.h"
+#include "cosim/run_options.h"
+#include "output/run_output.h"
+#include "scene/scene.h"
+
+namespace chainsim {
+
+struct Endpoint {
+  int index = 0;
+  std::string type;                 // module type, or "central"
+  std::string program;              // as the scene names it
+  std::map<std::string, int32_t> params;
+  ChildProcess proc;
+  bool attached = false;            // started by hand (--attach)
+  std::shared_ptr<ModuleLink> link; // after its HELLO was accepted
+  uint32_t pid = 0;                 // as its HELLO said
+  std::string fault;                // empty while healthy
+  bool replied = false;             // this tick
+  std::string reply_error;          // this tick
+};
+
+// the type of each endpoint: the modules', then "central"
+std::vector<std::string> endpoint_types(const Scene& scene);
+
+class Endpoints {
+ public:
+  // on_fault(e, what): e failed as `what` says; returns true if the run goes on
+  using FaultHandler = std::function<bool(Endpoint& e, const std::string& what)>;
+
+  Endpoints(const Scene& scene, const RunOptions& options, RunOutput* out,
+            boost::asio::io_context* io);
+  ~Endpoints();
+  Endpoints(const Endpoints&) = delete;
+  Endpoints& operator=(const Endpoints&) = delete;
+
+  int size() const { return static_cast<int>(ep_.size()); }
+  Endpoint& operator[](int i) { return *ep_[i]; }
+  const Endpoint& operator[](int i) const { return *ep_[i]; }
+
+  // "module 3 (rotation, pid 4242)" or "central control (central, pid ...)"
+  std::string name_of(const Endpoint& e) const;
+
+  // the private socket, then every process (those started by hand are
+  // announced with the command to start them); throws std::runtime_error
+  // naming a program that is missing
+  void start();
+  // accept until every endpoint has said HELLO or failed; false if a fault
+  // stopped the run or *interrupted became non-zero
+  bool handshake(const FaultHandler& on_fault, const int* interrupted);
+  // e's name, what happened, how its process ended if it did, its last
+  // output line, and the simulated time
+  std::string describe_end(Endpoint& e, const std::string& what, int64_t now_us);
+  // after a fault: e's link closed, its process ended
+  void cut_off(Endpoint& e);
+  // SHUTDOWN to every open link, a moment to exit, then every process ended
+  // and the socket directory removed
+  void shutdown(bool finished);
+
+ private:
+  void on_hello(std::shared_ptr<ModuleLink> link);
+  std::string program_path(const std::string& program) const;
+
+  const Scene& scene_;
+  const RunOptions& opt_;
+  RunOutput* out_;
+  boost::asio::io_context* io_;
+  std::vector<std::unique_ptr<Endpoint>> ep_;
+  std::unique_ptr<boost::asio::local::stream_protocol::acceptor> acceptor_;
+  std::string socket_dir_, socket_path_;
+};
+
+}  // namespace chainsim

@@ -1,0 +1,35 @@
+// Decimal formats of the outputs. See decimal.h.
+#include "output/decimal.h"
+
+#include <cinttypes>
+#include <cstdio>
+
+namespace chainsim {
+
+void append_seconds(std::string* out, int64_t t_us) {
+  char buf[32];
+  const int n = std::snprintf(buf, sizeof buf, "%" PRId64 ".%06" PRId64, t_us / 1000000, t_us % 1000000);
+  out->append(buf, static_cast<size_t>(n));
+}
+
+std::string seconds_text(int64_t t_us) {
+  std::string s;
+  append_seconds(&s, t_us);
+  return s;
+}
+
+void append_fixed(std::string* out, double value, int decimals) {
+  char buf[352];  // "%.Nf" of the largest double with N <= 20 fits
+  if (decimals < 0) decimals = 0;
+  if (decimals > 20) decimals = 20;
+  const int n = std::snprintf(buf, sizeof buf, "%.*f", decimals, value);
+  out->append(buf, static_cast<size_t>(n));
+}
+
+std::string fixed_text(double value, int decimals) {
+  std::string s;
+  append_fixed(&s, value, decimals);
+  return s;
+}
+
+}  // namespace chainsim

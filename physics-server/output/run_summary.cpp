@@ -1,0 +1,42 @@
+// summary.json. See run_summary.h.
+#include "output/run_summary.h"
+
+namespace chainsim {
+
+nlohmann::json summary_json(const Scene& scene, const RunSummary& run) {
+  nlohmann::json mods = nlohmann::json::array();
+  for (const EndpointSummary& e : run.endpoints) {
+    nlohmann::json m = {{"index", e.index},
+                        {"type", e.type},
+                        {"program", e.program},
+                        {"pid", e.pid},
+                        {"fault", e.fault.empty() ? nlohmann::json(nullptr) : nlohmann::json(e.fault)},
+                        {"exchanges", e.exchanges}};
+    if (e.energy_j) m["energy_j"] = *e.energy_j;
+    mods.push_back(m);
+  }
+  const double sim_s = run.sim_time_us * 1e-6;
+  const double wall = run.wall_time_s;
+  const Eigen::Vector3d& d = run.displacement_m;
+  return {{"scene", scene.name},
+          {"scene_source", scene.source},
+          {"seed", scene.world.seed},
+          {"sim_time_s", sim_s},
+          {"wall_time_s", wall},
+          {"real_time_factor", wall > 0 ? sim_s / wall : 0.0},
+          {"dt_us", scene.world.dt_us},
+          {"tick_us", scene.tick_us},
+          {"on_module_fault", run.limp_mode ? "limp" : "stop"},
+          {"trace_file", "trace.csv"},
+          {"trace_sha256", run.trace_sha256},
+          {"exchanges", run.exchanges},
+          {"modules", mods},
+          {"chain",
+           {{"displacement_m", {d.x(), d.y(), d.z()}},
+            {"distance_m", d.norm()},
+            {"speed_m_s", sim_s > 0 ? d.norm() / sim_s : 0.0}}},
+          {"exit_code", run.exit_code},
+          {"stopped_by", run.stopped_by.empty() ? nlohmann::json(nullptr) : nlohmann::json(run.stopped_by)}};
+}
+
+}  // namespace chainsim

@@ -1,0 +1,44 @@
+// summary.json of a run directory: what ran, how long, how it ended, each
+// endpoint's process and fault, the chain's displacement (README.md's table
+// of the run directory lists the keys).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "scene/scene.h"
+
+namespace chainsim {
+
+// one endpoint (a module, or the central control) as the run ended
+struct EndpointSummary {
+  int index = 0;
+  std::string type;                 // module type, or "central"
+  std::string program;
+  uint32_t pid = 0;
+  std::string fault;                // empty: none
+  uint64_t exchanges = 0;           // TickBegin/TickEnd round trips
+  std::optional<double> energy_j;   // modules: supply energy over the run
+};
+
+struct RunSummary {
+  int64_t sim_time_us = 0;          // where the run (and its trace) ended
+  double wall_time_s = 0;
+  bool limp_mode = false;           // --on-module-fault=limp
+  std::string trace_sha256;
+  uint64_t exchanges = 0;
+  std::vector<EndpointSummary> endpoints;
+  Eigen::Vector3d displacement_m = Eigen::Vector3d::Zero();  // of the chain's centre of mass
+  int exit_code = 0;
+  std::string stopped_by;           // empty: it ran to the end
+};
+
+nlohmann::json summary_json(const Scene& scene, const RunSummary& run);
+
+}  // namespace chainsim

@@ -1,0 +1,88 @@
+// The trace's columns and rows. See trace_writer.h.
+#include "output/trace_writer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "output/decimal.h"
+#include "physics/units.h"
+
+namespace chainsim {
+namespace {
+
+std::string make_header(const World& w) {
+  std::string out = "t_s";
+  static const char* kBodyCols[] = {"x", "y", "z", "qw", "qx", "qy", "qz"};
+  for (int m = 0; m < w.module_count(); ++m) {
+    const std::string pre = "m" + std::to_string(m) + ".";
+    for (int b = 0; b < w.body_count(m); ++b)
+      for (const char* c : kBodyCols) out += "," + pre + w.body_name(m, b) + "." + c;
+    for (int s = 0; s < w.servo_count(m); ++s) {
+      const std::string sp = pre + "s" + std::to_string(s) + ".";
+      switch (w.servo_kind(m, s)) {
+        case ServoKind::Rotary: out += "," + sp + "setpoint_deg," + sp + "angle_deg"; break;
+        case ServoKind::Linear: out += "," + sp + "setpoint_mm," + sp + "position_mm"; break;
+        case ServoKind::Screw: out += "," + sp + "command," + sp + "speed_mm_s"; break;
+      }
+      out += "," + sp + "current_a";
+    }
+    out += "," + pre + "supply_a";
+  }
+  out += "\n";
+  return out;
+}
+
+void field(std::string* out, double value, int decimals) {
+  out->push_back(',');
+  append_fixed(out, value, decimals);
+}
+
+}  // namespace
+
+TraceWriter::TraceWriter(const World& world, int64_t interval_us)
+    : world_(world), header_(make_header(world)), interval_us_(interval_us) {}
+
+int64_t TraceWriter::interval_for(const World& world, double trace_hz) {
+  return std::max<int64_t>(world.dt_us(), std::llround(1e6 / trace_hz));
+}
+
+bool TraceWriter::row_due(std::string* row) {
+  if (world_.time_us() < next_us_) return false;
+  next_us_ += interval_us_;
+  row->clear();
+  append_row(row);
+  return true;
+}
+
+void TraceWriter::append_row(std::string* out) const {
+  const World& w = world_;
+  append_seconds(out, w.time_us());
+  for (int m = 0; m < w.module_count(); ++m) {
+    for (int b = 0; b < w.body_count(m); ++b) {
+      const World::BodyState s = w.body_state(m, b);
+      for (int i = 0; i < 3; ++i) field(out, s.position[i], 6);
+      for (int i = 0; i < 4; ++i) field(out, s.quaternion_wxyz[i], 6);
+    }
+    for (int s = 0; s < w.servo_count(m); ++s) {
+      switch (w.servo_kind(m, s)) {
+        case ServoKind::Rotary:
+          field(out, w.servo_setpoint(m, s) * kDegPerRad, 4);
+          field(out, w.servo_position(m, s) * kDegPerRad, 4);
+          break;
+        case ServoKind::Linear:
+          field(out, w.servo_setpoint(m, s) * 1e3, 4);
+          field(out, w.servo_position(m, s) * 1e3, 4);
+          break;
+        case ServoKind::Screw:
+          field(out, w.servo_setpoint(m, s), 4);
+          field(out, w.servo_rate(m, s) * 1e3, 4);
+          break;
+      }
+      field(out, w.servo_current_a(m, s), 5);
+    }
+    field(out, w.module_supply_current_a(m), 5);
+  }
+  out->push_back('\n');
+}
+
+}  // namespace chainsim

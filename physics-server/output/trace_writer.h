@@ -1,0 +1,40 @@
+// trace.csv: a header line naming every column, then one row per interval of
+// simulated time, read from the World through its accessors. Fixed formats
+// (decimal.h), so equal states give equal bytes: trace_sha256 in summary.json
+// is compared across runs and versions.
+//
+// Columns: t_s, then per module m: each body's pose (m<m>.<body>.x, y, z in m;
+// qw, qx, qy, qz body -> world), each driven actuator s (rotary:
+// setpoint_deg, angle_deg; linear: setpoint_mm, position_mm; screw drive:
+// command, speed_mm_s; then current_a), and the module's supply_a.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "physics/world.h"
+
+namespace chainsim {
+
+class TraceWriter {
+ public:
+  // a row every interval_us of simulated time (at least one physics step),
+  // the first at t = 0
+  TraceWriter(const World& world, int64_t interval_us);
+  // the interval of trace_hz rows per second on world
+  static int64_t interval_for(const World& world, double trace_hz);
+
+  const std::string& header() const { return header_; }  // newline included
+  // true if a row is due at the world's time: then *row holds it (newline included)
+  bool row_due(std::string* row);
+  // the row of the world now, appended
+  void append_row(std::string* out) const;
+
+ private:
+  const World& world_;
+  std::string header_;
+  int64_t interval_us_;
+  int64_t next_us_ = 0;
+};
+
+}  // namespace chainsim

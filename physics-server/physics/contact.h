@@ -1,0 +1,66 @@
+// Contacts: which geoms touch in a step, with what material, and how ODE's
+// friction is set up for them. The near callback of dSpaceCollide lives here.
+//
+// Geom user data tells the parties apart: a module body's geom holds
+// 1 + its body index (add_body), an environment geom its surface tag (<= 0,
+// EnvironmentGeoms::surface_tag). Pairs within one module and docked pairs
+// never collide; environment geoms never collide with each other.
+#pragma once
+
+#include <ode/ode.h>
+
+#include <vector>
+
+#include "environment/material.h"
+
+namespace chainsim {
+
+// the contact parameters of a world, resolved once when it is built
+struct ContactMaterials {
+  std::vector<Material> surface;  // environment surface index -> its contact with a module
+  Material ground;                // an environment geom with no surface (tag 0) and a module
+  Material module_module;         // two modules
+};
+
+class Contacts {
+ public:
+  static constexpr int kMaxContactsPerPair = 8;
+
+  Contacts(dWorldID world, ContactMaterials materials);
+  ~Contacts();
+  Contacts(const Contacts&) = delete;
+  Contacts& operator=(const Contacts&) = delete;
+
+  // a module body's geom; returns its body index (0, 1, ... in call order)
+  int add_body(dGeomID geom, int module);
+  // fill the contact group once with n joints and empty it: the group keeps
+  // its arenas, so later steps do not allocate for up to n contacts
+  void warm_up(size_t n);
+
+  // this step's contact joints for every touching pair in space, in the order
+  // the space reports them; resets and sets the touch flags
+  void collide(dSpaceID space);
+  // after the step: the contact joints go
+  void clear();
+
+  bool touched(int body) const { return touched_[body] != 0; }  // had a contact in the last step
+  int count() const { return count_; }                            // contact joints of the last step
+
+ private:
+  static void near_callback(void* data, dGeomID a, dGeomID b);
+  void collide_pair(dGeomID a, dGeomID b);
+
+  dWorldID world_;
+  dJointGroupID group_ = nullptr;
+  const ContactMaterials materials_;
+  std::vector<int> body_module_;          // body index -> module
+  std::vector<unsigned char> touched_;    // body index -> touched in the last step
+  int count_ = 0;
+  dContactGeom buf_[kMaxContactsPerPair];
+};
+
+// ODE's friction pyramid turned about the contact normal so that one of its
+// directions lies along the sliding at the contact (sets fdir1); see contact.cpp
+void turn_friction_pyramid(dContact& c);
+
+}  // namespace chainsim

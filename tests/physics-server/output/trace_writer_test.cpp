@@ -1,0 +1,112 @@
+// trace.csv: the columns of each actuator kind, rows that read back as the
+// world's state in the columns' units, the row clock.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "output/trace_writer.h"
+#include "physics/units.h"
+
+namespace chainsim {
+namespace {
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream s(line);
+  std::string f;
+  while (std::getline(s, f, ',')) out.push_back(f);
+  return out;
+}
+
+std::string body_columns(const std::string& prefix) {
+  std::string s;
+  for (const char* c : {"x", "y", "z", "qw", "qx", "qy", "qz"}) s += "," + prefix + "." + c;
+  return s;
+}
+
+TEST(TraceWriter, HeaderNamesEveryColumnInItsUnit) {
+  WorldConfig c;
+  c.head_position = Eigen::Vector3d(0, 0, 0.5);
+  World w(c, {"rotation", "passive", "extension", "helicoidal"});
+  const TraceWriter t(w, 10000);
+  const std::string want =
+      "t_s" + body_columns("m0.front") + body_columns("m0.body") + body_columns("m0.back") +
+      ",m0.s0.setpoint_deg,m0.s0.angle_deg,m0.s0.current_a"
+      ",m0.s1.setpoint_deg,m0.s1.angle_deg,m0.s1.current_a,m0.supply_a" +
+      body_columns("m1.body") + ",m1.supply_a" + body_columns("m2.front") + body_columns("m2.front_box") +
+      body_columns("m2.back_box") +
+      ",m2.s0.setpoint_mm,m2.s0.position_mm,m2.s0.current_a"
+      ",m2.s1.setpoint_deg,m2.s1.angle_deg,m2.s1.current_a,m2.supply_a" +
+      body_columns("m3.pig") + ",m3.s0.command,m3.s0.speed_mm_s,m3.s0.current_a,m3.supply_a\n";
+  EXPECT_EQ(t.header(), want);
+}
+
+// every column of a row is the world's value in that column's unit, to the
+// column's decimals
+TEST(TraceWriter, RowReadsBackAsTheWorldsStateInTheColumnsUnits) {
+  WorldConfig c;
+  c.head_position = Eigen::Vector3d(0, 0, 0.5);
+  c.gravity_m_s2 = 0;
+  World w(c, {"rotation", "extension", "helicoidal"});
+  w.pin_body(0, 0);
+  w.set_servo_setpoint(0, 0, 30 * kRadPerDeg);
+  w.set_servo_setpoint(1, 0, 0.006);
+  w.set_servo_setpoint(2, 0, -0.75);
+  for (int k = 0; k < 150; ++k) w.step();
+  TraceWriter t(w, 500);
+  std::string row;
+  t.append_row(&row);
+  ASSERT_EQ(row.back(), '\n');
+  const std::vector<std::string> cols = split(t.header().substr(0, t.header().size() - 1));
+  const std::vector<std::string> vals = split(row.substr(0, row.size() - 1));
+  ASSERT_EQ(cols.size(), vals.size());
+  EXPECT_EQ(vals[0], "0.075000");  // 150 steps of 500 us
+  auto value = [&](const std::string& col) {
+    for (size_t i = 0; i < cols.size(); ++i)
+      if (cols[i] == col) return std::strtod(vals[i].c_str(), nullptr);
+    ADD_FAILURE() << "no column " << col;
+    return 0.0;
+  };
+  const World::BodyState b = w.body_state(1, 2);
+  EXPECT_NEAR(value("m1.back_box.x"), b.position.x(), 5e-7);
+  EXPECT_NEAR(value("m1.back_box.z"), b.position.z(), 5e-7);
+  EXPECT_NEAR(value("m1.back_box.qw"), b.quaternion_wxyz[0], 5e-7);
+  EXPECT_NEAR(value("m1.back_box.qz"), b.quaternion_wxyz[3], 5e-7);
+  EXPECT_NEAR(value("m0.s0.setpoint_deg"), 30.0, 5e-5);
+  EXPECT_NEAR(value("m0.s0.angle_deg"), w.servo_position(0, 0) * kDegPerRad, 5e-5);
+  EXPECT_NEAR(value("m0.s0.current_a"), w.servo_current_a(0, 0), 5e-6);
+  EXPECT_NEAR(value("m1.s0.setpoint_mm"), 6.0, 5e-5);
+  EXPECT_NEAR(value("m1.s0.position_mm"), w.servo_position(1, 0) * 1e3, 5e-5);
+  EXPECT_NEAR(value("m2.s0.command"), -0.75, 5e-5);
+  EXPECT_NEAR(value("m2.s0.speed_mm_s"), w.servo_rate(2, 0) * 1e3, 5e-5);
+  EXPECT_LT(value("m2.s0.speed_mm_s"), -1.0);  // the screw drives the chain backwards
+  EXPECT_NEAR(value("m2.s0.current_a"), w.servo_current_a(2, 0), 5e-6);
+  EXPECT_NEAR(value("m0.supply_a"), w.module_supply_current_a(0), 5e-6);
+  EXPECT_GT(value("m0.supply_a"), 0.0);
+}
+
+// a row at t = 0 and then every interval, never more often than the step
+TEST(TraceWriter, RowsComeEveryIntervalOfSimulatedTime) {
+  WorldConfig c;
+  World w(c, {"passive"});
+  EXPECT_EQ(TraceWriter::interval_for(w, 100.0), 10000);
+  EXPECT_EQ(TraceWriter::interval_for(w, 1e6), 500);  // not below the 500 us step
+  TraceWriter t(w, 1500);
+  std::string row;
+  std::vector<int64_t> times;
+  for (int k = 0; k < 10; ++k) {
+    if (t.row_due(&row)) {
+      times.push_back(w.time_us());
+      EXPECT_EQ(row.rfind(std::to_string(w.time_us() / 1000000) + ".", 0), 0u) << row;
+      EXPECT_EQ(std::count(row.begin(), row.end(), '\n'), 1);
+    }
+    w.step();
+  }
+  EXPECT_EQ(times, (std::vector<int64_t>{0, 1500, 3000, 4500}));
+}
+
+}  // namespace
+}  // namespace chainsim
