@@ -10,10 +10,14 @@ namespace {
 constexpr double kGrid_s = 1e-4;     // the delay grid and the model's output grid
 constexpr double kWindow_s = 0.3;    // a change's response window (at most)
 
-// the circular distance of two delays modulo the period
-double circ_dist(double a, double b, double period) {
-  const double d = std::fabs(std::fmod(a - b, period));
-  return std::min(d, period - d);
+// how far a measured delay is from the clock's predicted one (in [0,
+// period)): directly, or across one frame edge (a change right at a frame
+// can land on either side of it); a delay longer than the period plus the
+// tolerance is never explained, so a clock of a fraction of the true period
+// (whose predictions match the delays modulo its period) does not fit
+double delay_dist(double pred, double delay, double period, double tol) {
+  if (delay > period + tol) return 1e300;
+  return std::min({std::fabs(pred - delay), std::fabs(pred + period - delay), std::fabs(pred - period - delay)});
 }
 
 }  // namespace
@@ -101,7 +105,7 @@ FrameClockFit fit_frame_clock(const std::vector<ChangeDelay>& all, double t0, do
     double s = 0;
     for (size_t c = 0; c < d.size(); ++c) {
       const double pred = std::fmod(std::fmod(frame_abs - d[c].t, period) + period, period);
-      const double q = circ_dist(pred, d[c].delay, period) / tol[c];
+      const double q = delay_dist(pred, d[c].delay, period, tol[c]) / tol[c];
       if (q < 1) s += 1 - q * q;
     }
     return s;
@@ -123,14 +127,20 @@ FrameClockFit fit_frame_clock(const std::vector<ChangeDelay>& all, double t0, do
   double period = best_period, frame = best_frame;
   Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
   int inliers = 0;
+  bool solved = false;
   for (int pass = 0; pass < 2; ++pass) {
     Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
     Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
     std::vector<std::pair<double, double>> pts;   // (n, frame time), weight
     std::vector<double> wts;
+    int inl = 0;
     for (size_t c = 0; c < d.size(); ++c) {
       const double pred = std::fmod(std::fmod(frame - d[c].t, period) + period, period);
-      if (circ_dist(pred, d[c].delay, period) >= tol[c]) continue;
+      if (delay_dist(pred, d[c].delay, period, tol[c]) >= tol[c]) continue;
+      ++inl;
+      // a delay within 2 sd of 0 is censored (it cannot come out negative):
+      // an inlier, but biased, so it stays out of the least squares
+      if (d[c].delay < 2 * d[c].sd) continue;
       const double fc = d[c].t + d[c].delay;
       const double n = std::round((fc - frame) / period);
       const double w = 1.0 / (d[c].sd * d[c].sd);
@@ -140,8 +150,8 @@ FrameClockFit fit_frame_clock(const std::vector<ChangeDelay>& all, double t0, do
       wts.push_back(w);
     }
     A(1, 0) = A(0, 1);
-    inliers = static_cast<int>(pts.size());
-    if (inliers < 3 || std::fabs(A.determinant()) < 1e-30) break;
+    inliers = inl;
+    if (pts.size() < 3 || std::fabs(A.determinant()) < 1e-30) break;
     const Eigen::Vector2d sol = A.ldlt().solve(rhs);   // frame time at n = 0, period
     double chi2 = 0;
     for (size_t i = 0; i < pts.size(); ++i) {
@@ -149,10 +159,13 @@ FrameClockFit fit_frame_clock(const std::vector<ChangeDelay>& all, double t0, do
       chi2 += wts[i] * r * r;
     }
     frame = sol(0), period = sol(1);
-    cov = A.inverse() * std::max(1.0, chi2 / std::max(1, inliers - 2));
+    solved = true;
+    cov = A.inverse() * std::max(1.0, chi2 / std::max<int>(1, static_cast<int>(pts.size()) - 2));
   }
   out.inliers = inliers;
-  if (inliers < 4 || 2 * inliers < out.used || !(period >= period_lo && period <= period_hi)) return out;
+  // the range with 1 % slack: a clock at the range's end fits a hair beyond it
+  if (!solved || inliers < 4 || 2 * inliers < out.used || !(period >= 0.99 * period_lo && period <= 1.01 * period_hi))
+    return out;
   // the phase: the first frame at or after t0, t0 + phase = frame + m period
   const double m = std::ceil((t0 - frame) / period - 1e-12);
   out.clock.period_s = period;

@@ -113,7 +113,7 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
     // mesh torque tc = k (pen + h (wm' - w')) + c (wm' - w'): both affine in
     // w' once wm' is eliminated; contact from the rotor's free prediction,
     // kept only if it pushes (no tension) at w' = w
-    const double g = 0.5 * p_.backlash_deg * kPi / 180.0;
+    const double g = deg_to_rad(0.5 * p_.backlash_deg);
     const double k = p_.backlash_stiffness_nm_rad;
     const double k2 = k * h + 2.0 * std::sqrt(k * p_.j);
     const double a = jh + p_.b + p_.kt * ci, m = jh * wm_ + p_.kt * i0;

@@ -34,6 +34,7 @@ TEST(FrameClock, DelayIsTheTimeToTheNextFrame) {
 }
 
 TEST(FrameClock, RecoversPeriodAndPhaseFromNoisyDelays) {
+  int runs = 0, missed = 0;   // 95 % period intervals that miss the truth
   for (const FrameClock truth : {FrameClock{0.02, 0.007}, FrameClock{0.0123, 0.0111}, FrameClock{0.0035, 0.001}}) {
     for (unsigned seed = 1; seed <= 5; ++seed) {
       const double t0 = 0.25;
@@ -44,11 +45,15 @@ TEST(FrameClock, RecoversPeriodAndPhaseFromNoisyDelays) {
       const double dp = std::fmod(f.clock.phase_s - truth.phase_s + 1.5 * truth.period_s, truth.period_s) -
                         0.5 * truth.period_s;
       EXPECT_NEAR(dp, 0.0, 6e-4) << seed;
-      EXPECT_LE(f.period_ci_s.first, truth.period_s);
-      EXPECT_GE(f.period_ci_s.second, truth.period_s);
+      ++runs;
+      missed += f.period_ci_s.first > truth.period_s || f.period_ci_s.second < truth.period_s;
       EXPECT_GE(f.inliers, 12);
     }
   }
+  // a 95 % interval misses about 1 in 20; 3 or more of 15 would happen by
+  // chance 3.6 % of the time
+  std::printf("period intervals missing the truth: %d of %d\n", missed, runs);
+  EXPECT_LE(missed, 2);
 }
 
 TEST(FrameClock, NeitherHalfNorTwiceThePeriod) {

@@ -83,7 +83,7 @@ TEST(ServoVariants, LinearDriverSagKeepsTheGainAndLowersTheLimit) {
   const auto [vp, ip] = drive(pwm, e);
   EXPECT_NEAR(vl, ServoParams{}.kp * e, 1e-9);
   EXPECT_NEAR(vp, ServoParams{}.kp * e * (1 - 4.0 * ip / 5.0), 1e-4);
-  EXPECT_LT(vp, vl - 0.1);
+  EXPECT_LT(vp, 0.97 * vl);   // 1 - Rs i / Vs = 0.94 at i = 70 mA
   // stalled at a large error: both reach Vs - Rs i (duty 1 / the limit),
   // i = Vs / (R + Rs)
   const auto [vl2, il2] = drive(lin, 1.0);
