@@ -88,8 +88,8 @@ nlohmann::ordered_json candidates_json(const ServoCalibration& c) {
       j["profile_lr"] = cd.profile.stat;
       j["profile_lr_crit"] = cd.profile.crit;
       j["held_out_gain"] = cd.held_out.gain;
-      j["held_out_t"] = cd.held_out.t;
-      j["held_out_t_crit"] = cd.held_out.crit;
+      j["held_out_lr"] = cd.held_out.stat;
+      j["held_out_lr_crit"] = cd.held_out.crit;
       j["signature"] = cd.signature;
       j["accepted"] = cd.accepted;
       j["why"] = cd.why;
@@ -134,11 +134,11 @@ nlohmann::ordered_json calibration_report_json(const ServoCalibration& c) {
     if (const Candidate* cd = accepted_candidate(c, e)) {
       je["tests"] = {{"profile_lr", cd->profile.stat},         {"profile_lr_crit", cd->profile.crit},
                      {"correlation_inflation", cd->profile.inflation}, {"held_out_gain", cd->held_out.gain},
-                     {"held_out_t", cd->held_out.t},           {"held_out_t_crit", cd->held_out.crit}};
+                     {"held_out_lr", cd->held_out.stat},       {"held_out_lr_crit", cd->held_out.crit}};
     }
     for (const VariantChoice& v : c.search.variants)
       if (v.effect == ef.name)
-        je["variant_choice"] = {{"chosen", v.chosen}, {"other", v.other}, {"held_out_t", v.t},
+        je["variant_choice"] = {{"chosen", v.chosen}, {"other", v.other}, {"held_out_lr", v.t},
                                 {"distinguished", v.distinguished}, {"why", v.why}};
     if (e < evidence.size()) {
       nlohmann::ordered_json jw = nlohmann::json::array();
@@ -213,8 +213,8 @@ std::string calibration_report_md(const ServoCalibration& c, const nlohmann::ord
       if (je.contains("tests"))
         md << ": likelihood ratio " << fmt_g(je["tests"]["profile_lr"].get<double>()) << " >= "
            << fmt_g(je["tests"]["profile_lr_crit"].get<double>()) << " (its 95 % profile interval excludes the null), "
-           << "held-out gain t " << fmt_g(je["tests"]["held_out_t"].get<double>(), 3) << " >= "
-           << fmt_g(je["tests"]["held_out_t_crit"].get<double>(), 3);
+           << "held-out likelihood ratio " << fmt_g(je["tests"]["held_out_lr"].get<double>(), 4) << " >= "
+           << fmt_g(je["tests"]["held_out_lr_crit"].get<double>(), 3);
       if (je.contains("variant_choice"))
         md << "; form: " << je["variant_choice"]["why"].get<std::string>();
       md << ".\n";
@@ -243,8 +243,8 @@ std::string calibration_report_md(const ServoCalibration& c, const nlohmann::ord
        << fmt_g(rs[i]["error_after"].get<double>(), 3) << " |\n";
   md << "\n## Candidates\n\nEach round re-fits the current model from two starts (the reference), fits each "
         "effect on top, and accepts the best held-out gain that passes both tests: the likelihood ratio against "
-        "the reference (its 95 % profile interval excludes the effect's null) and a held-out t test over "
-        "batches at 5 % / the number of candidates. Signature = share of the reference's residual in the "
+        "the reference (its 95 % profile interval excludes the effect's null) and the same ratio on the held-out "
+        "blocks, against the chi-square point at 5 % / the number of candidates. Signature = share of the reference's residual in the "
         "regimes where the effect acts, over their share of time.\n\n| round | effect | values | held-out "
         "NRMSE | signature | decision |\n|---|---|---|---|---|---|\n";
   const auto& jc = j["candidates"];

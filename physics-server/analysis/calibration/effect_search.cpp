@@ -24,10 +24,10 @@ void test_candidates(const FitProblem& p, const Fit& ref, std::vector<Candidate>
   const int k = static_cast<int>(cands->size());
   for (Candidate& c : *cands) {
     c.profile = profile_test(ref.sse_train, c.fit.sse_train, c.fit.rho_train, dof_of(c.effect));
-    c.held_out = held_out_test(ref.loss, c.fit.loss, p.split, k);
+    c.held_out = held_out_test(ref.loss, c.fit.loss, c.fit.rho_held, p.split, k, dof_of(c.effect));
     c.why = "LR " + fmt_g(c.profile.stat) + (c.profile.excludes_null ? " >= " : " < ") + fmt_g(c.profile.crit) +
             " (interval " + (c.profile.excludes_null ? "excludes" : "includes") + " the null), held-out gain " +
-            fmt_g(c.held_out.gain, 3) + "/sample, t " + fmt_g(c.held_out.t, 3) +
+            fmt_g(c.held_out.gain, 3) + "/sample, held-out LR " + fmt_g(c.held_out.stat, 4) +
             (c.held_out.significant ? " >= " : " < ") + fmt_g(c.held_out.crit, 3);
     if (!c.fit.valid) c.why = "no frame clock fits the set-point changes' delays";
     c.accepted = false;
@@ -49,23 +49,23 @@ size_t choose_variant(const FitProblem& p, std::vector<Candidate>& cands, size_t
     const Candidate& b = cands[best];
     const Candidate& o = cands[s];
     const int extra = dof_of(b.effect) - dof_of(o.effect);
-    const HeldOutTest ho = held_out_test(o.fit.loss, b.fit.loss, p.split, 1);
+    const HeldOutTest ho = held_out_test(o.fit.loss, b.fit.loss, b.fit.rho_held, p.split, 1, std::max(1, extra));
     const ProfileTest pt = profile_test(o.fit.sse_train, b.fit.sse_train, b.fit.rho_train, std::max(1, extra));
     vc->effect = effect_catalogue()[b.effect].name;
     if (extra > 0 && !(ho.significant && pt.excludes_null) && passes(o)) {
       // the richer form does not earn its parameters: the simpler one
-      const HeldOutTest back = held_out_test(b.fit.loss, o.fit.loss, p.split, 1);
-      *vc = {vc->effect, effect_catalogue()[o.effect].variant, effect_catalogue()[b.effect].variant, back.t, false,
-             std::string(effect_catalogue()[b.effect].variant) + " does not beat it (held-out t " + fmt_g(ho.t, 3) +
+      const HeldOutTest back = held_out_test(b.fit.loss, o.fit.loss, o.fit.rho_held, p.split, 1, 1);
+      *vc = {vc->effect, effect_catalogue()[o.effect].variant, effect_catalogue()[b.effect].variant, back.stat, false,
+             std::string(effect_catalogue()[b.effect].variant) + " does not beat it (held-out LR " + fmt_g(ho.stat, 4) +
                  ", LR " + fmt_g(pt.stat) + " for " + std::to_string(extra) + " more parameter)"};
       return s;
     }
     vc->chosen = effect_catalogue()[b.effect].variant;
     vc->other = effect_catalogue()[o.effect].variant;
-    vc->t = ho.t;
+    vc->t = ho.stat;
     vc->distinguished = ho.significant;
     vc->why = std::string(ho.significant ? "fits better than " : "not distinguished from ") + vc->other +
-              " on held-out data (t " + fmt_g(ho.t, 3) + " against " + fmt_g(ho.crit, 3) + ")";
+              " on held-out data (LR " + fmt_g(ho.stat, 4) + " against " + fmt_g(ho.crit, 3) + ")";
   }
   return best;
 }

@@ -36,7 +36,7 @@ struct Candidate {
 // how the accepted effect's form was chosen among its variants
 struct VariantChoice {
   std::string effect, chosen, other;
-  double t = 0;             // held-out t of the chosen against the other (as its reference)
+  double t = 0;             // held-out likelihood ratio of the chosen against the other (as its reference)
   bool distinguished = false;
   std::string why;
 };

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <utility>
 
 namespace chainsim {
@@ -42,31 +41,30 @@ ProfileTest profile_test(double sse_ref, double sse_cand, double rho_cand, int d
   return t;
 }
 
-HeldOutTest held_out_test(const std::vector<double>& loss_ref, const std::vector<double>& loss_cand,
-                          const BlockSplit& s, int comparisons) {
-  // per (block, batch): the sum and count of the differences
-  std::map<std::pair<int, int>, std::pair<double, size_t>> batch;
+double chi_square_upper_quantile(double p, int dof) {
+  const double z = normal_upper_quantile(p), k = std::max(1, dof), a = 2.0 / (9.0 * k);
+  const double c = 1.0 - a + z * std::sqrt(a);
+  return k * c * c * c;
+}
+
+HeldOutTest held_out_test(const std::vector<double>& loss_ref, const std::vector<double>& loss_cand, double rho_cand,
+                          const BlockSplit& s, int comparisons, int dof) {
+  HeldOutTest t;
+  t.dof = dof;
   double total = 0;
   size_t n = 0;
   for (size_t k = 0; k < loss_ref.size(); ++k) {
     if (!s.in(k, Samples::held_out)) continue;
-    const double d = loss_ref[k] - loss_cand[k];
-    auto& b = batch[{s.block[k], s.batch[k]}];
-    b.first += d, ++b.second;
-    total += d, ++n;
+    total += loss_ref[k] - loss_cand[k];
+    ++n;
   }
-  HeldOutTest t;
-  t.batches = static_cast<int>(batch.size());
-  t.crit = student_t_upper_quantile(kTestLevel / std::max(1, comparisons), std::max(1, t.batches - 1));
-  if (n == 0 || t.batches < 2) return t;
+  const double rho = std::clamp(rho_cand, 0.0, 0.999);
+  t.inflation = (1 + rho) / (1 - rho);
+  t.crit = chi_square_upper_quantile(kTestLevel / std::max(1, comparisons), dof);
+  if (n == 0) return t;
   t.gain = total / n;
-  double m = 0, v = 0;
-  for (const auto& [key, b] : batch) m += b.first / b.second;
-  m /= t.batches;
-  for (const auto& [key, b] : batch) v += (b.first / b.second - m) * (b.first / b.second - m);
-  const double se = std::sqrt(v / (t.batches - 1) / t.batches);
-  t.t = se > 0 ? m / se : (m > 0 ? 1e9 : 0.0);
-  t.significant = t.gain > 0 && t.t >= t.crit;
+  t.stat = total / t.inflation;
+  t.significant = t.stat >= t.crit;
   return t;
 }
 

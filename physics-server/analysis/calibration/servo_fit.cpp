@@ -91,6 +91,7 @@ Fit evaluate_fit(const FitProblem& p, const std::vector<int>& effects, const std
   for (size_t k = 0; k < f.loss.size(); ++k)
     if (p.split.in(k, Samples::training)) f.sse_train += f.loss[k];
   f.rho_train = residual_rho(r, p.noise, p.split, Samples::training);
+  f.rho_held = residual_rho(r, p.noise, p.split, Samples::held_out);
   f.held = nrmse(r, p.split, Samples::held_out);
   f.white = whiteness(r, p.split, Samples::held_out);
   f.gap = structured_error(r, p.split, Samples::held_out);
@@ -160,6 +161,78 @@ Fit refit_from_starts(const FitProblem& p, const Fit& cur, const std::vector<std
   return best;
 }
 
+namespace {
+
+// the phase (x[i], ms) that fits best on the training blocks, scanned over
+// +-span_ms in steps of step_ms around its value (the latch moves in whole
+// model steps, so the loss is piecewise constant in the phase: a scan, not
+// the optimiser); x keeps the best
+void scan_phase(const FitProblem& p, const std::vector<int>& eff, std::vector<double>* x, size_t i, double span_ms,
+                double step_ms) {
+  const double c = (*x)[i];
+  double best = evaluate_fit(p, eff, *x).train, best_v = c;
+  for (double d = -span_ms; d <= span_ms + 1e-9; d += step_ms) {
+    std::vector<double> xt = *x;
+    xt[i] = std::max(0.0, c + d);
+    const double l = evaluate_fit(p, eff, xt).train;
+    if (l < best - 1e-12) best = l, best_v = xt[i];
+  }
+  (*x)[i] = best_v;
+}
+
+// a frame clock on top of ref: its period and phase from the set-point
+// changes' delays against two models without it (the reference, which may
+// have bent its base to mimic the delay, and the datasheet base), then per
+// clock found: the phase scanned against the model (the delays carry the
+// base's timing error), the base re-fitted with the clock held, the phase
+// scanned again; the better training fit
+Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect) {
+  const Effect& ef = effect_catalogue()[effect];
+  std::vector<int> eff = ref.effects;
+  eff.push_back(effect);
+  const size_t ip = param_count(ref.effects) + 1;   // the phase
+  Fit best;
+  best.valid = false;
+  for (int start = 0; start < 2; ++start) {
+    const std::vector<double> base = start == 0 ? ref.x : datasheet_start(ref.x);
+    const FrameClockFit fc = frame_clock_for(p, model_config(p.datasheet, ref.effects, base));
+    if (!fc.found) continue;
+    std::vector<double> x = base;
+    x.push_back(fc.clock.period_s * 1e3);
+    x.push_back(fc.clock.phase_s * 1e3);
+    scan_phase(p, eff, &x, ip, 1.5, 0.1);
+    // the phase and the base's speed trade off (a later frame looks like a
+    // slower servo): the base and the phase in turn until the phase stays
+    Fit f;
+    for (int turn = 0; turn < 3; ++turn) {
+      f = fit_model(p, eff, x, Samples::training, kMaxEvalJoint);
+      x = f.x;
+      scan_phase(p, eff, &x, ip, 0.5, 0.05);
+      if (std::fabs(x[ip] - f.x[ip]) < 0.01) break;
+    }
+    f = evaluate_fit(p, eff, x);
+    if (!best.valid || f.train < best.train) {
+      // the phase's interval: the delays' least-squares one, widened to
+      // reach the scanned value
+      const double ph = f.x[ip], half = 0.5 * 1e3 * (fc.phase_ci_s.second - fc.phase_ci_s.first);
+      const double w = std::max(half, std::fabs(ph - 1e3 * fc.clock.phase_s));
+      best = std::move(f);
+      best.held_ci = ref.held_ci;
+      best.held_ci.push_back({fc.period_ci_s.first * 1e3, fc.period_ci_s.second * 1e3});
+      best.held_ci.push_back({ph - w, ph + w});
+    }
+  }
+  if (best.valid) return best;
+  Fit f = evaluate_fit(p, ref.effects, ref.x);
+  f.effects = eff;
+  for (const EffectParam& q : ef.params) f.x.push_back(q.lo);
+  f.held_ci.resize(f.x.size(), {0.0, 0.0});
+  f.valid = false;
+  return f;
+}
+
+}  // namespace
+
 // Why two starts: the reference was refitted without the new effect, so it
 // has absorbed what it could of it (a missing Coulomb friction pulls Km = Kt
 // down, R up and the load inertia to its bound), and from there a local
@@ -169,24 +242,10 @@ Fit refit_from_starts(const FitProblem& p, const Fit& cur, const std::vector<std
 // values in the datasheet start.
 Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect) {
   const Effect& ef = effect_catalogue()[effect];
+  if (ef.fit == EffectFit::frame_clock) return fit_frame_clock_effect(p, ref, effect);
   std::vector<int> eff = ref.effects;
   eff.push_back(effect);
-  std::vector<std::vector<double>> tails = ef.starts;
-  std::vector<std::pair<double, double>> tail_ci(ef.params.size(), {0.0, 0.0});
-  if (ef.fit == EffectFit::frame_clock) {
-    const FrameClockFit fc = frame_clock_for(p, model_config(p.datasheet, ref.effects, ref.x));
-    if (!fc.found) {
-      Fit f = evaluate_fit(p, ref.effects, ref.x);
-      f.effects = eff;
-      for (const EffectParam& q : ef.params) f.x.push_back(q.lo);
-      f.held_ci.resize(f.x.size(), {0.0, 0.0});
-      f.valid = false;
-      return f;
-    }
-    tails = {{fc.clock.period_s * 1e3, fc.clock.phase_s * 1e3}};
-    tail_ci = {{fc.period_ci_s.first * 1e3, fc.period_ci_s.second * 1e3},
-               {fc.phase_ci_s.first * 1e3, fc.phase_ci_s.second * 1e3}};
-  }
+  const std::vector<std::vector<double>>& tails = ef.starts;
   Fit best;
   for (int start = 0; start < 2; ++start) {
     const std::vector<double> base = start == 0 ? ref.x : datasheet_start(ref.x);
@@ -202,7 +261,7 @@ Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect) {
     if (f.train < best.train) best = std::move(f);
   }
   best.held_ci = ref.held_ci;
-  best.held_ci.insert(best.held_ci.end(), tail_ci.begin(), tail_ci.end());
+  best.held_ci.resize(best.x.size(), {0.0, 0.0});
   return best;
 }
 

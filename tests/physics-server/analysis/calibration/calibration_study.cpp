@@ -4,7 +4,7 @@
 // without the current column). Prints the per-case table of
 // docs/calibration.md, the targets, a breakdown by condition and the CPU time
 // of one calibration. Not a ctest (an hour of CPU):
-//   build/bin/calibration_study [--seeds 10] [--first 100] [--cases REGEX] [--jobs 2] [--plain]
+//   build/bin/calibration_study [--seeds 10] [--first 100] [--cases REGEX] [--jobs 2] [--plain] [--keep DIR]
 #include <atomic>
 #include <cstdio>
 #include <cstring>
@@ -47,7 +47,7 @@ std::string rate_bin(double hz) { return hz < 400 ? "200-400 Hz" : hz < 900 ? "4
 int main(int argc, char** argv) {
   int seeds = 10, first = 100, jobs = 1;
   bool plain = false;
-  std::string pattern = ".*";
+  std::string pattern = ".*", keep;   // keep: a folder where one job's files stay (one job)
   for (int i = 1; i < argc; ++i) {
     const bool more = i + 1 < argc;
     if (!std::strcmp(argv[i], "--seeds") && more) seeds = std::atoi(argv[++i]);
@@ -55,6 +55,7 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--jobs") && more) jobs = std::max(1, std::atoi(argv[++i]));
     else if (!std::strcmp(argv[i], "--cases") && more) pattern = argv[++i];
     else if (!std::strcmp(argv[i], "--plain")) plain = true;
+    else if (!std::strcmp(argv[i], "--keep") && more) keep = argv[++i], jobs = 1;
   }
   const auto cases = synth::cases();
   const std::regex re(pattern);
@@ -71,7 +72,7 @@ int main(int argc, char** argv) {
   std::atomic<size_t> next{0};
   std::mutex mu;
   auto worker = [&] {
-    const std::string dir = synth::make_temp_dir();
+    const std::string dir = keep.empty() ? synth::make_temp_dir() : keep;
     for (size_t i; (i = next++) < runs.size();) {
       Run& r = runs[i];
       r.o = synth::calibrate_case(cases[r.c], r.seed, r.cond, dir);
@@ -82,7 +83,7 @@ int main(int argc, char** argv) {
                    r.seed, r.cond.noise, r.cond.jl, r.cond.sample_hz, r.cond.current ? "current" : "angle only",
                    found.c_str(), r.o.cpu_s);
     }
-    std::filesystem::remove_all(dir);
+    if (keep.empty()) std::filesystem::remove_all(dir);
   };
   std::vector<std::thread> pool;
   for (int j = 0; j < jobs; ++j) pool.emplace_back(worker);
