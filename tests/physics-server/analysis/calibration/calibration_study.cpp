@@ -4,7 +4,7 @@
 // without the current column). Prints the per-case table of
 // docs/calibration.md, the targets, a breakdown by condition and the CPU time
 // of one calibration. Not a ctest (an hour of CPU):
-//   build/bin/calibration_study [--seeds 10] [--first 100] [--cases REGEX] [--jobs 2] [--plain] [--keep DIR]
+//   build/bin/calibration_study [--seeds 10] [--first 100] [--cases REGEX] [--jobs 2] [--plain] [--keep DIR] [--check]
 #include <atomic>
 #include <cstdio>
 #include <cstring>
@@ -46,7 +46,7 @@ std::string rate_bin(double hz) { return hz < 400 ? "200-400 Hz" : hz < 900 ? "4
 
 int main(int argc, char** argv) {
   int seeds = 10, first = 100, jobs = 1;
-  bool plain = false;
+  bool plain = false, check = false;   // check: exit 1 unless every run comes out right
   std::string pattern = ".*", keep;   // keep: a folder where one job's files stay (one job)
   for (int i = 1; i < argc; ++i) {
     const bool more = i + 1 < argc;
@@ -55,6 +55,7 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--jobs") && more) jobs = std::max(1, std::atoi(argv[++i]));
     else if (!std::strcmp(argv[i], "--cases") && more) pattern = argv[++i];
     else if (!std::strcmp(argv[i], "--plain")) plain = true;
+    else if (!std::strcmp(argv[i], "--check")) check = true;
     else if (!std::strcmp(argv[i], "--keep") && more) keep = argv[++i], jobs = 1;
   }
   const auto cases = synth::cases();
@@ -79,9 +80,11 @@ int main(int argc, char** argv) {
       std::string found = r.o.report.is_object() ? r.o.report["verdict"].get<std::string>() : "error";
       for (const auto& n : r.o.names) found += " " + n + (r.o.variants.count(n) ? "(" + r.o.variants[n] + ")" : "");
       std::lock_guard<std::mutex> lock(mu);
-      std::fprintf(stderr, "%s seed %u [noise %d, load %g, %.0f Hz, %s]: %s; %.1f s CPU\n", cases[r.c].name.c_str(),
-                   r.seed, r.cond.noise, r.cond.jl, r.cond.sample_hz, r.cond.current ? "current" : "angle only",
-                   found.c_str(), r.o.cpu_s);
+      const double gb = r.o.report.is_object() ? r.o.report["gap_before"].get<double>() : 0.0;
+      const double ga = r.o.report.is_object() ? r.o.report["gap_after"].get<double>() : 0.0;
+      std::fprintf(stderr, "%s seed %u [noise %d, load %g, %.0f Hz, %s]: %s; gap %.4f -> %.4f; %.1f s CPU\n",
+                   cases[r.c].name.c_str(), r.seed, r.cond.noise, r.cond.jl, r.cond.sample_hz,
+                   r.cond.current ? "current" : "angle only", found.c_str(), gb, ga, r.o.cpu_s);
     }
     if (keep.empty()) std::filesystem::remove_all(dir);
   };
@@ -161,5 +164,18 @@ int main(int argc, char** argv) {
               cpu.size());
   for (const auto& [k, v] : cpu_by_rate)
     std::printf("  %s: median %.2f, max %.2f (%zu runs)\n", k.c_str(), median(v), quantile(v, 1.0), v.size());
+  if (check) {
+    // right: exactly the hidden effects and the verdict; outside the
+    // catalogue, the verdict 'unexplained'
+    int wrong = 0;
+    for (const Run& r : runs) {
+      const synth::Case& k = cases[r.c];
+      const bool ok = k.verdict == "unexplained"
+                          ? r.o.report.is_object() && r.o.report["verdict"] == "unexplained"
+                          : synth::exactly_right(k, r.o);
+      if (!ok) ++wrong, std::printf("not right: %s seed %u\n", k.name.c_str(), r.seed);
+    }
+    if (wrong) return 1;
+  }
   return 0;
 }

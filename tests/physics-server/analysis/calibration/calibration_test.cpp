@@ -15,11 +15,11 @@ struct Pick {
   bool plain;         // 1 kHz without jitter; else the study's conditions of the seed
 };
 
-// the study's conditions of these seeds: 101 noise 1, 1.3 kHz; 103 noise 0,
-// load 2e-5, angle only; 105 noise 2, load 2e-5
+// the study's conditions of these seeds: 100 noise 1, load 2e-5, 321 Hz;
+// 101 noise 2, load 2e-5, 220 Hz; 103 noise 1, 440 Hz, angle only
 const Pick kPicks[] = {
     {"null", 101, false},
-    {"pwm_frame_delay", 105, false},
+    {"pwm_frame_delay", 100, false},
     {"deadband", 103, false},
     {"backlash+supply_sag", 1, true},
     {"B: supply_sag (linear driver, rail capacitor)", 101, false},
@@ -44,7 +44,13 @@ TEST_P(Calibration, NamesExactlyTheHiddenEffects) {
   SCOPED_TRACE(c.name + " seed " + std::to_string(pk.seed) + " (" + std::to_string(cond.sample_hz) + " Hz" +
                (cond.current ? "" : ", angle only") + "): verdict " + j["verdict"].get<std::string>() + "," + found +
                ", gap " + std::to_string(before) + " -> " + std::to_string(after));
-  EXPECT_TRUE(synth::exactly_right(c, o));
+  // an effect outside the catalogue: the verdict says so (effects that
+  // mimic part of it may be named; issue 14's target is the verdict)
+  if (c.verdict == "unexplained") {
+    EXPECT_EQ(j["verdict"], "unexplained");
+  } else {
+    EXPECT_TRUE(synth::exactly_right(c, o));
+  }
   for (const auto& [effect, form] : c.variant) {
     if (o.variants.count(effect)) {
       EXPECT_EQ(o.variants.at(effect), form) << effect;
