@@ -10,6 +10,8 @@ PACKAGES=(
   libode-dev libyaml-cpp-dev libcli11-dev libboost-dev libeigen3-dev libassimp-dev
   nlohmann-json3-dev libssl-dev libgtest-dev
   libnlopt-cxx-dev                # chainsim calibrate: the optimiser (NLopt BOBYQA)
+  libpagmo-dev                    # chainsim optimize: the genetic algorithm (pagmo sga)
+  libopenmpi-dev openmpi-bin      # chainsim optimize under mpirun (MPI ranks)
   clang libclang-rt-14-dev        # libFuzzer target of the protocol decoder
   chromium                        # chainsim view --png and the viewer tests (headless)
 )

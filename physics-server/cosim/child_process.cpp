@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
@@ -20,6 +21,30 @@ std::string ExitStatus::text() const {
   if (exited) return "exit code " + std::to_string(code);
   return "signal " + std::to_string(signal) + " (" + strsignal(signal) + ")";
 }
+
+namespace {
+
+std::atomic<unsigned> child_ends{0};
+static_assert(std::atomic<unsigned>::is_always_lock_free, "counted in a signal handler");
+
+void on_sigchld(int) { child_ends.fetch_add(1, std::memory_order_relaxed); }
+
+// once, before the first child: SA_RESTART so no blocking call sees EINTR
+void count_child_ends() {
+  static const bool installed = [] {
+    struct sigaction sa {};
+    sa.sa_handler = on_sigchld;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESTART | SA_NOCLDSTOP;
+    sigaction(SIGCHLD, &sa, nullptr);
+    return true;
+  }();
+  (void)installed;
+}
+
+}  // namespace
+
+unsigned child_end_count() { return child_ends.load(std::memory_order_relaxed); }
 
 ChildProcess::~ChildProcess() {
   if (running()) terminate(200);
@@ -39,6 +64,8 @@ void ChildProcess::spawn(const ChildSpec& spec) {
   for (auto& a : arg_strings) argv.push_back(a.data());
   argv.push_back(nullptr);
   const pid_t parent = getpid();
+  count_child_ends();
+  const int max_fd = static_cast<int>(sysconf(_SC_OPEN_MAX));  // for the fallback of close_range
 
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error(std::string("fork failed: ") + strerror(errno));
@@ -57,6 +84,10 @@ void ChildProcess::spawn(const ChildSpec& spec) {
     }
     const int devnull = open("/dev/null", O_RDONLY);
     if (devnull >= 0) dup2(devnull, 0);
+    // only stdin, stdout and stderr go on: not the server's outputs, its
+    // listening socket or another module's link, whoever opened them
+    if (close_range(3, ~0U, 0) != 0)
+      for (int fd = 3; fd < max_fd; ++fd) close(fd);
     signal(SIGPIPE, SIG_DFL);
     execve(argv[0], argv.data(), envp.data());
     const char* msg = "chainsim: cannot execute ";

@@ -32,8 +32,10 @@ class ChildProcess {
   ChildProcess& operator=(const ChildProcess&) = delete;
 
   // fork and exec; the child gets its own process group and dies with the
-  // server (PR_SET_PDEATHSIG). Throws std::runtime_error if fork fails; an
-  // exec failure shows as exit code 127 with a message in its output file.
+  // server (PR_SET_PDEATHSIG); it inherits only stdin (/dev/null), stdout
+  // and stderr, no other file of the server (close_range after fork).
+  // Throws std::runtime_error if fork fails; an exec failure shows as exit
+  // code 127 with a message in its output file.
   void spawn(const ChildSpec& spec);
 
   pid_t pid() const { return pid_; }
@@ -53,6 +55,11 @@ class ChildProcess {
   pid_t pid_ = -1;
   std::optional<ExitStatus> status_;
 };
+
+// how many SIGCHLDs this process has had since its first spawn(): a run
+// compares it with the count it last saw, so a child that dies while nobody
+// talks to it is noticed without a system call when nothing happened
+unsigned child_end_count();
 
 // wait until one of the running children has ended; its index (the lowest
 // when several have), or -1 when none of them is running

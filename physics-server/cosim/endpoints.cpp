@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -74,7 +75,14 @@ std::string Endpoints::name_of(const Endpoint& e) const {
 
 std::string Endpoints::program_path(const std::string& program) const {
   if (program.find('/') != std::string::npos) return program;
-  return (opt_.firmware_dir.empty() ? executable_dir() : opt_.firmware_dir) + "/" + program;
+  const std::string& dirs = opt_.firmware_dir;
+  for (size_t b = 0; b < dirs.size();) {
+    const size_t e = std::min(dirs.find(':', b), dirs.size());
+    const std::string p = dirs.substr(b, e - b) + "/" + program;
+    if (e > b && access(p.c_str(), X_OK) == 0) return p;
+    b = e + 1;
+  }
+  return executable_dir() + "/" + program;
 }
 
 void Endpoints::start() {

@@ -29,6 +29,8 @@ namespace chainsim {
 
 namespace asio = boost::asio;
 using Clock = std::chrono::steady_clock;
+// how often the run loop looks for signals (SIGINT, SIGTERM), wall clock
+constexpr std::chrono::milliseconds kSignalPollInterval{20};
 
 void say(const RunOptions& options, const std::string& message) {
   if (!options.quiet) std::fprintf(stderr, "chainsim: %s\n", message.c_str());
@@ -92,6 +94,9 @@ class Server : public BarrierSink {
   // the physics through one tick: the steps, the energy, the trace rows
   void step_tick();
   void write_trace_row_if_due();
+  // after a SIGCHLD: a fault for each endpoint whose process has ended
+  // (asleep ones too, which no exchange would notice); false if the run stops
+  bool check_ended();
   // a fault of e: returns true if the run goes on (limp mode)
   bool fault(Endpoint& e, const std::string& what);
   RunSummary summary(double wall_s, const Eigen::Vector3d& displacement_m);
@@ -115,7 +120,21 @@ class Server : public BarrierSink {
   std::string stop_message_;
   int stop_code_ = kExitOk;
   uint64_t exchanges_ = 0;
+  unsigned child_ends_seen_ = 0;
 };
+
+bool Server::check_ended() {
+  const unsigned n = child_end_count();
+  if (n == child_ends_seen_) return true;
+  child_ends_seen_ = n;
+  for (int i = 0; i < endpoints_->size(); ++i) {
+    Endpoint& e = (*endpoints_)[i];
+    if (e.attached || !e.fault.empty() || !e.proc.running()) continue;
+    if (const auto& st = e.proc.poll())
+      if (!fault(e, "ended between exchanges: " + st->text())) return false;
+  }
+  return true;
+}
 
 bool Server::fault(Endpoint& e, const std::string& what) {
   e.fault = endpoints_->describe_end(e, what, now_us_);
@@ -240,6 +259,7 @@ RunResult Server::run() {
   write_trace_row_if_due();
   auto last_progress = Clock::now();
   auto last_flush = last_progress;
+  auto last_signal_poll = last_progress;
   while (ok && now_us_ < end_us) {
     // The modules compute this tick while the physics steps through it: they
     // get the sensors at now, and their outputs (set-points) are in force
@@ -256,13 +276,23 @@ RunResult Server::run() {
     }
     barrier_->apply(now_us_, this);
     now_us_ += scene_.tick_us;
+    if (!check_ended()) {
+      ok = false;
+      break;
+    }
     touch_.sample(world_, [this](const char* line) { bus_event(now_us_, line); });
-    io_.poll();
+    // signals arrive through the io_context; polling it costs a system call
+    // (epoll_wait), so it is polled every kSignalPollInterval of wall time
+    // rather than every tick (the clock is read without one)
+    const auto now = Clock::now();
+    if (now - last_signal_poll >= kSignalPollInterval) {
+      last_signal_poll = now;
+      io_.poll();
+    }
     if (interrupted_) {
       ok = false;
       break;
     }
-    const auto now = Clock::now();
     if (now - last_flush > std::chrono::seconds(1)) {
       out_->flush();
       last_flush = now;

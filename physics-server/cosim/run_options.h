@@ -36,7 +36,7 @@ struct RunOptions {
   FaultMode on_fault = FaultMode::Stop;
   double module_timeout_s = 10.0;       // wall clock, per exchange
   std::set<int> attach;                 // endpoints the user starts by hand
-  std::string firmware_dir;             // where fw-* programs are; default: next to chainsim
+  std::string firmware_dir;             // DIR[:DIR...] searched for programs first, then next to chainsim
   bool progress = false;                // progress lines on stderr
   bool quiet = false;                   // no messages on stderr except errors
   RunObserver* observer = nullptr;      // e.g. the live view; may be null

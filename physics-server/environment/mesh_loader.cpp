@@ -63,6 +63,13 @@ TriMesh load_mesh_file(const std::string& path, double scale) {
     throw MeshError("mesh file '" + path + "': no such file");
   if (std::filesystem::is_directory(path, ec))
     throw MeshError("mesh file '" + path + "': is a directory");
+  // a FIFO would block the reader, a device never end
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw MeshError("mesh file '" + path + "': not a regular file (a FIFO or device)");
+  constexpr uintmax_t kMaxMeshBytes = 256u << 20;
+  if (const auto size = std::filesystem::file_size(path, ec); !ec && size > kMaxMeshBytes)
+    throw MeshError("mesh file '" + path + "': " + std::to_string(size) + " bytes, over the limit of " +
+                    std::to_string(kMaxMeshBytes));
   Assimp::Importer importer;
   // degenerate triangles become lines and points, which SortByPType drops
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);

@@ -73,6 +73,19 @@ class Candidates {
   int n_ = 0;
 };
 
+// cos and sin of the rim's sample angles i 2 pi / kRimSamples
+struct RimTable {
+  double cos[kRimSamples], sin[kRimSamples];
+  RimTable() {
+    const double step = 2 * kPi / kRimSamples;
+    for (int i = 0; i < kRimSamples; ++i) {
+      const volatile double t = i * step;  // at run time, as before (no constant folding)
+      cos[i] = std::cos(t);
+      sin[i] = std::sin(t);
+    }
+  }
+};
+
 struct Query {
   const PipeLayout& layout;
   int k;
@@ -168,13 +181,18 @@ struct Query {
   void rim(const Vec& c, const Vec& e1, const Vec& e2, double rc) const {
     double d[kRimSamples];
     const double step = 2 * kPi / kRimSamples;
-    auto at = [&](double t) { return Vec(c + rc * (std::cos(t) * e1 + std::sin(t) * e2)); };
-    auto f = [&](double t) {
+    auto at_cs = [&](double cs, double sn) { return Vec(c + rc * (cs * e1 + sn * e2)); };
+    auto at = [&](double t) { return at_cs(std::cos(t), std::sin(t)); };
+    auto f_at = [&](const Vec& x) {
       Vec dir;
-      const double v = depth(at(t), 0.0, &dir);
+      const double v = depth(x, 0.0, &dir);
       return std::isfinite(v) ? v : -1e9;
     };
-    for (int i = 0; i < kRimSamples; ++i) d[i] = f(i * step);
+    auto f = [&](double t) { return f_at(at(t)); };
+    // the samples' cosines and sines, computed once (the same values as
+    // computing them each time: std::cos of the same argument)
+    static const RimTable table;
+    for (int i = 0; i < kRimSamples; ++i) d[i] = f_at(at_cs(table.cos[i], table.sin[i]));
     int found = 0, best = 0;
     for (int i = 0; i < kRimSamples; ++i) {
       const double prev = d[(i + kRimSamples - 1) % kRimSamples], next = d[(i + 1) % kRimSamples];
@@ -195,7 +213,7 @@ struct Query {
       }
       point(at(0.5 * (lo + hi)), 0.0);
     }
-    if (!found && d[best] > 0) point(at(best * step), 0.0);  // flat: a coaxial rim
+    if (!found && d[best] > 0) point(at_cs(table.cos[best], table.sin[best]), 0.0);  // flat: a coaxial rim
   }
 };
 

@@ -184,6 +184,12 @@ void validate_module_def(const ModuleDef& d) {
         if (!(act.direction.norm() > 1e-9 && finite(act.direction)))
           invalid(d, "actuator '" + act.name + "': zero direction");
         break;
+      case ActuatorType::DcMotor:
+        if (!joint_ok || d.joints[act.joint].type != JointType::Hinge)
+          invalid(d, "actuator '" + act.name + "': a DC motor needs a hinge joint");
+        if (!(act.v_free_m_s > 0))
+          invalid(d, "actuator '" + act.name + "': a DC motor needs a free speed > 0");
+        break;
     }
     if (act.type != ActuatorType::Servo) {
       if (act.follows >= 0)
@@ -248,6 +254,23 @@ void validate_module_def(const ModuleDef& d) {
           invalid(d, "sensor '" + s.name + "': counts_per_rev must be >= 1");
         break;
     }
+  }
+  std::set<std::string> wheel_names;
+  for (const auto& w : d.wheels) {
+    try {
+      validate_wheel_set(w, nb);
+    } catch (const std::invalid_argument& e) {
+      invalid(d, e.what());
+    }
+    if (!wheel_names.insert(w.name).second) invalid(d, "duplicate wheel set name '" + w.name + "'");
+  }
+  for (const auto& p : d.pads) {
+    try {
+      validate_pad(p, nb);
+    } catch (const std::invalid_argument& e) {
+      invalid(d, e.what());
+    }
+    if (!wheel_names.insert(p.name).second) invalid(d, "duplicate wheel set or pad name '" + p.name + "'");
   }
   if (driven_servo_actuators(d).size() > 4) invalid(d, "more than 4 driven servos");
   if (!body_ok(d.front.body) || !body_ok(d.back.body))

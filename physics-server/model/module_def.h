@@ -1,4 +1,4 @@
-// Module types as data (DESIGN.md section 5: "modules are data"). A ModuleDef
+// Module types as data: a module type is a definition file, not C++. A ModuleDef
 // says what a module is made of: rigid bodies (primitive shapes with the real
 // masses), the joints between them, the actuators on those joints, its
 // sensors, and its two docking faces. The World builds any ModuleDef
@@ -34,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "model/wheel_def.h"
 #include "physics/actuators/servo_model.h"
 
 namespace chainsim {
@@ -55,6 +56,9 @@ struct BodyDef {
   Eigen::Vector3d box_m = Eigen::Vector3d::Zero();  // box side lengths (x, y, z)
   double mass_kg = 0.0;
   Pose pose;                   // body frame in the module frame
+  // false: no collision geom (a part inside another body, like the helicoidal
+  // module's spinning head, whose wheels touch the wall for it)
+  bool collides = true;
 };
 
 enum class JointType { Hinge, Slider, Fixed };
@@ -89,28 +93,36 @@ struct JointDef {
 //      F = clamp(fmax_n (u - v/v_free_m_s), -fmax_n, fmax_n)
 //    u = the drive command -1..1 (the set-point), v = the body's velocity
 //    along the direction; v_free_m_s = 0: F = fmax u (no speed drop).
+//  * DcMotor (a gear motor on a hinge, e.g. the helicoidal module's spinning
+//    head): a torque about the hinge axis between its two bodies,
+//      tau = clamp(fmax_n (u - w/v_free_m_s), -fmax_n, fmax_n)
+//    with fmax_n = the stall torque (N m), v_free_m_s = the no-load speed
+//    (rad/s, > 0), w = the hinge rate, u = the drive command -1..1. The
+//    reaction acts on the other body (physics/actuators/dc_motor.h).
 // Supply current of both (the rotary servo's rule: a linear driver, the
 // supply delivers the motor current): |F| / fmax_n * stall_current_a.
 enum class ActuatorType {
   Servo,        // DC servomotor on a hinge (servo_model.h)
   LinearServo,  // paper eqs 4-5 on a slider (above)
-  ScrewDrive,   // helicoidal module: a force along a body axis (above)
+  ScrewDrive,   // a force along a body axis (above)
+  DcMotor,      // a torque on a hinge (above); driven like a screw drive
 };
 
 struct ActuatorDef {
   std::string name;
   ActuatorType type = ActuatorType::Servo;
-  int joint = -1;              // Servo, LinearServo: joint index
+  int joint = -1;              // Servo, LinearServo, DcMotor: joint index
   int body = -1;               // ScrewDrive: body pushed
   // Servo: the motor model; empty = the World's WorldConfig::servo
   std::optional<ServoParams> servo;
   // Servo: >= 0 = a passive copy of that actuator's set-point (the support
   // module's two slave arms); not addressable by firmware. -1 = own set-point.
   int follows = -1;
-  double fmax_n = 0.0;         // LinearServo, ScrewDrive: max (stall) force, N, > 0
+  double fmax_n = 0.0;         // LinearServo, ScrewDrive: max (stall) force, N, > 0; DcMotor: N m
   double l0_m = 0.0;           // LinearServo: proportional band, m, > 0
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  // ScrewDrive, body frame
-  // LinearServo, ScrewDrive: no-load speed at full drive, m/s; 0 = no speed term
+  // LinearServo, ScrewDrive: no-load speed at full drive, m/s; 0 = no speed
+  // term. DcMotor: rad/s, > 0
   double v_free_m_s = 0.0;
   // LinearServo, ScrewDrive: motor current at |F| = fmax_n, A; 0 = the World's
   // servo stall current (WorldConfig::servo: supply_v / r = 0.42 A)
@@ -156,6 +168,8 @@ struct ModuleDef {
   std::vector<JointDef> joints;
   std::vector<ActuatorDef> actuators;
   std::vector<SensorDef> sensors;
+  std::vector<WheelSetDef> wheels;   // spring-loaded wheels on the wall (wheel_def.h)
+  std::vector<PadDef> pads;          // friction pads (wheel_def.h)
   DockingFace front;
   DockingFace back;
 };

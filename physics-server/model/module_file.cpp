@@ -47,7 +47,8 @@ class Parser {
   ModuleDef parse(const YAML::Node& root) {
     if (!root || !root.IsMap()) fail(root, "a module definition must be a YAML mapping");
     check_keys(root, "module",
-               {"type", "description", "bodies", "joints", "actuators", "sensors", "docking"});
+               {"type", "description", "bodies", "joints", "actuators", "sensors", "wheels",
+                "pads", "docking"});
     ModuleDef d;
     if (!root["type"]) fail(root, "missing key 'type' (the module type's name)");
     d.type = name_of(root["type"], "type");
@@ -86,6 +87,31 @@ class Parser {
       if (!sensor_names.insert(d.sensors.back().name).second)
         fail(sensors[i]["name"],
              "'" + p + ".name': duplicate sensor name '" + d.sensors.back().name + "'");
+    }
+
+    if (const YAML::Node wheels = root["wheels"]) {
+      if (!wheels.IsSequence()) fail(wheels, "'wheels' must be a list");
+      std::set<std::string> names;
+      for (size_t i = 0; i < wheels.size(); ++i) {
+        const std::string p = "wheels[" + std::to_string(i) + "]";
+        d.wheels.push_back(wheel_set(wheels[i], p));
+        if (!names.insert(d.wheels.back().name).second)
+          fail(wheels[i]["name"], "'" + p + ".name': duplicate wheel set name '" +
+                                      d.wheels.back().name + "'");
+      }
+    }
+
+    if (const YAML::Node pads = root["pads"]) {
+      if (!pads.IsSequence()) fail(pads, "'pads' must be a list");
+      std::set<std::string> names;
+      for (const WheelSetDef& w : d.wheels) names.insert(w.name);
+      for (size_t i = 0; i < pads.size(); ++i) {
+        const std::string p = "pads[" + std::to_string(i) + "]";
+        d.pads.push_back(pad(pads[i], p));
+        if (!names.insert(d.pads.back().name).second)
+          fail(pads[i]["name"], "'" + p + ".name': duplicate wheel set or pad name '" +
+                                    d.pads.back().name + "'");
+      }
     }
 
     const YAML::Node dock = root["docking"];
@@ -222,8 +248,8 @@ class Parser {
   }
 
   BodyDef body(const YAML::Node& n, const std::string& p) const {
-    static const Keys kCommon = {"name",       "shape",    "mass_kg",
-                                 "position_m", "rotation", "quaternion_wxyz"};
+    static const Keys kCommon = {"name",     "shape",           "mass_kg", "position_m",
+                                 "rotation", "quaternion_wxyz", "collide"};
     Keys all = kCommon;
     all.insert({"radius_m", "length_m", "size_m"});
     check_keys(n, p, all);
@@ -270,6 +296,11 @@ class Parser {
     }
     if (const YAML::Node pos = n["position_m"]) b.pose.position = vec3(pos, p + ".position_m");
     b.pose.orientation = orientation(n, p);
+    if (const YAML::Node c = n["collide"]) {
+      if (!c.IsScalar() || (c.as<std::string>() != "true" && c.as<std::string>() != "false"))
+        fail(c, "'" + p + ".collide' must be true or false");
+      b.collides = c.as<std::string>() == "true";
+    }
     return b;
   }
 
@@ -362,10 +393,10 @@ class Parser {
                        int index) const {
     check_keys(n, p,
                {"name", "type", "joint", "body", "follows", "servo", "fmax_n", "l0_m", "direction",
-                "v_free_m_s", "stall_current_a"});
+                "v_free_m_s", "stall_current_a", "stall_torque_nm", "free_speed_rad_s"});
     ActuatorDef a;
     a.name = n["name"].as<std::string>();
-    const YAML::Node type = need(n, "type", p, "servo, linear_servo or screw_drive");
+    const YAML::Node type = need(n, "type", p, "servo, linear_servo, screw_drive or dc_motor");
     const std::string t = string_of(type, p + ".type");
     Keys used = {"name", "type"};
     const Keys force = {"fmax_n", "v_free_m_s", "stall_current_a"};
@@ -380,14 +411,19 @@ class Parser {
       a.type = ActuatorType::ScrewDrive;
       used.insert({"body", "direction"});
       used.insert(force.begin(), force.end());
+    } else if (t == "dc_motor") {
+      a.type = ActuatorType::DcMotor;
+      used.insert({"joint", "stall_torque_nm", "free_speed_rad_s", "stall_current_a"});
     } else {
       fail(type, "'" + p + ".type' = '" + t +
-                     "' is not an actuator type (known: linear_servo, screw_drive, servo)");
+                     "' is not an actuator type (known: dc_motor, linear_servo, screw_drive, "
+                     "servo)");
     }
     check_used(n, p, used, "a " + t);
-    if (a.type == ActuatorType::Servo || a.type == ActuatorType::LinearServo) {
+    if (a.type != ActuatorType::ScrewDrive) {
       a.joint = ref(n, "joint", p, joints_);
-      const JointType want = a.type == ActuatorType::Servo ? JointType::Hinge : JointType::Slider;
+      const JointType want =
+          a.type == ActuatorType::LinearServo ? JointType::Slider : JointType::Hinge;
       if (d.joints[a.joint].type != want)
         fail(n["joint"], "'" + p + ".joint': a " + t + " needs a " +
                              (want == JointType::Hinge ? "hinge" : "slider") + " joint");
@@ -399,6 +435,12 @@ class Parser {
           fail(n["follows"], "'" + p + ".follows': a servo cannot follow itself");
       }
       if (const YAML::Node s = n["servo"]) a.servo = servo_params(s, p + ".servo");
+    } else if (a.type == ActuatorType::DcMotor) {
+      // the force law's fields, in torque units (module_def.h)
+      a.fmax_n = number(need(n, "stall_torque_nm", p, "N m"), p + ".stall_torque_nm", 1e-12, kBig);
+      a.v_free_m_s =
+          number(need(n, "free_speed_rad_s", p, "rad/s"), p + ".free_speed_rad_s", 1e-9, kBig);
+      a.stall_current_a = number(n, "stall_current_a", p, 0.0, 0.0, kBig);
     } else {
       a.fmax_n = number(need(n, "fmax_n", p, "N"), p + ".fmax_n", 1e-9, kBig);
       a.v_free_m_s = number(n, "v_free_m_s", p, 0.0, 0.0, kBig);
@@ -470,6 +512,53 @@ class Parser {
         break;
     }
     return s;
+  }
+
+  // a ring of spring-loaded wheels (model/wheel_def.h)
+  WheelSetDef wheel_set(const YAML::Node& n, const std::string& p) const {
+    if (!n.IsMap()) fail(n, "'" + p + "' must be a mapping");
+    check_keys(n, p,
+               {"name", "body", "count", "first_deg", "x_m", "helix_deg", "reach_m", "preload_n",
+                "stiffness_n_m", "damping_n_s_m", "mu", "cornering_per_rad"});
+    WheelSetDef w;
+    w.name = name_of(need(n, "name", p), p + ".name");
+    w.body = ref(n, "body", p, bodies_);
+    w.count = integer(n, "count", p, w.count, 1, 16);
+    w.first_deg = number(n, "first_deg", p, w.first_deg, -360.0, 360.0);
+    w.x_m = number(need(n, "x_m", p, "m, on the module's x axis"), p + ".x_m", -kBig, kBig);
+    w.helix_deg = number(n, "helix_deg", p, w.helix_deg, 0.0, 90.0);
+    const YAML::Node r = need(n, "reach_m", p, "[folded, extended] from the axis");
+    const std::vector<double> reach = numbers(r, p + ".reach_m", 2, "[folded, extended]");
+    if (!(reach[0] > 0 && reach[0] < reach[1]))
+      fail(r, "'" + p + ".reach_m' must be [min, max] with 0 < min < max");
+    w.reach_min_m = reach[0];
+    w.reach_max_m = reach[1];
+    w.preload_n = number(need(n, "preload_n", p, "N at full extension"), p + ".preload_n", 0, kBig);
+    w.stiffness_n_m =
+        number(need(n, "stiffness_n_m", p, "N/m"), p + ".stiffness_n_m", 1e-9, kBig);
+    w.damping_n_s_m = number(n, "damping_n_s_m", p, 0.0, 0.0, kBig);
+    w.mu = number(need(n, "mu", p, "friction across the wheel"), p + ".mu", 0.0, kBig);
+    w.cornering_per_rad = number(n, "cornering_per_rad", p, 0.0, 0.0, kBig);
+    return w;
+  }
+
+  // a friction pad (model/wheel_def.h)
+  PadDef pad(const YAML::Node& n, const std::string& p) const {
+    if (!n.IsMap()) fail(n, "'" + p + "' must be a mapping");
+    check_keys(n, p,
+               {"name", "body", "position_m", "direction", "reach_m", "stiffness_n_m",
+                "damping_n_s_m", "mu"});
+    PadDef d;
+    d.name = name_of(need(n, "name", p), p + ".name");
+    d.body = ref(n, "body", p, bodies_);
+    d.position_m = vec3(need(n, "position_m", p, "[x, y, z] in the module frame"), p + ".position_m");
+    d.direction = direction(need(n, "direction", p, "[x, y, z] in the module frame"),
+                            p + ".direction").normalized();
+    d.reach_m = number(need(n, "reach_m", p, "m"), p + ".reach_m", 1e-9, kBig);
+    d.stiffness_n_m = number(need(n, "stiffness_n_m", p, "N/m"), p + ".stiffness_n_m", 1e-9, kBig);
+    d.damping_n_s_m = number(n, "damping_n_s_m", p, 0.0, 0.0, kBig);
+    d.mu = number(need(n, "mu", p, "friction on the wall"), p + ".mu", 0.0, kBig);
+    return d;
   }
 
   DockingFace face(const YAML::Node& n, const std::string& p) const {

@@ -23,10 +23,15 @@ std::string make_header(const World& w) {
         case ServoKind::Rotary: out += "," + sp + "setpoint_deg," + sp + "angle_deg"; break;
         case ServoKind::Linear: out += "," + sp + "setpoint_mm," + sp + "position_mm"; break;
         case ServoKind::Screw: out += "," + sp + "command," + sp + "speed_mm_s"; break;
+        case ServoKind::DcMotor: out += "," + sp + "command," + sp + "speed_rad_s"; break;
       }
       out += "," + sp + "current_a";
     }
     out += "," + pre + "supply_a";
+    for (int k = 0; k < w.wheel_count(m); ++k) {
+      const std::string wp = pre + w.wheel_name(m, k) + ".";
+      out += "," + wp + "n_N," + wp + "f_N";
+    }
   }
   out += "\n";
   return out;
@@ -77,10 +82,19 @@ void TraceWriter::append_row(std::string* out) const {
           field(out, w.servo_setpoint(m, s), 4);
           field(out, w.servo_rate(m, s) * 1e3, 4);
           break;
+        case ServoKind::DcMotor:
+          field(out, w.servo_setpoint(m, s), 4);
+          field(out, w.servo_rate(m, s), 4);
+          break;
       }
       field(out, w.servo_current_a(m, s), 5);
     }
     field(out, w.module_supply_current_a(m), 5);
+    for (int k = 0; k < w.wheel_count(m); ++k) {
+      const World::WheelState ws = w.wheel_state(m, k);
+      field(out, ws.normal_n, 4);
+      field(out, ws.across_n, 4);
+    }
   }
   out->push_back('\n');
 }

@@ -6,7 +6,9 @@
 // Columns: t_s, then per module m: each body's pose (m<m>.<body>.x, y, z in m;
 // qw, qx, qy, qz body -> world), each driven actuator s (rotary:
 // setpoint_deg, angle_deg; linear: setpoint_mm, position_mm; screw drive:
-// command, speed_mm_s; then current_a), and the module's supply_a.
+// command, speed_mm_s; DC motor: command, speed_rad_s; then current_a), the
+// module's supply_a, then each wheel and pad on the wall (<name>.n_N: its
+// normal force, .f_N: its friction across the wheel, a pad's magnitude; N).
 #pragma once
 
 #include <cstdint>

@@ -19,7 +19,7 @@ Contacts::~Contacts() { dJointGroupDestroy(group_); }
 int Contacts::add_body(dGeomID geom, int module) {
   const int index = static_cast<int>(body_module_.size());
   // 1-based body index; <= 0 marks the environment
-  dGeomSetData(geom, reinterpret_cast<void*>(static_cast<intptr_t>(index + 1)));
+  if (geom) dGeomSetData(geom, reinterpret_cast<void*>(static_cast<intptr_t>(index + 1)));
   body_module_.push_back(module);
   touched_.push_back(0);
   return index;

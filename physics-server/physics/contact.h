@@ -31,7 +31,8 @@ class Contacts {
   Contacts(const Contacts&) = delete;
   Contacts& operator=(const Contacts&) = delete;
 
-  // a module body's geom; returns its body index (0, 1, ... in call order)
+  // a module body's geom (nullptr: a body that does not collide); returns
+  // its body index (0, 1, ... in call order)
   int add_body(dGeomID geom, int module);
   // fill the contact group once with n joints and empty it: the group keeps
   // its arenas, so later steps do not allocate for up to n contacts

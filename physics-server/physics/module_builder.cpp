@@ -52,7 +52,12 @@ void create_body(dWorldID world, dSpaceID space, const BodyDef& bd, const Eigen:
       break;
   }
   dBodySetMass(b, &m);
-  dGeomSetBody(g, b);
+  if (bd.collides) {
+    dGeomSetBody(g, b);
+  } else {  // the shape gave the mass; no contacts (e.g. a part inside another body)
+    dGeomDestroy(g);
+    g = nullptr;
+  }
   *body = b;
   *geom = g;
 }

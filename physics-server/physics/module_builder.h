@@ -15,7 +15,7 @@ namespace chainsim {
 
 struct ModuleBodies {
   std::vector<dBodyID> bodies;  // in def.bodies order
-  std::vector<dGeomID> geoms;   // bodies[b]'s geom, in space
+  std::vector<dGeomID> geoms;   // bodies[b]'s geom, in space; nullptr: it does not collide
   std::vector<dJointID> joints; // in def.joints order; body1 = child, body2 = parent
 };
 

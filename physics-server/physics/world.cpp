@@ -1,7 +1,8 @@
 // The ODE world of one run: assembly and the step. See world.h (interface),
 // model/module_def.h (how a module type is described), module_builder.h (its
-// bodies and joints), actuators/ (servo, linear servo, screw drive),
-// contact.h (collisions) and sensors/.
+// bodies and joints), actuators/ (servo, linear servo, screw drive, DC
+// motor), contact.h (collisions), wheels/ (wheels and pads on the wall) and
+// sensors/.
 //
 // Determinism: ODE's random generator (QuickStep reorders constraints with it)
 // is seeded with WorldConfig::seed and its state is saved/restored around every
@@ -42,10 +43,12 @@
 #include <stdexcept>
 
 #include "environment/environment_geoms.h"
+#include "environment/pipe_wall_probe.h"
 #include "physics/contact.h"
 #include "physics/module_builder.h"
 #include "physics/sensors/module_channels.h"
 #include "physics/sensors/sensors.h"
+#include "physics/wheels/wheel_contacts.h"
 
 namespace chainsim {
 
@@ -53,6 +56,7 @@ namespace {
 
 constexpr unsigned kStepReserveBytes = 4u << 20;  // ODE stepper working memory, reserved
 constexpr int kWarmContactsPerGeom = 8;           // contact joints pre-allocated per geom
+constexpr double kSurfaceLayer = 1e-4;            // m, ODE's allowed contact penetration
 
 void ode_init_once() {
   static std::once_flag flag;
@@ -122,6 +126,8 @@ struct World::Impl {
   dSpaceID space = nullptr;
   std::unique_ptr<EnvironmentGeoms> env;   // destroyed after the space (its triangle data)
   std::unique_ptr<Contacts> contacts;
+  std::unique_ptr<WallProbe> wall_probe;   // where wheel arms and pads meet the wall
+  std::unique_ptr<WheelContacts> wheels;   // wheel sets and pads (wheels/wheel_contacts.h)
   unsigned long rand_seed = 0;             // ODE's random state between steps
   int64_t time_us = 0;
 
@@ -133,6 +139,7 @@ struct World::Impl {
 
 World::Impl::~Impl() {
   contacts.reset();                // its joint group
+  wheels.reset();                  // its joint group
   if (space) dSpaceDestroy(space);  // destroys its geoms (cleanup mode)
   if (world) dWorldDestroy(world);  // destroys bodies and joints
 }
@@ -146,10 +153,12 @@ void World::Impl::build(const WorldConfig& cfg, const std::vector<std::string>& 
   dWorldSetCFM(world, 1e-9);
   dWorldSetQuickStepNumIterations(world, std::max(1, cfg.solver_iterations));
   dWorldSetAutoDisableFlag(world, 0);
-  dWorldSetContactSurfaceLayer(world, 1e-4);
+  dWorldSetContactSurfaceLayer(world, kSurfaceLayer);
   space = dSimpleSpaceCreate(nullptr);
   env = std::make_unique<EnvironmentGeoms>(cfg.environment, space);
   contacts = std::make_unique<Contacts>(world, resolve_materials(cfg, *env));
+  wall_probe = std::make_unique<WallProbe>(env->pipe_layout(), env->geoms());
+  wheels = std::make_unique<WheelContacts>(world, wall_probe.get(), h, kSurfaceLayer);
   rand_seed = static_cast<unsigned long>(cfg.seed);
   sensors.init(world, cfg.seed, cfg.gravity_m_s2);
 
@@ -175,6 +184,7 @@ void World::Impl::build(const WorldConfig& cfg, const std::vector<std::string>& 
   reserve.reserve_minimum = kStepReserveBytes;
   dWorldSetStepMemoryReservationPolicy(world, &reserve);
   contacts->warm_up(64 + kWarmContactsPerGeom * bodies.size());
+  wheels->warm_up();
 }
 
 void World::Impl::add_module(int index, const ModuleDef& def, const Eigen::Isometry3d& frame,
@@ -216,6 +226,7 @@ void World::Impl::add_module(int index, const ModuleDef& def, const Eigen::Isome
     }
   }
   sensors.add_module(index, def, parts.bodies, parts.joints, frame.linear());
+  wheels->add_module(index, def.wheels, def.pads, parts.bodies, frame);
 
   md.front_body = md.body0 + def.front.body;
   md.back_body = md.body0 + def.back.body;
@@ -314,9 +325,11 @@ void World::step() {
   w.begin_actuators();             // each actuator's torque or force law for this step
   dRandSetSeed(w.rand_seed);       // this world's random state (QuickStep reorders with it)
   w.contacts->collide(w.space);    // contact joints, touch flags
+  w.wheels->begin_step();          // wheels and pads on the wall: contact joints
   dWorldQuickStep(w.world, w.h);
   w.rand_seed = dRandGetSeed();
   w.contacts->clear();
+  w.wheels->end_step();            // their forces; their joints go
   w.end_actuators();               // currents and forces from the rates the step produced
   w.sensors.step_end(w.h);         // accelerometers, encoders
   w.time_us += w.dt_us;
@@ -434,6 +447,21 @@ double World::max_docking_error_m() const {
   return worst;
 }
 
-int World::last_contact_count() const { return impl_->contacts->count(); }
+int World::last_contact_count() const { return impl_->contacts->count() + impl_->wheels->on_count(); }
+
+int World::wheel_count(int module) const { return impl_->wheels->count(module); }
+const std::string& World::wheel_name(int module, int wheel) const {
+  return impl_->wheels->name(module, wheel);
+}
+World::WheelState World::wheel_state(int module, int wheel) const {
+  const WheelContacts::State& s = impl_->wheels->state(module, wheel);
+  WheelState out;
+  out.on = s.on;
+  out.reach_m = s.reach_m;
+  out.normal_n = s.normal_n;
+  out.across_n = s.across_n;
+  out.point = s.point;
+  return out;
+}
 
 }  // namespace chainsim

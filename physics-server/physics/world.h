@@ -4,7 +4,8 @@
 //
 // Files: world.cpp (assembly and the step), module_builder.cpp (a module's
 // bodies and joints), contact.cpp (the near callback, friction, materials),
-// actuators/ (one file per kind), sensors/ (sampling), placement.cpp.
+// actuators/ (one file per kind), wheels/ (wheels and pads on the wall),
+// sensors/ (sampling), placement.cpp.
 #pragma once
 
 #include <Eigen/Core>
@@ -60,10 +61,11 @@ class World {
   int servo_count(int module) const;
 
   // Servo s of module m = the s-th actuator of its ModuleDef that firmware
-  // drives (driven_servo_actuators: servos, linear servos and screw drives in
-  // definition order; rotation: 0 = pitch, 1 = yaw). Values are in the
-  // actuator's unit: radians (rotary), metres (linear), the -1..1 drive
-  // command (screw); each kind's file (actuators/) says what they mean.
+  // drives (driven_servo_actuators: servos, linear servos, screw drives and
+  // DC motors in definition order; rotation: 0 = pitch, 1 = yaw). Values are
+  // in the actuator's unit: radians (rotary), metres (linear), the -1..1
+  // drive command (screw drive, DC motor); each kind's file (actuators/) says
+  // what they mean.
   ServoKind servo_kind(int module, int servo) const;
   // the set-point in the actuator's unit, clamped to its range (NaN: ignored)
   void set_servo_setpoint(int module, int servo, double setpoint);
@@ -103,13 +105,16 @@ class World {
   BodyState body_state(int module, int body) const;
   double servo_setpoint(int module, int servo) const;   // in the actuator's unit
   // what its position sensor reads, in the actuator's unit, even when
-  // unpowered: hinge angle, slider position; a screw drive echoes its command
+  // unpowered: hinge angle, slider position; a screw drive or DC motor echoes
+  // its command
   double servo_position(int module, int servo) const;
-  // rad/s (hinge) or m/s (slider; screw drive: its body's speed along the drive axis)
+  // rad/s (hinge; DC motor: its hinge) or m/s (slider; screw drive: its
+  // body's speed along the drive axis)
   double servo_rate(int module, int servo) const;
   double servo_current_a(int module, int servo) const;      // motor current now (signed)
   double servo_filtered_current_a(int module, int servo) const;
-  // effort of the last step: rotary N m (Kt dz(i)); linear servo, screw drive N
+  // effort of the last step: rotary N m (Kt dz(i)); linear servo, screw drive
+  // N; DC motor N m
   double servo_effort(int module, int servo) const;
   // fix a body to the static environment where it is now (e.g. a hanging chain)
   void pin_body(int module, int body);
@@ -125,6 +130,17 @@ class World {
   double max_docking_error_m() const;
   // contact joints created in the last step
   int last_contact_count() const;
+  // the wheels of module m's wheel sets (model/wheel_def.h), in file order:
+  // name (set name + index), and in the last step whether it touched the
+  // wall, its reach, normal force and friction across it (N)
+  struct WheelState {
+    bool on = false;
+    double reach_m = 0, normal_n = 0, across_n = 0;
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();  // wall point, world
+  };
+  int wheel_count(int module) const;
+  const std::string& wheel_name(int module, int wheel) const;
+  WheelState wheel_state(int module, int wheel) const;
 
  private:
   struct Impl;

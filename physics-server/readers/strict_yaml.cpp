@@ -2,7 +2,9 @@
 #include "readers/strict_yaml.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <utility>
 
@@ -28,6 +30,15 @@ StrictYaml::StrictYaml(std::string file, YamlRaise raise)
     : file_(std::move(file)), raise_(raise ? raise : &raise_yaml_error) {}
 
 std::string StrictYaml::read_file(const std::string& what) const {
+  // checked before opening: a FIFO would block the open, a device never end
+  std::error_code ec;
+  const auto st = std::filesystem::status(file_, ec);
+  if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
+    fail_file("cannot read " + what + ": not a regular file (a directory, FIFO or device)");
+  const auto size = std::filesystem::file_size(file_, ec);
+  if (!ec && size > kMaxFileBytes)
+    fail_file("cannot read " + what + ": " + std::to_string(size) + " bytes, over the limit of " +
+              std::to_string(kMaxFileBytes));
   std::ifstream in(file_, std::ios::binary);
   if (!in) fail_file("cannot open " + what);
   std::stringstream text;
@@ -37,7 +48,13 @@ std::string StrictYaml::read_file(const std::string& what) const {
 
 YAML::Node StrictYaml::parse(const std::string& text) const {
   try {
-    return YAML::Load(text);
+    // all documents are parsed, so a broken second one is a syntax error too
+    const std::vector<YAML::Node> docs = YAML::LoadAll(text);
+    if (docs.size() > 1) fail(docs[1], "a second YAML document ('---'): a file holds one");
+    const YAML::Node root = docs.empty() ? YAML::Node() : docs[0];
+    size_t budget = kMaxNodes;
+    unique_keys(root, 0, &budget);
+    return root;
   } catch (const YAML::Exception& e) {
     std::ostringstream s;
     s << file_;
@@ -45,6 +62,27 @@ YAML::Node StrictYaml::parse(const std::string& text) const {
     s << ": YAML syntax error: " << e.msg;
     raise_(s.str());
     throw YamlError(s.str());  // a raise that returned
+  }
+}
+
+void StrictYaml::unique_keys(const YAML::Node& n, int depth, size_t* budget) const {
+  if (depth > kMaxDepth) fail(n, "nested deeper than " + std::to_string(kMaxDepth) + " levels");
+  if (*budget == 0) fail(n, "more than " + std::to_string(kMaxNodes) + " values (aliases counted as copies)");
+  --*budget;
+  if (n.IsSequence()) {
+    for (const auto& item : n) unique_keys(item, depth + 1, budget);
+  } else if (n.IsMap()) {
+    std::map<std::string, YAML::Mark> seen;
+    for (const auto& kv : n) {
+      if (kv.first.IsScalar()) {
+        const auto [it, fresh] = seen.emplace(kv.first.Scalar(), kv.first.Mark());
+        if (!fresh)
+          fail(kv.first, "duplicate key '" + kv.first.Scalar() + "' (first at line " +
+                             std::to_string(it->second.line + 1) + ", column " +
+                             std::to_string(it->second.column + 1) + ")");
+      }
+      unique_keys(kv.second, depth + 1, budget);
+    }
   }
 }
 
@@ -159,20 +197,16 @@ bool StrictYaml::flag(const YAML::Node& map, const std::string& key, bool dflt, 
 }
 
 Eigen::Vector3d StrictYaml::vec3(const YAML::Node& map, const std::string& key, const Eigen::Vector3d& dflt,
-                                 const std::string& path) const {
+                                 const std::string& path, double limit) const {
   const YAML::Node n = map[key];
   if (!n) return dflt;
-  const std::string msg = quoted(path_key(path, key)) + " must be a list of 3 numbers [x, y, z]";
-  if (!n.IsSequence() || n.size() != 3) fail(n, msg);
+  return vec3_at(n, path_key(path, key), limit);
+}
+
+Eigen::Vector3d StrictYaml::vec3_at(const YAML::Node& n, const std::string& name, double limit) const {
+  if (!n.IsSequence() || n.size() != 3) fail(n, quoted(name) + " must be a list of 3 numbers [x, y, z]");
   Eigen::Vector3d v;
-  for (int i = 0; i < 3; ++i) {
-    try {
-      v[i] = n[i].as<double>();
-    } catch (const YAML::Exception&) {
-      fail(n[i], msg);
-    }
-    if (!std::isfinite(v[i])) fail(n[i], msg);
-  }
+  for (int i = 0; i < 3; ++i) v[i] = number_at(n[i], name + "[" + std::to_string(i) + "]", -limit, limit);
   return v;
 }
 

@@ -28,14 +28,25 @@ using YamlRaise = void (*)(const std::string& message);
 
 class StrictYaml {
  public:
+  // bounds of every file: a position is within 10 km of the origin; a file
+  // nests at most 64 levels and holds at most a million values
+  static constexpr double kMaxCoordinateM = 1e4;
+  static constexpr int kMaxDepth = 64;
+  static constexpr size_t kMaxNodes = 1000000;
+  // a YAML file is a regular file of at most 16 MiB
+  static constexpr uintmax_t kMaxFileBytes = 16u << 20;
+
   // `file` is used in messages; `raise` throws the loader's error type
   explicit StrictYaml(std::string file, YamlRaise raise = nullptr);
 
   const std::string& file() const { return file_; }
 
-  // the whole text of a file; "file: cannot open <what>" when it cannot be read
+  // the whole text of a file; "file: cannot open <what>" when it cannot be
+  // read, an error too when it is not a regular file or over kMaxFileBytes
   std::string read_file(const std::string& what) const;
-  // parses text; a syntax error is "file:line:column: YAML syntax error: ..."
+  // parses text; a syntax error is "file:line:column: YAML syntax error: ...";
+  // a second document, a key given twice in one mapping, or more nesting or
+  // values than the bounds above is an error at the culprit's line and column
   YAML::Node parse(const std::string& text) const;
 
   // "file:line:column" of node n (just "file" when it has no position)
@@ -71,14 +82,17 @@ class StrictYaml {
                    const std::string& path) const;
   // true or false
   bool flag(const YAML::Node& map, const std::string& key, bool dflt, const std::string& path) const;
-  // [x, y, z], finite
+  // [x, y, z], each finite and in [-limit, limit] (a coordinate in metres by default)
   Eigen::Vector3d vec3(const YAML::Node& map, const std::string& key, const Eigen::Vector3d& dflt,
-                       const std::string& path) const;
+                       const std::string& path, double limit = kMaxCoordinateM) const;
+  Eigen::Vector3d vec3_at(const YAML::Node& n, const std::string& name, double limit = kMaxCoordinateM) const;
   // a text that is one of choices (listed in their order when it is not)
   std::string choice(const YAML::Node& map, const std::string& key, const std::string& dflt,
                      const std::vector<std::string>& choices, const std::string& path) const;
 
  private:
+  void unique_keys(const YAML::Node& n, int depth, size_t* budget) const;
+
   std::string file_;
   YamlRaise raise_;
 };

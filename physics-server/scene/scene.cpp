@@ -128,17 +128,7 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
 
   if (const YAML::Node p = root["placement"]) {
     c.keys(p, "placement", {"position_m", "heading_deg", "at", "inset_m"});
-    if (const YAML::Node pos = p["position_m"]) {
-      if (!pos.IsSequence() || pos.size() != 3)
-        c.fail(pos, "'placement.position_m' must be a list of 3 numbers [x, y, z]");
-      for (int i = 0; i < 3; ++i) {
-        try {
-          s.world.head_position[i] = pos[i].as<double>();
-        } catch (const YAML::Exception&) {
-          c.fail(pos[i], "'placement.position_m' must be a list of 3 numbers [x, y, z]");
-        }
-      }
-    }
+    s.world.head_position = c.vec3(p, "position_m", s.world.head_position, "placement");
     s.world.heading_rad = deg_to_rad(c.number(p, "heading_deg", 0.0, -360.0, 360.0, "placement"));
     load_scene_placement_at(name, p, s.chain_types(), &s.world);  // at: pipe_entry
   }

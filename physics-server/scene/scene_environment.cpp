@@ -109,7 +109,7 @@ void load_mesh(const SceneYaml& y, const YAML::Node& n, const std::string& base_
                                                     : (std::filesystem::path(base_dir) / given).string();
   m->scale = y.positive(n, "scale", 1.0, 1e6, p);
   m->position_m = y.vec3(n, "position_m", m->position_m, p);
-  m->rpy_deg = y.vec3(n, "rpy_deg", m->rpy_deg, p);
+  m->rpy_deg = y.vec3(n, "rpy_deg", m->rpy_deg, p, 360.0);
   m->surface = y.text(n, "surface", m->surface, p);
   try {
     TriMesh mesh = load_mesh_file(m->file, m->scale);

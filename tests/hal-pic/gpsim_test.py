@@ -201,7 +201,13 @@ def run_gpsim(cod, script_text, workdir, timeout=300):
     stc = os.path.join(workdir, "test.stc")
     with open(stc, "w") as f:
         f.write(script_text)
-    r = subprocess.run(["gpsim", "-s", cod, "-i", "-c", stc], stdin=subprocess.DEVNULL,
+    # -S disable: no source listing. gpsim 0.31 reads the source file of the
+    # last instruction at every break, by the name stored in the .cod, which
+    # holds at most 63 characters: a build directory with a long path leaves
+    # a truncated name that can be a directory, and gpsim then crashes
+    # (SIGSEGV in FileContext::ReadLine).
+    r = subprocess.run(["gpsim", "-S", "disable", "-s", cod, "-i", "-c", stc],
+                       stdin=subprocess.DEVNULL,
                        capture_output=True, text=True, timeout=timeout, cwd=workdir)
     with open(os.path.join(workdir, "gpsim.out"), "w") as f:
         f.write(r.stdout)

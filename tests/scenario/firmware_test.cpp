@@ -1,5 +1,6 @@
-// The real firmware on the real server: discovery through the sync lines and
-// the gait the central control commands over I2C, as seen in the trace.
+// The real firmware on the real server: the gait the central control commands
+// over I2C, as seen in the trace. Discovery through the sync lines is checked
+// by the test files in discovery/ (chainsim test).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -13,28 +14,6 @@ namespace {
 
 
 }  // namespace
-
-class Discovery : public ::testing::TestWithParam<int> {};
-
-TEST_P(Discovery, CentralControlLearnsTheChainThroughTheSyncLines) {
-  const int n = GetParam();
-  const std::string dir = temp_dir("disc");
-  const std::string scene = write_file(dir, "s.yaml", "chain: " + std::string(n, 'R') + "\nduration_s: 0.3\n");
-  const Outcome o = run({scene}, dir);
-  ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
-  const std::string log = central_log(o, n);
-  EXPECT_NE(log.find("chain: " + std::string(n, 'R') + " (" + std::to_string(n) + " modules)"), std::string::npos)
-      << log;
-  // every module took the next address, in chain order
-  const std::string bus = read_file(o.dir + "/bus.log");
-  for (int k = 0; k < n; ++k) {
-    char want[64];
-    std::snprintf(want, sizeof want, "addr endpoint=%d address=0x%02x", k, 0x20 + k);
-    EXPECT_NE(bus.find(want), std::string::npos) << want;
-  }
-}
-
-INSTANTIATE_TEST_SUITE_P(ChainLengths, Discovery, ::testing::Values(1, 3, 12));
 
 TEST(Gait, ServoSetPointsFollowTheCommandedTravellingWave) {
   const std::string dir = temp_dir("gait");

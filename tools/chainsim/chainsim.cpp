@@ -3,7 +3,9 @@
 //   chainsim view RUN_DIR            replay.html of a run (--png: a picture); run --live: live view
 //   chainsim bench                   one servo on a test stand (set-points in, angle and current out)
 //   chainsim calibrate               find what the servo model misses against a measurement
+//   chainsim test PATH...            run test files (scene + expectations); JUnit XML for CI
 //   chainsim bench-lockstep          price of processes and sockets vs physics only
+//   chainsim optimize PROBLEM.yaml   design search: GA over chains and parameters (local workers or MPI)
 #include <CLI/CLI.hpp>
 
 #include <unistd.h>
@@ -16,9 +18,12 @@
 
 #include "chainsim/bench_command.h"
 #include "chainsim/calibrate_command.h"
+#include "chainsim/test_command.h"
+#include "chainsim/optimize_command.h"
 #include "viewer/live_view.h"
 #include "cosim/lockstep_server.h"
 #include "scene/scene.h"
+#include "testing/test_runner.h"
 #include "chainsim/view_command.h"
 
 using namespace chainsim;
@@ -169,7 +174,8 @@ int main(int argc, char** argv) {
                   "do not spawn this module (index; the central control is the last index): wait for it "
                   "to be started by hand, e.g. under gdb")
       ->expected(0, -1);
-  run->add_option("--firmware-dir", ra.firmware_dir, "where the fw-* programs are (default: next to chainsim)");
+  run->add_option("--firmware-dir", ra.firmware_dir,
+                  "where to look for programs first (DIR[:DIR...], e.g. your own build), then next to chainsim");
   run->add_flag("--quiet,-q", ra.quiet, "print only errors");
   run->add_flag("--live", ra.live, "show the run as it happens: serve the viewer on 127.0.0.1 (URL printed)");
   run->add_option("--live-port", ra.live_port, "port of the live view (default 0: any free port)")
@@ -199,14 +205,18 @@ int main(int argc, char** argv) {
 
   add_bench_command(app);
   add_calibrate_command(app);
+  add_test_command(app);
+  add_optimize_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int rc = app.exit(e);  // prints help, or the error and a hint
-    return rc == 0 ? 0 : kExitBadInput;
+    return rc == 0 ? 0 : test_command_selected() ? kTestExitMalformed : kExitBadInput;
   }
   if (const int rc = bench_command_exit_code(); rc >= 0) return rc;
   if (const int rc = calibrate_command_exit_code(); rc >= 0) return rc;
+  if (const int rc = test_command_exit_code(); rc >= 0) return rc;
+  if (const int rc = optimize_command_exit_code(); rc >= 0) return rc;
   if (*run) return cmd_run(ra);
   if (*view) return cmd_view(va);
   if (*bench) return cmd_bench_lockstep(ba);

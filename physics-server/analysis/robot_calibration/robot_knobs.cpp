@@ -9,11 +9,17 @@ namespace chainsim {
 
 const std::vector<Knob>& robot_knobs() {
   static const std::vector<Knob> k = {
-      {"screw_drive_thrust", "fmax_n", "helicoidal",
-       "the screw drive's stall thrust (force-speed line F = fmax (u - v / v_free))", 0.5, 2.0},
-      {"screw_drive_free_speed", "v_free_m_s", "helicoidal", "the screw drive's no-load speed", 0.7, 1.4},
+      {"drive_stall", "stall_torque_nm (dc_motor) or fmax_n (screw_drive)", "helicoidal",
+       "the helicoidal drive's stall torque or thrust (force-speed line)", 0.5, 2.0},
+      {"drive_free_speed", "free_speed_rad_s (dc_motor) or v_free_m_s (screw_drive)", "helicoidal",
+       "the helicoidal drive's no-load speed", 0.7, 1.4},
+      {"wheel_preload", "preload_n (every wheel set)", "helicoidal",
+       "the wheels' spring force on the wall (their grip and centring)", 0.25, 4.0},
+      {"wheel_friction", "mu (every wheel set)", "helicoidal",
+       "the tyres' friction across the wheel (how much thrust each wheel grips)", 0.3, 2.0},
       {"arm_grip_torque", "kt (all support arm servos)", "support",
        "the support arms' servo torque constant: how hard the arms press the wall (slip of the grip)", 0.1, 1.5},
+      {"pad_friction", "mu (every pad)", "support", "the support arms' pads' friction on the wall", 0.2, 2.0},
       {"wall_friction", "environment.material.mu", "", "module-pipe Coulomb friction", 0.2, 5.0},
   };
   return k;

@@ -75,12 +75,18 @@ SceneVariants::SceneVariants(const std::string& scene_template, const std::vecto
   nominal_[robot_knob("wall_friction")] = s0.world.ground.mu;
   if (in_chain(s0, "helicoidal")) {
     type_text_["helicoidal"] = module_text(root0, dirs_[0], "helicoidal");
-    for (const ActuatorDef& a : find_module_def(s0.world.module_types, "helicoidal").actuators)
-      if (a.type == ActuatorType::ScrewDrive) {
-        nominal_[robot_knob("screw_drive_thrust")] = a.fmax_n;
-        nominal_[robot_knob("screw_drive_free_speed")] = a.v_free_m_s;
+    const ModuleDef h = find_module_def(s0.world.module_types, "helicoidal");
+    for (const ActuatorDef& a : h.actuators)
+      if (a.type == ActuatorType::ScrewDrive || a.type == ActuatorType::DcMotor) {
+        nominal_[robot_knob("drive_stall")] = a.fmax_n;
+        nominal_[robot_knob("drive_free_speed")] = a.v_free_m_s;
         break;
       }
+    // the wheel knobs scale every set's own value; the nominal is the first set's
+    if (!h.wheels.empty()) {
+      nominal_[robot_knob("wheel_preload")] = h.wheels[0].preload_n;
+      nominal_[robot_knob("wheel_friction")] = h.wheels[0].mu;
+    }
   }
   if (in_chain(s0, "support")) {
     type_text_["support"] = module_text(root0, dirs_[0], "support");
@@ -89,6 +95,8 @@ SceneVariants::SceneVariants(const std::string& scene_template, const std::vecto
         nominal_[robot_knob("arm_grip_torque")] = servo_kt(s0, a);
         break;
       }
+    const ModuleDef d = find_module_def(s0.world.module_types, "support");
+    if (!d.pads.empty()) nominal_[robot_knob("pad_friction")] = d.pads[0].mu;
   }
   for (size_t k = 0; k < robot_knobs().size(); ++k) {
     const std::string m = robot_knobs()[k].module;
@@ -114,25 +122,36 @@ std::string SceneVariants::scene_text(size_t i, const KnobSetting& st, const std
     const std::filesystem::path p = root["environment"]["mesh"]["file"].as<std::string>();
     if (p.is_relative()) root["environment"]["mesh"]["file"] = (here / p).string();
   }
-  const int mu = robot_knob("wall_friction"), thrust = robot_knob("screw_drive_thrust"),
-            vfree = robot_knob("screw_drive_free_speed"), grip = robot_knob("arm_grip_torque");
+  const int mu = robot_knob("wall_friction"), stall = robot_knob("drive_stall"),
+            vfree = robot_knob("drive_free_speed"), grip = robot_knob("arm_grip_torque");
   if (st.count(mu)) root["environment"]["material"]["mu"] = st.at(mu) * nominal(mu);
-  const double ft = factor_of(st, thrust), fv = factor_of(st, vfree), fg = factor_of(st, grip);
+  const double ft = factor_of(st, stall), fv = factor_of(st, vfree), fg = factor_of(st, grip);
+  const double fp = factor_of(st, robot_knob("wheel_preload")), fm = factor_of(st, robot_knob("wheel_friction"));
+  const double fpad = factor_of(st, robot_knob("pad_friction"));
   const std::string tag = std::to_string(std::hash<std::string>{}(setting_key(st)));
-  if ((ft != 1.0 || fv != 1.0) && type_text_.count("helicoidal")) {
+  if ((ft != 1.0 || fv != 1.0 || fp != 1.0 || fm != 1.0) && type_text_.count("helicoidal")) {
     YAML::Node d = YAML::Load(type_text_.at("helicoidal"));
-    for (auto a : d["actuators"])
-      if (a["type"] && a["type"].as<std::string>() == "screw_drive") {
-        a["fmax_n"] = ft * nominal(thrust);
-        a["v_free_m_s"] = fv * nominal(vfree);
+    for (auto a : d["actuators"]) {
+      const std::string t = a["type"] ? a["type"].as<std::string>() : "";
+      if (t != "screw_drive" && t != "dc_motor") continue;
+      a[t == "dc_motor" ? "stall_torque_nm" : "fmax_n"] = ft * nominal(stall);
+      a[t == "dc_motor" ? "free_speed_rad_s" : "v_free_m_s"] = fv * nominal(vfree);
+    }
+    if (d["wheels"])
+      for (auto w : d["wheels"]) {
+        if (w["preload_n"]) w["preload_n"] = fp * w["preload_n"].as<double>();
+        if (w["mu"]) w["mu"] = fm * w["mu"].as<double>();
       }
     const std::string file = dir + "/helicoidal-" + tag + ".yaml";
     write_module(d, file);
     root["module_types"]["helicoidal"] = file;
   }
-  if (fg != 1.0 && type_text_.count("support")) {
+  if ((fg != 1.0 || fpad != 1.0) && type_text_.count("support")) {
     const ModuleDef def = find_module_def(scenes_[0].world.module_types, "support");
     YAML::Node d = YAML::Load(type_text_.at("support"));
+    if (d["pads"])
+      for (auto p : d["pads"])
+        if (p["mu"]) p["mu"] = fpad * p["mu"].as<double>();
     for (size_t k = 0; k < def.actuators.size(); ++k)
       if (def.actuators[k].type == ActuatorType::Servo)
         d["actuators"][k]["servo"]["kt"] = fg * servo_kt(scenes_[0], def.actuators[k]);

@@ -5,7 +5,8 @@
 // about the axis = the bench's load inertia. The servo is the robot's
 // ServoModel (servo_model.h) coupled exactly as the World couples it: a
 // one-axis angular motor on the hinge with dParamVel / dParamCFM from the
-// model's step law (an implicit damper; see servo_model.h). The constant
+// model's step law (an implicit damper; see servo_model.h), through the same
+// drive_servo_motor as the World's rotary servos (physics/actuators/). The constant
 // external torque is added to the hinge every step. The stand steps with
 // dWorldStep (ODE's exact LCP solver; one body, so it costs nothing) rather
 // than the robot's QuickStep, whose unconverged iterations would only add
@@ -14,6 +15,7 @@
 // Angles: the bench angle is the hinge angle in degrees, continuous (no stops,
 // no wrap at +-180), so the paper's 30 -> 120 degree test is written as is.
 #include "analysis/servo_bench/servo_stand.h"
+#include "physics/actuators/rotary_servo.h"
 #include "physics/units.h"
 
 #include <ode/ode.h>
@@ -26,11 +28,6 @@
 namespace chainsim {
 namespace {
 
-// The coupling below (motor FMax, ERP/CFM, dParamVel/dParamCFM from the step
-// law) is a copy of the World's rotary-servo coupling (physics/world.cpp),
-// constants included: one shared coupling is due when the World's actuators
-// are split into their own files.
-constexpr double kMotorFMax = 10.0;        // N m, far above any servo torque (as the World)
 constexpr double kEpsUs = 1e-3;            // time tolerance, microseconds
 
 struct Row {
@@ -66,7 +63,7 @@ class Stand {
     dJointSetAMotorMode(motor_, dAMotorUser);
     dJointSetAMotorNumAxes(motor_, 1);
     dJointSetAMotorAxis(motor_, 0, 0, 0, 0, 1);
-    dJointSetAMotorParam(motor_, dParamFMax, kMotorFMax);
+    dJointSetAMotorParam(motor_, dParamFMax, kServoMotorFMax);
   }
   ~Stand() {
     if (world_) dWorldDestroy(world_);
@@ -90,9 +87,7 @@ class Stand {
       return;
     }
     const double w = dJointGetHingeAngleRate(hinge_);
-    const ServoModel::StepLaw law = model_.begin_step(theta_, w, h_);
-    dJointSetAMotorParam(motor_, dParamVel, law.target_rate);
-    dJointSetAMotorParam(motor_, dParamCFM, 1.0 / law.damping);
+    drive_servo_motor(motor_, model_.begin_step(theta_, w, h_));
     if (cfg_.load_torque_nm != 0.0) dJointAddHingeTorque(hinge_, cfg_.load_torque_nm);
     dWorldStep(world_, h_);
     model_.end_step(dJointGetHingeAngleRate(hinge_));

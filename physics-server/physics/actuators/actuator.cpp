@@ -29,6 +29,13 @@ Actuator make_actuator(int module, const ModuleDef& def, int a, dWorldID world,
       return Actuator{module, true, -1,
                       Device(std::in_place_type<ScrewDrive>, ScrewDrive::params_of(ad, servo, h_s), world,
                              parts.bodies[ad.body])};
+    case ActuatorType::DcMotor: {
+      const JointDef& jd = def.joints[ad.joint];
+      return Actuator{module, true, -1,
+                      Device(std::in_place_type<DcMotor>, DcMotor::params_of(ad, servo, h_s), world,
+                             parts.joints[ad.joint], parts.bodies[jd.child], parts.bodies[jd.parent],
+                             Eigen::Vector3d(frame.linear() * jd.axis.normalized()))};
+    }
   }
   throw std::logic_error("unknown actuator type");
 }
@@ -38,6 +45,7 @@ double setpoint_from_wire(ServoKind kind, int32_t wire) {
     case ServoKind::Rotary: return RotaryServo::setpoint_from_wire(wire);
     case ServoKind::Linear: return LinearServo::setpoint_from_wire(wire);
     case ServoKind::Screw: return ScrewDrive::setpoint_from_wire(wire);
+    case ServoKind::DcMotor: return DcMotor::setpoint_from_wire(wire);
   }
   return 0.0;
 }
@@ -47,6 +55,7 @@ int32_t to_wire(ServoKind kind, double value) {
     case ServoKind::Rotary: return RotaryServo::to_wire(value);
     case ServoKind::Linear: return LinearServo::to_wire(value);
     case ServoKind::Screw: return ScrewDrive::to_wire(value);
+    case ServoKind::DcMotor: return DcMotor::to_wire(value);
   }
   return 0;
 }

@@ -1,15 +1,16 @@
 // A firmware-driven actuator of any kind, as the World holds them: a rotary
-// servo, a linear servo or a screw drive (one file each, each with its
-// Params, State and ODE objects), the module it belongs to and whether
-// firmware enables it. Values "in the actuator's unit" are radians (rotary),
-// metres (linear) or the -1..1 drive command (screw); on the wire each kind
-// has its own integer unit (millidegrees, micrometres, per mille), converted
-// in that kind's file only.
+// servo, a linear servo, a screw drive or a DC motor (one file each, each
+// with its Params, State and ODE objects), the module it belongs to and
+// whether firmware enables it. Values "in the actuator's unit" are radians
+// (rotary), metres (linear) or the -1..1 drive command (screw drive, DC
+// motor); on the wire each kind has its own integer unit (millidegrees,
+// micrometres, per mille), converted in that kind's file only.
 #pragma once
 
 #include <cstdint>
 #include <variant>
 
+#include "physics/actuators/dc_motor.h"
 #include "physics/actuators/linear_servo.h"
 #include "physics/actuators/rotary_servo.h"
 #include "physics/actuators/screw_drive.h"
@@ -18,7 +19,7 @@
 namespace chainsim {
 
 // the index of each kind in Actuator::device
-enum class ServoKind { Rotary, Linear, Screw };
+enum class ServoKind { Rotary, Linear, Screw, DcMotor };
 
 struct Actuator {
   int module = -1;
@@ -26,7 +27,7 @@ struct Actuator {
   // rotary servos only: >= 0 = the World's index of the servo whose set-point
   // and enable this one copies (the support module's passive arms)
   int follows = -1;
-  std::variant<RotaryServo, LinearServo, ScrewDrive> device;
+  std::variant<RotaryServo, LinearServo, ScrewDrive, DcMotor> device;
 
   ServoKind kind() const { return static_cast<ServoKind>(device.index()); }
 

@@ -7,9 +7,10 @@
 #include "physics/actuators/wire_value.h"
 
 namespace chainsim {
-namespace {
-constexpr double kMotorFMax = 10.0;  // N m; far above any servo torque (stall 0.058 N m)
-}  // namespace
+void drive_servo_motor(dJointID amotor, const ServoModel::StepLaw& law) {
+  dJointSetAMotorParam(amotor, dParamVel, law.target_rate);
+  dJointSetAMotorParam(amotor, dParamCFM, 1.0 / law.damping);
+}
 
 RotaryServo::Params RotaryServo::params_of(const ActuatorDef& ad, const JointDef& joint,
                                            const ServoParams& servo) {
@@ -29,7 +30,7 @@ RotaryServo::RotaryServo(const Params& params, dWorldID world, dJointID hinge, d
   dJointSetAMotorMode(ode_.motor, dAMotorUser);
   dJointSetAMotorNumAxes(ode_.motor, 1);
   dJointSetAMotorAxis(ode_.motor, 0, 1, axis_world.x(), axis_world.y(), axis_world.z());
-  dJointSetAMotorParam(ode_.motor, dParamFMax, kMotorFMax);
+  dJointSetAMotorParam(ode_.motor, dParamFMax, kServoMotorFMax);
 }
 
 double RotaryServo::setpoint_from_wire(int32_t millideg) { return deg_to_rad(millideg * 1e-3); }
@@ -48,9 +49,7 @@ double RotaryServo::rate() const { return dJointGetHingeAngleRate(ode_.hinge); }
 void RotaryServo::begin_step(bool driven, double h_s) {
   ServoModel& m = state_.model;
   m.set_enabled(driven);
-  const ServoModel::StepLaw law = m.begin_step(position(), rate(), h_s);
-  dJointSetAMotorParam(ode_.motor, dParamVel, law.target_rate);
-  dJointSetAMotorParam(ode_.motor, dParamCFM, 1.0 / law.damping);
+  drive_servo_motor(ode_.motor, m.begin_step(position(), rate(), h_s));
 }
 
 void RotaryServo::end_step() { state_.model.end_step(rate()); }

@@ -23,6 +23,13 @@
 
 namespace chainsim {
 
+// The coupling of a servo model to ODE, shared by the World's rotary servos and
+// the servo test stand (analysis/servo_bench): a one-axis angular motor whose
+// force limit is far above any servo torque, driven each step by the model's
+// step law as an implicit damper.
+inline constexpr double kServoMotorFMax = 10.0;  // N m (the shipped servo stalls at 0.058 N m)
+void drive_servo_motor(dJointID amotor, const ServoModel::StepLaw& law);
+
 class RotaryServo {
  public:
   // configuration: fixed when the world is built

@@ -7,6 +7,7 @@
 
 #include "physics/sensors/module_sample.h"
 #include "physics/units.h"
+#include "physics/splitmix64.h"
 
 namespace chainsim {
 namespace {
@@ -24,21 +25,13 @@ Eigen::Vector3d body_velocity(dBodyID b) {
   return Eigen::Vector3d(v[0], v[1], v[2]);
 }
 
-// splitmix64: a counter-based generator (same input, same output)
-uint64_t mix(uint64_t x) {
-  x += 0x9e3779b97f4a7c15ull;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
-}
-
 // standard normal deviate for one (seed, module, sensor, axis, time) (Box-Muller)
 double gaussian(uint64_t seed, int module, int sensor, int axis, int64_t time_us) {
-  uint64_t k = mix(seed);
-  k = mix(k ^ static_cast<uint64_t>(module));
-  k = mix(k ^ (static_cast<uint64_t>(sensor) << 8 | static_cast<uint64_t>(axis)));
-  k = mix(k ^ static_cast<uint64_t>(time_us));
-  const uint64_t k2 = mix(k);
+  uint64_t k = splitmix64(seed);
+  k = splitmix64(k ^ static_cast<uint64_t>(module));
+  k = splitmix64(k ^ (static_cast<uint64_t>(sensor) << 8 | static_cast<uint64_t>(axis)));
+  k = splitmix64(k ^ static_cast<uint64_t>(time_us));
+  const uint64_t k2 = splitmix64(k);
   const double u1 = (static_cast<double>(k >> 11) + 0.5) * 0x1.0p-53;  // (0, 1)
   const double u2 = static_cast<double>(k2 >> 11) * 0x1.0p-53;         // [0, 1)
   return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);

@@ -4,7 +4,9 @@
 // death with the parent.
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -12,28 +14,21 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
 
 #include "cosim/child_process.h"
+#include "temp_dir.h"
 
 namespace chainsim {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "chainsim-child-XXXXXX").string();
-    path = mkdtemp(tmpl.data());
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string file(const std::string& name) const { return (path / name).string(); }
+struct TempDir : chainsim_test::TempDir {
+  TempDir() : chainsim_test::TempDir("chainsim-child") {}
 };
 
 std::string read_file(const std::string& p) {
@@ -247,6 +242,39 @@ TEST(ChildProcess, WaitAnyReturnsTheOneThatEnded) {
   EXPECT_EQ(wait_any(both), 0);
   EXPECT_EQ(held.poll()->code, 4);
   EXPECT_EQ(wait_any(both), -1);  // none running
+}
+
+// the server's files (outputs, the listening socket, links) are open without
+// close-on-exec here on purpose: the child must still see only 0, 1 and 2
+TEST(ChildProcess, ChildInheritsOnlyStdinStdoutAndStderr) {
+  TempDir dir;
+  const int file = open(dir.file("trace.csv").c_str(), O_WRONLY | O_CREAT, 0644);
+  const int sock = socket(AF_UNIX, SOCK_STREAM, 0);
+  ASSERT_GE(file, 3);
+  ASSERT_GE(sock, 3);
+  ChildProcess c;
+  // ls runs as the shell's child and lists the shell's descriptors
+  c.spawn(shell("ls /proc/$$/fd; exit 0", dir.file("out.txt")));
+  ASSERT_TRUE(c.wait().exited);
+  close(file);
+  close(sock);
+  std::istringstream in(read_file(dir.file("out.txt")));
+  std::set<std::string> fds;
+  for (std::string fd; in >> fd;) fds.insert(fd);
+  EXPECT_EQ(fds, (std::set<std::string>{"0", "1", "2"})) << read_file(dir.file("out.txt"));
+}
+
+// a child that ends while nobody waits for it is counted by the SIGCHLD
+// handler: the lockstep polls its endpoints only when the count moved
+TEST(ChildProcess, ChildEndCountMovesWhenAChildEnds) {
+  const unsigned before = child_end_count();
+  ChildProcess c;
+  c.spawn(shell("exit 0"));
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (child_end_count() == before && std::chrono::steady_clock::now() < until)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  EXPECT_NE(child_end_count(), before);
+  EXPECT_TRUE(c.poll().has_value());
 }
 
 }  // namespace

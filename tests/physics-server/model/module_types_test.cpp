@@ -43,7 +43,7 @@ TEST(ShippedModules, BodiesHaveTheDefinedMassAndInertia) {
           << expect;
       total += s.mass_kg;
     }
-    // the real modules weigh about 10 g (DESIGN.md 5); ours are 10 g
+    // every shipped type is 10 g in total (the masses the module files give, each with its source)
     EXPECT_NEAR(total, 0.010, 1e-12) << type;
     std::printf("%-10s %d bodies, %zu joints, %d firmware servos, %.1f g, %.0f mm between faces\n",
                 type.c_str(), w.body_count(0), d.joints.size(), w.servo_count(0), total * 1e3,

@@ -15,22 +15,15 @@
 #include "output/run_output.h"
 #include "output/run_summary.h"
 #include "output/sha256.h"
+#include "temp_dir.h"
 
 namespace chainsim {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string tmpl = (fs::temp_directory_path() / "chainsim-out-XXXXXX").string();
-    path = mkdtemp(tmpl.data());
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
+struct TempDir : chainsim_test::TempDir {
+  TempDir() : chainsim_test::TempDir("chainsim-out") {}
 };
 
 std::string read_file(const fs::path& p) {

@@ -40,7 +40,10 @@ TEST(TraceWriter, HeaderNamesEveryColumnInItsUnit) {
       body_columns("m2.back_box") +
       ",m2.s0.setpoint_mm,m2.s0.position_mm,m2.s0.current_a"
       ",m2.s1.setpoint_deg,m2.s1.angle_deg,m2.s1.current_a,m2.supply_a" +
-      body_columns("m3.pig") + ",m3.s0.command,m3.s0.speed_mm_s,m3.s0.current_a,m3.supply_a\n";
+      body_columns("m3.pig") + body_columns("m3.head") +
+      ",m3.s0.command,m3.s0.speed_rad_s,m3.s0.current_a,m3.supply_a"
+      ",m3.head0.n_N,m3.head0.f_N,m3.head1.n_N,m3.head1.f_N,m3.head2.n_N,m3.head2.f_N"
+      ",m3.stator0.n_N,m3.stator0.f_N,m3.stator1.n_N,m3.stator1.f_N,m3.stator2.n_N,m3.stator2.f_N\n";
   EXPECT_EQ(t.header(), want);
 }
 
@@ -81,8 +84,10 @@ TEST(TraceWriter, RowReadsBackAsTheWorldsStateInTheColumnsUnits) {
   EXPECT_NEAR(value("m1.s0.setpoint_mm"), 6.0, 5e-5);
   EXPECT_NEAR(value("m1.s0.position_mm"), w.servo_position(1, 0) * 1e3, 5e-5);
   EXPECT_NEAR(value("m2.s0.command"), -0.75, 5e-5);
-  EXPECT_NEAR(value("m2.s0.speed_mm_s"), w.servo_rate(2, 0) * 1e3, 5e-5);
-  EXPECT_LT(value("m2.s0.speed_mm_s"), -1.0);  // the screw drives the chain backwards
+  EXPECT_NEAR(value("m2.s0.speed_rad_s"), w.servo_rate(2, 0), 5e-5);
+  EXPECT_LT(value("m2.s0.speed_rad_s"), -1.0);  // the drive motor spins the head backwards
+  EXPECT_EQ(value("m2.head0.n_N"), 0.0);        // in the air: its wheels touch nothing
+  EXPECT_EQ(value("m2.stator2.f_N"), 0.0);
   EXPECT_NEAR(value("m2.s0.current_a"), w.servo_current_a(2, 0), 5e-6);
   EXPECT_NEAR(value("m0.supply_a"), w.module_supply_current_a(0), 5e-6);
   EXPECT_GT(value("m0.supply_a"), 0.0);

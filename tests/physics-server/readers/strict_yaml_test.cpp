@@ -68,6 +68,44 @@ TEST(StrictYaml, IntegersTextsFlagsVectorsChoices) {
   EXPECT_EQ(kY.choice(n, "absent", "pipe", {"plane", "pipe"}, "m"), "pipe");
 }
 
+TEST(StrictYaml, VectorElementsAreFiniteAndWithinTheirLimit) {
+  const YAML::Node n = kY.parse("p: [0, .inf, 1]\nq: [1e300, 0, 0]\nr: [1, 2, x]\nd: [0, 400, 0]\n");
+  EXPECT_EQ(error_of([&] { kY.vec3(n, "p", {}, "m"); }), "f.yaml:1:8: 'm.p[1]' must be a finite number, not '.inf'");
+  EXPECT_EQ(error_of([&] { kY.vec3(n, "q", {}, "m"); }),
+            "f.yaml:2:5: 'm.q[0]' = 1e300 is out of range [-10000, 10000]");
+  EXPECT_EQ(error_of([&] { kY.vec3(n, "r", {}, "m"); }), "f.yaml:3:11: 'm.r[2]' must be a number, not 'x'");
+  EXPECT_EQ(error_of([&] { kY.vec3(n, "d", {}, "m", 360); }), "f.yaml:4:8: 'm.d[1]' = 400 is out of range [-360, 360]");
+}
+
+// yaml-cpp keeps both entries of a key given twice and returns the first:
+// the reader refuses it at the second, naming the first
+TEST(StrictYaml, DuplicateKeyIsAnErrorAtAnyDepth) {
+  EXPECT_EQ(error_of([] { kY.parse("a: 1\nb: 2\na: 3\n"); }), "f.yaml:3:1: duplicate key 'a' (first at line 1, column 1)");
+  EXPECT_EQ(error_of([] { kY.parse("l:\n  - {x: 1, y: 2, x: 1}\n"); }),
+            "f.yaml:2:18: duplicate key 'x' (first at line 2, column 6)");
+  EXPECT_EQ(error_of([] { kY.parse("a: {x: 1}\nb: {x: 1}\n"); }), "(no error)");  // same key, two mappings
+}
+
+TEST(StrictYaml, SecondDocumentIsAnError) {
+  EXPECT_EQ(error_of([] { kY.parse("a: 1\n---\nb: 2\n"); }).rfind("f.yaml:3:1: a second YAML document", 0), 0u)
+      << error_of([] { kY.parse("a: 1\n---\nb: 2\n"); });
+  // a broken second document is a syntax error, not ignored
+  EXPECT_NE(error_of([] { kY.parse("a: 1\n---\nb: [\n"); }).find("YAML syntax error"), std::string::npos);
+  EXPECT_EQ(error_of([] { kY.parse("---\na: 1\n"); }), "(no error)");  // one document with its marker
+  EXPECT_EQ(error_of([] { kY.parse(""); }), "(no error)");
+}
+
+TEST(StrictYaml, NestingAndAliasExpansionAreBounded) {
+  EXPECT_NE(error_of([] { kY.parse(std::string(100, '[') + std::string(100, ']')); }).find("nested deeper than 64"),
+            std::string::npos);
+  // each level doubles the values through aliases: 2^25 values, refused early
+  std::string bomb = "a0: &a0 [x, x]\n";
+  for (int i = 1; i <= 25; ++i)
+    bomb += "a" + std::to_string(i) + ": &a" + std::to_string(i) + " [*a" + std::to_string(i - 1) + ", *a" +
+            std::to_string(i - 1) + "]\n";
+  EXPECT_NE(error_of([&] { kY.parse(bomb); }).find("more than 1000000 values"), std::string::npos);
+}
+
 TEST(StrictYaml, ErrorsAreTheLoadersOwnType) {
   const StrictYaml y("g.yaml", [](const std::string& m) { throw LoaderError(m); });
   const YAML::Node n = y.parse("a: x\n");

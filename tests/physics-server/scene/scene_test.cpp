@@ -102,6 +102,24 @@ TEST(Scene, OutOfRangeValueIsAnError) {
   EXPECT_EQ(error_of("chain: R\nenvironment: {material: {bounce: 1}}\n"), "(no error)");
 }
 
+// ODE aborts on a non-finite position: the scene reader must stop it first
+TEST(Scene, PlacementPositionIsFiniteAndBounded) {
+  EXPECT_EQ(error_of("chain: R\nplacement: {position_m: [0, .nan, 0.02]}\n"),
+            "s.yaml:2:29: 'placement.position_m[1]' must be a finite number, not '.nan'");
+  EXPECT_EQ(error_of("chain: R\nplacement: {position_m: [-.inf, 0, 0.02]}\n"),
+            "s.yaml:2:26: 'placement.position_m[0]' must be a finite number, not '-.inf'");
+  EXPECT_EQ(error_of("chain: R\nplacement: {position_m: [0, 0, 1e300]}\n"),
+            "s.yaml:2:32: 'placement.position_m[2]' = 1e300 is out of range [-10000, 10000]");
+  EXPECT_EQ(error_of("chain: R\nplacement: {position_m: [1, 2, 0.1]}\n"), "(no error)");
+}
+
+TEST(Scene, DuplicateKeyAndSecondDocumentAreErrors) {
+  EXPECT_EQ(error_of("chain: R\nduration_s: 2\nduration_s: 5\n"),
+            "s.yaml:3:1: duplicate key 'duration_s' (first at line 2, column 1)");
+  EXPECT_EQ(error_of("chain: R\n---\nchain: [\n").rfind("s.yaml:", 0), 0u);
+  EXPECT_EQ(error_of("chain: R\n---\nchain: S\n").rfind("s.yaml:3:1: a second YAML document", 0), 0u);
+}
+
 TEST(Scene, MalformedYamlGivesTheParserPosition) {
   const std::string e = error_of("chain: R\nphysics: {dt_us: 500\n");
   EXPECT_EQ(e.rfind("s.yaml:", 0), 0u) << e;

@@ -11,8 +11,8 @@
 namespace chainsim {
 namespace {
 
-const int kThrust = robot_knob("screw_drive_thrust");
-const int kFreeSpeed = robot_knob("screw_drive_free_speed");
+const int kThrust = robot_knob("drive_stall");
+const int kFreeSpeed = robot_knob("drive_free_speed");
 const int kFriction = robot_knob("wall_friction");
 
 std::vector<SpeedRow> table(const std::vector<double>& real) {

@@ -22,29 +22,39 @@ std::string temp_dir(const std::string& name) {
   return d;
 }
 
-const ActuatorDef& screw_drive(const ModuleDef& d) {
+const ActuatorDef& drive_motor(const ModuleDef& d) {
   for (const ActuatorDef& a : d.actuators)
-    if (a.type == ActuatorType::ScrewDrive) return a;
-  throw std::runtime_error("no screw drive");
+    if (a.type == ActuatorType::DcMotor) return a;
+  throw std::runtime_error("no DC motor");
 }
 
-TEST(SceneVariants, HelicoidalScenesScrewDriveAndFriction) {
+TEST(SceneVariants, HelicoidalScenesDriveWheelsAndFriction) {
   const SceneVariants v(kScenes + "helicoidal-{slope}.yaml", {"0", "30"});
   ASSERT_EQ(v.size(), 2u);
-  EXPECT_EQ(v.nominal(robot_knob("screw_drive_thrust")), 0.16);
-  EXPECT_EQ(v.nominal(robot_knob("screw_drive_free_speed")), 0.03);
+  EXPECT_EQ(v.nominal(robot_knob("drive_stall")), 8.930e-4);   // scenes/modules/helicoidal.yaml
+  EXPECT_EQ(v.nominal(robot_knob("drive_free_speed")), 5.607);
+  EXPECT_EQ(v.nominal(robot_knob("wheel_preload")), 0.2);
+  EXPECT_EQ(v.nominal(robot_knob("wheel_friction")), 0.6);
   EXPECT_EQ(v.nominal(robot_knob("wall_friction")), 0.05);
   EXPECT_EQ(v.nominal(robot_knob("arm_grip_torque")), 0.0);
-  EXPECT_EQ(v.usable(), (std::vector<int>{robot_knob("screw_drive_thrust"), robot_knob("screw_drive_free_speed"),
+  EXPECT_EQ(v.usable(), (std::vector<int>{robot_knob("drive_stall"), robot_knob("drive_free_speed"),
+                                          robot_knob("wheel_preload"), robot_knob("wheel_friction"),
                                           robot_knob("wall_friction")}));
   const std::string dir = temp_dir("heli");
-  const std::string text =
-      v.scene_text(1, {{robot_knob("screw_drive_thrust"), 1.5}, {robot_knob("wall_friction"), 2.0}}, dir);
+  const std::string text = v.scene_text(
+      1, {{robot_knob("drive_stall"), 1.5}, {robot_knob("wheel_friction"), 0.5}, {robot_knob("wall_friction"), 2.0}},
+      dir);
   const Scene s = load_scene_text(text, dir + "/scene.yaml");
   EXPECT_DOUBLE_EQ(s.world.ground.mu, 0.1);
-  const ActuatorDef& a = screw_drive(find_module_def(s.world.module_types, "helicoidal"));
-  EXPECT_DOUBLE_EQ(a.fmax_n, 0.24);
-  EXPECT_DOUBLE_EQ(a.v_free_m_s, 0.03);
+  const ModuleDef h = find_module_def(s.world.module_types, "helicoidal");
+  const ActuatorDef& a = drive_motor(h);
+  EXPECT_DOUBLE_EQ(a.fmax_n, 1.5 * 8.930e-4);
+  EXPECT_DOUBLE_EQ(a.v_free_m_s, 5.607);
+  ASSERT_EQ(h.wheels.size(), 2u);
+  for (const WheelSetDef& w : h.wheels) {
+    EXPECT_DOUBLE_EQ(w.mu, 0.3) << w.name;
+    EXPECT_DOUBLE_EQ(w.preload_n, 0.2) << w.name;
+  }
   EXPECT_EQ(s.world.environment.pipe.segments[0].slope_deg, 30.0);  // the row's own scene
   // no knobs: the scene as it is, with the built-in module type
   const Scene s0 = load_scene_text(v.scene_text(0, {}, dir), dir + "/scene.yaml");
@@ -57,7 +67,7 @@ TEST(SceneVariants, InchwormScenesArmGripScalesEveryArmServo) {
   const SceneVariants v(kScenes + "inchworm-{slope}.yaml", {"0", "30"});
   const int grip = robot_knob("arm_grip_torque");
   EXPECT_EQ(v.nominal(grip), 0.14);  // the driven arm servo's kt
-  EXPECT_EQ(v.nominal(robot_knob("screw_drive_thrust")), 0.0);
+  EXPECT_EQ(v.nominal(robot_knob("drive_stall")), 0.0);
   EXPECT_NE(std::find(v.usable().begin(), v.usable().end(), grip), v.usable().end());
   const std::string dir = temp_dir("inch");
   const Scene s = load_scene_text(v.scene_text(0, {{grip, 0.5}}, dir), dir + "/scene.yaml");

@@ -22,7 +22,7 @@ constexpr int32_t kWireMax = std::numeric_limits<int32_t>::max();
 // wire -> physical -> wire gives the wire value back, over the whole int32
 // range the protocol can carry
 TEST(WireUnits, EveryKindRoundTripsWireValues) {
-  for (ServoKind kind : {ServoKind::Rotary, ServoKind::Linear, ServoKind::Screw}) {
+  for (ServoKind kind : {ServoKind::Rotary, ServoKind::Linear, ServoKind::Screw, ServoKind::DcMotor}) {
     for (int32_t w : {0, 1, -1, 999, -1000, 12345, -45000, 90000, 1000000, -7654321, kWireMax - 1,
                       -kWireMax}) {
       EXPECT_EQ(to_wire(kind, setpoint_from_wire(kind, w)), w)
@@ -38,6 +38,8 @@ TEST(WireUnits, EachKindHasItsOwnUnit) {
   EXPECT_EQ(RotaryServo::to_wire(-kPi / 4), -45000);
   EXPECT_EQ(LinearServo::to_wire(0.0071), 7100);
   EXPECT_EQ(ScrewDrive::to_wire(1.0), 1000);
+  EXPECT_NEAR(DcMotor::setpoint_from_wire(-250), -0.25, 1e-17);          // per mille, as the screw drive
+  EXPECT_EQ(DcMotor::to_wire(-0.5), -500);
   // the dispatch by kind is the same conversion
   EXPECT_EQ(setpoint_from_wire(ServoKind::Rotary, 1234), RotaryServo::setpoint_from_wire(1234));
   EXPECT_EQ(to_wire(ServoKind::Linear, 0.5), LinearServo::to_wire(0.5));
@@ -69,7 +71,7 @@ TEST(WireUnits, WireSetPointsAreClampedToTheActuatorsRange) {
   c.head_position = Eigen::Vector3d(0, 0, 0.5);
   World w(c, {"rotation", "extension", "helicoidal"});
   ASSERT_EQ(w.servo_kind(1, 0), ServoKind::Linear);
-  ASSERT_EQ(w.servo_kind(2, 0), ServoKind::Screw);
+  ASSERT_EQ(w.servo_kind(2, 0), ServoKind::DcMotor);  // the helicoidal module's head motor
   w.set_servo_setpoint_wire(0, 0, 120000);  // beyond the +90 degree stop
   EXPECT_NEAR(w.servo_setpoint(0, 0), kPi / 2, 1e-12);
   w.set_servo_setpoint_wire(0, 1, -kWireMax);

@@ -1,0 +1,191 @@
+#include "optimize/evaluation.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <regex>
+#include <sstream>
+#include <thread>
+
+#include "optimize/individual_scene.h"
+#include "optimize/problem.h"
+#include "optimize/run_outcome.h"
+#include "scene/scene.h"
+#include "physics/splitmix64.h"
+
+namespace chainsim {
+
+namespace {
+
+nlohmann::json number_json(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  return v;
+}
+
+double number_from_json(const nlohmann::json& j) {
+  if (j.is_string()) {
+    const std::string s = j.get<std::string>();
+    if (s == "inf") return std::numeric_limits<double>::infinity();
+    if (s == "-inf") return -std::numeric_limits<double>::infinity();
+    if (s == "nan") return std::numeric_limits<double>::quiet_NaN();
+    throw nlohmann::json::type_error::create(302, "not a number: " + s, &j);
+  }
+  return j.get<double>();
+}
+
+bool same_number(double a, double b) { return (std::isnan(a) && std::isnan(b)) || a == b; }
+
+std::string last_lines(const std::string& path, size_t max_chars) {
+  std::ifstream in(path);
+  std::ostringstream s;
+  s << in.rdbuf();
+  std::string t = s.str();
+  while (!t.empty() && (t.back() == '\n' || t.back() == ' ')) t.pop_back();
+  if (t.size() > max_chars) t = "..." + t.substr(t.size() - max_chars);
+  return t;
+}
+
+}  // namespace
+
+bool EvalResult::operator==(const EvalResult& o) const {
+  if (!same_number(fitness, o.fitness) || failed != o.failed || why != o.why || wall_s != o.wall_s) return false;
+  if (measures.size() != o.measures.size()) return false;
+  for (size_t i = 0; i < measures.size(); ++i)
+    if (!same_number(measures[i], o.measures[i])) return false;
+  return true;
+}
+
+nlohmann::json eval_result_to_json(const EvalResult& r) {
+  nlohmann::json m = nlohmann::json::array();
+  for (double v : r.measures) m.push_back(number_json(v));
+  return {{"fitness", number_json(r.fitness)}, {"measures", m},  {"failed", r.failed},
+          {"why", r.why},                     {"wall_s", r.wall_s}};
+}
+
+EvalResult eval_result_from_json(const nlohmann::json& j) {
+  EvalResult r;
+  r.fitness = number_from_json(j.at("fitness"));
+  for (const auto& v : j.at("measures")) r.measures.push_back(number_from_json(v));
+  r.failed = j.at("failed").get<bool>();
+  r.why = j.at("why").get<std::string>();
+  r.wall_s = j.at("wall_s").get<double>();
+  return r;
+}
+
+uint64_t repeat_seed(uint64_t seed, int repeat) {
+  if (repeat == 0) return seed;
+  // the repeat-th output of splitmix64's sequence from seed
+  return splitmix64(seed + 0x9E3779B97F4A7C15ull * static_cast<uint64_t>(repeat - 1)) >> 2;
+}
+
+std::string deterministic_fault_text(const std::string& text) {
+  static const std::regex pid(", pid [0-9]+");
+  return std::regex_replace(text, pid, "");
+}
+
+Evaluation::Evaluation(const EvalContext& ctx, EvalTask task, const std::string& dir)
+    : ctx_(ctx), task_(std::move(task)) {
+  const Problem& pr = *ctx_.problem;
+  t0_ = std::chrono::steady_clock::now();
+  dir_ = !dir.empty() ? dir : ctx_.work_dir + "/" + std::to_string(task_.index) + "-" + std::to_string(task_.seed);
+  std::error_code ec;
+  std::filesystem::remove_all(dir_, ec);
+  std::filesystem::create_directories(dir_, ec);
+  auto fail_now = [&](const std::string& why) {
+    const Score s = failed_score(pr.measures.size(), pr.objective, why);
+    result_ = {s.fitness, s.measures, true, s.why, 0.0};
+    done_ = true;
+  };
+  if (ec) {
+    fail_now("cannot create " + dir_ + ": " + ec.message());
+    return;
+  }
+  try {
+    // every repeat's scene, checked here: a scene the genome spoils fails here, not in a child
+    for (int r = 0; r < pr.evaluation.repeats; ++r) {
+      const std::string text = individual_scene_yaml(pr, task_.phenotype, repeat_seed(task_.seed, r));
+      load_scene_text(text, scene_path(r));
+      std::ofstream(scene_path(r)) << text;
+    }
+  } catch (const SceneError& e) {
+    fail_now(std::string("scene: ") + e.what());
+    return;
+  }
+  start_repeat();
+}
+
+std::string Evaluation::scene_path(int r) const {
+  return dir_ + (r == 0 ? "/scene.yaml" : "/scene-" + std::to_string(r) + ".yaml");
+}
+
+std::string Evaluation::run_dir(int r) const { return dir_ + (r == 0 ? "/run" : "/run-" + std::to_string(r)); }
+
+void Evaluation::start_repeat() {
+  const Problem& pr = *ctx_.problem;
+  const int r = static_cast<int>(scores_.size());
+  ChildSpec spec;
+  spec.program = ctx_.evaluator_exe;
+  char timeout[32];
+  std::snprintf(timeout, sizeof timeout, "%g", pr.evaluation.module_timeout_s);
+  spec.args = {scene_path(r), run_dir(r), timeout};
+  spec.stdout_path = dir_ + "/chainsim.out";
+  try {
+    child_.spawn(spec);
+  } catch (const std::exception& e) {
+    const Score s = failed_score(pr.measures.size(), pr.objective,
+                                 std::string("cannot start " + ctx_.evaluator_exe + ": ") + e.what());
+    result_ = {s.fitness, s.measures, true, s.why, 0.0};
+    done_ = true;
+  }
+}
+
+bool Evaluation::poll() {
+  if (done_) return true;
+  if (const auto& st = child_.poll()) finish(*st);
+  return done_;
+}
+
+void Evaluation::terminate() {
+  if (!done_) child_.terminate(500);
+  done_ = true;
+}
+
+void Evaluation::finish(const ExitStatus& st) {
+  const Problem& pr = *ctx_.problem;
+  const int r = static_cast<int>(scores_.size());
+  Score s;
+  try {
+    const RunOutcome rec = read_run_outcome(run_dir(r));
+    s = score_run(pr.measures, pr.objective, pr.constraints, rec, pr.pipe.get());
+  } catch (const RunOutcomeError& e) {
+    // no usable outputs: say what the process said
+    s = failed_score(pr.measures.size(), pr.objective,
+                     "the run ended with " + st.text() + ": " + last_lines(dir_ + "/chainsim.out", 600));
+  }
+  scores_.push_back(s);
+  // a failed repeat fails the individual: no need to run the others
+  if (!s.failed && static_cast<int>(scores_.size()) < pr.evaluation.repeats) {
+    start_repeat();
+    return;
+  }
+  const Score all = combine_repeats(scores_, pr.objective);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+  result_ = {all.fitness, all.measures, all.failed, deterministic_fault_text(all.why), wall};
+  done_ = true;
+  if (!ctx_.keep_runs) {
+    std::error_code ec;
+    std::filesystem::remove_all(dir_, ec);
+  }
+}
+
+EvalResult evaluate_now(const EvalContext& ctx, const EvalTask& task, const std::string& dir) {
+  EvalContext c = ctx;
+  c.keep_runs = c.keep_runs || !dir.empty();
+  Evaluation e(c, task, dir);
+  while (!e.poll()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  return e.result();
+}
+
+}  // namespace chainsim

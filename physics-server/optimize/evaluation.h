@@ -1,0 +1,100 @@
+// One individual's evaluation: its scene written to a work directory, a real
+// co-simulation in a child process (chainsim-evaluate: the run_scene of
+// `chainsim run`), and the score read from the run directory it leaves. Local
+// workers and MPI ranks both run evaluations through this.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cosim/child_process.h"
+#include "optimize/genome.h"
+#include "optimize/objective.h"
+
+namespace chainsim {
+
+struct Problem;
+
+// what to evaluate: an individual of a batch, its key and its run's seed
+struct EvalTask {
+  size_t index = 0;
+  Phenotype phenotype;
+  std::string key;
+  uint64_t seed = 0;
+};
+
+// what an evaluation gives; the same for the same task wherever it runs,
+// except wall_s
+struct EvalResult {
+  double fitness = 0;             // in the objective's sense; failed_fitness when failed
+  std::vector<double> measures;   // one per measure; NaN when not measured, inf when never reached
+  bool failed = false;
+  std::string why;                // the fault or the broken constraint
+  double wall_s = 0;              // wall-clock seconds of the simulation
+  bool operator==(const EvalResult& o) const;
+};
+
+// JSON (non-finite numbers as the strings "inf", "-inf", "nan"); from_json
+// throws nlohmann::json::exception on a malformed object
+nlohmann::json eval_result_to_json(const EvalResult& r);
+EvalResult eval_result_from_json(const nlohmann::json& j);
+
+// the seed of repeat r of an individual whose run seed is seed (r = 0: seed itself)
+uint64_t repeat_seed(uint64_t seed, int repeat);
+
+// "module 1 (rotation, pid 4242) closed ..." -> "module 1 (rotation) closed ...":
+// a fault's words without what changes from run to run
+std::string deterministic_fault_text(const std::string& text);
+
+struct EvalContext {
+  const Problem* problem = nullptr;
+  std::string evaluator_exe;  // the program that runs a scene: chainsim-evaluate SCENE OUT_DIR TIMEOUT_S
+  std::string work_dir;       // where evaluations write their runs
+  bool keep_runs = false;     // keep each run directory (else removed once scored)
+};
+
+// a running evaluation: construct to start it, poll until done. With
+// evaluation.repeats > 1 it runs the individual that many times, one after
+// the other, each with its own seed (repeat_seed), and scores the mean.
+class Evaluation {
+ public:
+  // dir: where to run (default: a fresh directory under ctx.work_dir)
+  Evaluation(const EvalContext& ctx, EvalTask task, const std::string& dir = "");
+  Evaluation(const Evaluation&) = delete;
+  Evaluation& operator=(const Evaluation&) = delete;
+
+  // non-blocking; true once the result is ready
+  bool poll();
+  // ends the simulation at once (Ctrl-C); no result
+  void terminate();
+  const EvalTask& task() const { return task_; }
+  const EvalResult& result() const { return result_; }
+  pid_t pid() const { return child_.pid(); }
+  // the run directory of repeat r (removed once scored unless kept)
+  std::string run_dir(int r = 0) const;
+
+ private:
+  std::string scene_path(int r) const;
+  void start_repeat();
+  void finish(const ExitStatus& st);
+
+  const EvalContext& ctx_;
+  EvalTask task_;
+  std::string dir_;
+  ChildProcess child_;
+  std::chrono::steady_clock::time_point t0_;
+  bool done_ = false;
+  std::vector<Score> scores_;   // of the repeats run so far
+  EvalResult result_;
+};
+
+// runs one evaluation to the end, blocking; with dir, in dir and kept there
+// (dir/scene.yaml, dir/run/): the best's replay, tests
+EvalResult evaluate_now(const EvalContext& ctx, const EvalTask& task, const std::string& dir = "");
+
+}  // namespace chainsim

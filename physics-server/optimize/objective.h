@@ -1,0 +1,67 @@
+// What a search optimises: named measures of a finished run (distance along
+// an axis or the pipe, mean speed, the time a point is passed, energy, energy
+// per metre, the number of modules), the objective as a weighted sum of them,
+// and constraints on them. A run that faults or breaks a constraint gets the
+// problem's failed fitness and the reason.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "optimize/pipe_progress.h"
+#include "optimize/run_outcome.h"
+
+namespace chainsim {
+
+struct MeasureSpec {
+  enum class Kind { Distance, Speed, TimeToReach, Energy, EnergyPerM, Modules };
+  enum class Of { Head, Tail, Chain };   // Chain: the mass centre from summary.json
+  std::string name;                      // history column and the key objective/constraints use
+  Kind kind = Kind::Distance;
+  Of of = Of::Head;
+  bool along_pipe = false;               // along the pipe's axis, else along `axis`
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  // unit vector
+  double reach_m = 0;                    // TimeToReach: position along `along` to reach
+};
+
+struct ObjectiveSpec {
+  bool maximize = true;
+  std::vector<std::pair<int, double>> weights;  // (measure index, weight)
+  double failed_fitness = 0;                    // what a failed run scores
+};
+
+struct ConstraintSpec {
+  int measure = -1;
+  std::optional<double> min, max;
+};
+
+struct Score {
+  std::vector<double> measures;  // one per MeasureSpec (infinity: never reached)
+  double fitness = 0;            // in the objective's sense
+  bool failed = false;
+  std::string why;               // fault or broken constraint
+};
+
+// the value of one measure; pipe is needed for along_pipe measures
+double measure_value(const MeasureSpec& m, const RunOutcome& run, const PipeProgress* pipe);
+
+// measures, constraints and fitness of a run
+Score score_run(const std::vector<MeasureSpec>& measures, const ObjectiveSpec& objective,
+                const std::vector<ConstraintSpec>& constraints, const RunOutcome& run,
+                const PipeProgress* pipe);
+
+// the score of a run that could not be measured at all (bad scene, no outputs)
+Score failed_score(size_t n_measures, const ObjectiveSpec& objective, const std::string& why);
+
+// the score of repeated runs of one individual: the first failed one, else
+// the mean of each measure and the objective of those means
+Score combine_repeats(const std::vector<Score>& repeats, const ObjectiveSpec& objective);
+
+// true when fitness a is better than b in the objective's sense
+inline bool better_fitness(const ObjectiveSpec& o, double a, double b) { return o.maximize ? a > b : a < b; }
+
+}  // namespace chainsim

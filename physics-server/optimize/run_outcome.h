@@ -1,0 +1,37 @@
+// What a finished `chainsim run` left in its run directory, reduced to what
+// the search's measures need: how it ended, the head's and the tail's tracks
+// (trace.csv), the chain's displacement and energy (summary.json).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace chainsim {
+
+struct RunOutcome {
+  bool finished = false;         // ran to its duration with no fault
+  std::string fault;             // why not (the run's own words), empty when finished
+  int modules = 0;
+  double sim_time_s = 0;
+  std::vector<double> t_s;                 // trace row times
+  std::vector<Eigen::Vector3d> head, tail; // module 0's first body, the last module's last body, m
+  Eigen::Vector3d chain_displacement = Eigen::Vector3d::Zero();  // summary: mass centre, end - start
+  double energy_j = 0;           // summed over the modules
+};
+
+struct RunOutcomeError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// reads run_dir/summary.json and run_dir/trace.csv; throws RunOutcomeError
+// naming the file when one is missing or malformed
+RunOutcome read_run_outcome(const std::string& run_dir);
+
+// the same from the files' text (tests); source names them in errors
+RunOutcome parse_run_outcome(const std::string& summary_json, const std::string& trace_csv,
+                           const std::string& source);
+
+}  // namespace chainsim

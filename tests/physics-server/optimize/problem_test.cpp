@@ -1,0 +1,247 @@
+// Problem files: what they set, and errors that name file:line:column and the key.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "optimize/individual_scene.h"
+#include "optimize/problem.h"
+#include "scene/scene.h"
+
+using namespace chainsim;
+
+namespace {
+
+std::string temp_dir() {
+  static std::string d = [] {
+    char t[] = "/tmp/chainsim-problem-test-XXXXXX";
+    return std::string(mkdtemp(t));
+  }();
+  return d;
+}
+
+std::string write(const std::string& name, const std::string& text) {
+  const std::string p = temp_dir() + "/" + name;
+  std::ofstream(p) << text;
+  return p;
+}
+
+const char* kBase = R"(name: base
+duration_s: 1
+chain: RRR
+central:
+  params: {gait: 1, amplitude_cdeg: 2000}
+)";
+
+const char* kPipeBase = R"(name: pipe
+duration_s: 1
+environment:
+  type: pipe
+  pipe:
+    inner_diameter_m: 0.04
+    segments:
+      - {type: straight, length_m: 0.3}
+      - {type: elbow, bend_radius_m: 0.08, angle_deg: 90, direction_deg: 90}
+      - {type: straight, length_m: 0.3}
+chain: TRRH
+placement: {at: pipe_entry, inset_m: 0.01}
+central: {params: {gait: 9}}
+)";
+
+std::string problem(const std::string& body) {
+  write("base.yaml", kBase);
+  write("pipe.yaml", kPipeBase);
+  return write("p.yaml", body);
+}
+
+// the error of loading text, or "" when it loads
+std::string error_of(const std::string& body) {
+  try {
+    load_problem_file(problem(body));
+  } catch (const ProblemError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const char* kGood = R"(name: good
+scene: base.yaml
+genome:
+  params:
+    - {target: central.amplitude_cdeg, min: 1000, max: 3000, step: 500}
+    - {target: "chain[1].control_ms", min: 5, max: 20, step: 5}
+measures:
+  x: {kind: distance, along: x}
+  e: {kind: energy}
+objective:
+  maximize: {x: 1, e: -0.01}
+constraints:
+  - {measure: x, min: 0}
+ga: {population: 10, generations: 3, seed: 7, crossover: exponential}
+evaluation: {duration_s: 0.5, repeats: 3}
+)";
+
+}  // namespace
+
+TEST(Problem, LoadsEverySection) {
+  const Problem pr = load_problem_file(problem(kGood));
+  EXPECT_EQ(pr.name, "good");
+  EXPECT_EQ(pr.scene_file, temp_dir() + "/base.yaml");
+  EXPECT_EQ(pr.base_modules, 3);
+  ASSERT_EQ(pr.genome.params.size(), 2u);
+  EXPECT_EQ(pr.genome.params[1].scope, ParamGene::Scope::Module);
+  EXPECT_EQ(pr.genome.params[1].module, 1);
+  EXPECT_EQ(pr.genome.gene_upper(), (std::vector<int64_t>{4, 3}));
+  ASSERT_EQ(pr.measures.size(), 2u);
+  EXPECT_EQ(pr.measures[1].kind, MeasureSpec::Kind::Energy);
+  EXPECT_TRUE(pr.objective.maximize);
+  EXPECT_EQ(pr.objective.weights[1], (std::pair<int, double>{1, -0.01}));
+  ASSERT_EQ(pr.constraints.size(), 1u);
+  EXPECT_EQ(*pr.constraints[0].min, 0.0);
+  EXPECT_EQ(pr.ga.population, 10);
+  EXPECT_EQ(pr.ga.seed, 7u);
+  EXPECT_EQ(pr.ga.crossover, "exponential");
+  EXPECT_EQ(pr.evaluation.duration_s, 0.5);
+  EXPECT_EQ(pr.evaluation.repeats, 3);
+  EXPECT_FALSE(pr.pipe);
+}
+
+TEST(Problem, DefaultsAreThePapersPopulation) {
+  const Problem pr = load_problem_file(problem(R"(scene: base.yaml
+genome: {params: [{target: central.amplitude_cdeg, min: 0, max: 10}]}
+measures: {x: {kind: distance}}
+objective: {maximize: x}
+)"));
+  EXPECT_EQ(pr.ga.population, 40);
+  EXPECT_EQ(pr.ga.selection, "tournament");
+  EXPECT_EQ(pr.genome.params[0].step, 1);
+  EXPECT_EQ(pr.name, "p");
+}
+
+TEST(Problem, TheGenomeMakesTheIndividualsScene) {
+  const Problem pr = load_problem_file(problem(kGood));
+  const std::string text = individual_scene_yaml(pr, {"", {2500, 15}}, 42);
+  const Scene s = load_scene_text(text, "individual");
+  EXPECT_EQ(s.world.seed, 42u);
+  EXPECT_EQ(s.duration_s, 0.5);
+  EXPECT_EQ(s.central.params.at("amplitude_cdeg"), 2500);
+  EXPECT_EQ(s.central.params.at("gait"), 1);           // the base scene's stay
+  EXPECT_EQ(s.modules.at(1).params.at("control_ms"), 15);
+  EXPECT_EQ(s.modules.at(0).params.count("control_ms"), 0u);
+  EXPECT_EQ(s.modules.at(2).type, "rotation");
+}
+
+TEST(Problem, AChainGenomeWritesTheChainString) {
+  const Problem pr = load_problem_file(problem(R"(scene: pipe.yaml
+genome:
+  chain: {positions: [T, RH, RH, RH], min_length: 2}
+measures:
+  out_s: {kind: time_to_reach, of: tail, along: pipe, reach_m: 0.55}
+objective: {minimize: out_s, failed_fitness: 100}
+)"));
+  ASSERT_TRUE(pr.pipe);
+  EXPECT_NEAR(pr.pipe->exit_m(), 0.6 + 0.08 * M_PI / 2, 1e-9);
+  const std::string text = individual_scene_yaml(pr, {"TRH", {}}, 3);
+  EXPECT_NE(text.find("chain: TRH"), std::string::npos) << text;
+  EXPECT_EQ(load_scene_text(text, "individual").modules.size(), 3u);
+}
+
+TEST(Problem, EvaluationSeedsComeFromTheSearchSeedAndTheKeyOnly) {
+  EXPECT_EQ(evaluation_seed(1, "THRH"), evaluation_seed(1, "THRH"));
+  EXPECT_NE(evaluation_seed(1, "THRH"), evaluation_seed(2, "THRH"));
+  EXPECT_NE(evaluation_seed(1, "THRH"), evaluation_seed(1, "THHR"));
+  EXPECT_LT(evaluation_seed(99, "x"), uint64_t{1} << 62);
+}
+
+TEST(Problem, ErrorsNameFileLineColumnAndTheKey) {
+  const std::string f = temp_dir() + "/p.yaml";
+  // an unknown key, with the known ones
+  EXPECT_EQ(error_of("scene: base.yaml\npopulation: 40\n"),
+            f + ":2:1: unknown key 'population' in 'problem' (known: constraints, evaluation, ga, genome, measures, "
+                "name, objective, scene, search)");
+  EXPECT_EQ(error_of(std::string(kGood) + "  # trailing\n").empty(), true);
+  // a bad letter in a chain position
+  EXPECT_EQ(error_of(R"(scene: pipe.yaml
+genome:
+  chain: {positions: [T, RX]}
+measures: {x: {kind: distance}}
+objective: {maximize: x}
+)"),
+            f + ":3:26: 'genome.chain.positions[1]' has unknown module letter 'X' (T touch, R rotation, H helicoidal, "
+                "S support, E extension, W traveller, P passive)");
+  // a target of the wrong form
+  EXPECT_EQ(error_of(R"(scene: base.yaml
+genome:
+  params:
+    - {target: amplitude_cdeg, min: 0, max: 10}
+measures: {x: {kind: distance}}
+objective: {maximize: x}
+)"),
+            f + ":4:16: 'genome.params[0].target' 'amplitude_cdeg' must be central.NAME, chain[INDEX].NAME or "
+                "chain[*].NAME (NAME: 1 to 15 letters, digits or _)");
+  // a module index past the chain
+  EXPECT_EQ(error_of(R"(scene: base.yaml
+genome:
+  params:
+    - target: chain[3].mode   # (in block style the brackets need no quotes)
+      min: 0
+      max: 10
+measures: {x: {kind: distance}}
+objective: {maximize: x}
+)"),
+            f + ":4:15: 'genome.params[0].target' 'chain[3].mode': the base scene's chain has modules 0..2");
+  // max not on a step
+  EXPECT_EQ(error_of(R"(scene: base.yaml
+genome:
+  params:
+    - {target: central.x, min: 0, max: 10, step: 3}
+measures: {x: {kind: distance}}
+objective: {maximize: x}
+)"),
+            f + ":4:40: 'genome.params[0].max' must be min plus a whole number of steps (0 + k * 3)");
+  // the objective names a measure that does not exist
+  EXPECT_EQ(error_of(R"(scene: base.yaml
+genome: {params: [{target: central.x, min: 0, max: 10}]}
+measures: {x: {kind: distance}}
+objective: {maximize: speed}
+)"),
+            f + ":4:23: 'objective.maximize' names measure 'speed', which is not in 'measures' (known: x)");
+  // along the pipe without a pipe
+  EXPECT_EQ(error_of(R"(scene: base.yaml
+genome: {params: [{target: central.x, min: 0, max: 10}]}
+measures:
+  s: {kind: distance, along: pipe}
+objective: {maximize: s}
+)"),
+            f + ":4:30: 'measures.s.along' is pipe but the base scene's environment is not a pipe");
+  // minimize without a failed fitness
+  EXPECT_EQ(error_of(R"(scene: base.yaml
+genome: {params: [{target: central.x, min: 0, max: 10}]}
+measures: {t: {kind: time_to_reach, reach_m: 0.3}}
+objective: {minimize: t}
+)"),
+            f + ":4:12: 'objective' minimizes, so it needs 'failed_fitness' (a value worse than any real one)");
+  // a value out of range
+  EXPECT_EQ(error_of(R"(scene: base.yaml
+genome: {params: [{target: central.x, min: 0, max: 10}]}
+measures: {x: {kind: distance}}
+objective: {maximize: x}
+ga: {population: 1}
+)"),
+            f + ":5:18: 'ga.population' = 1 is out of range [2, 100000]");
+  // a genome the base scene cannot take: more parameters than a program has room for
+  std::string many = "scene: base.yaml\ngenome:\n  params:\n";
+  for (int i = 0; i < 16; ++i) many += "    - {target: central.p" + std::to_string(i) + ", min: 0, max: 1}\n";
+  many += "measures: {x: {kind: distance}}\nobjective: {maximize: x}\n";
+  const std::string e = error_of(many);
+  EXPECT_EQ(e.rfind(f + ":3:3: 'genome': the first individual's scene is not valid: ", 0), 0u) << e;
+  EXPECT_NE(e.find("more than 16 parameters"), std::string::npos) << e;
+  // the base scene's own error, inside the problem's
+  write("broken.yaml", "chain: RRR\nduration_s: -1\n");
+  const std::string b = error_of("scene: broken.yaml\n");
+  EXPECT_EQ(b.rfind(f + ":1:8: 'scene': " + temp_dir() + "/broken.yaml:2:13: ", 0), 0u) << b;
+  // YAML that does not parse
+  EXPECT_EQ(error_of("scene: [base.yaml\n").rfind(f + ":2:1: ", 0), 0u);
+}

@@ -1,0 +1,304 @@
+// `chainsim optimize` end to end: the GA finds what enumeration finds; the
+// history is the same with 1 and 2 local workers and under mpirun; a search
+// killed mid-generation and resumed ends as an uninterrupted one; a crashing
+// module is a failed individual, not a failed search; a rank killed under
+// mpirun is named and its work done by another.
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "optimize_problems.h"
+#include "scenario_util.h"
+
+using optimize_test::history_without_wall;
+using optimize_test::write_problem;
+
+namespace {
+
+struct Proc {
+  pid_t pid = -1;
+  std::string err_path;
+};
+
+// starts argv with stderr to err_path (stdout too)
+Proc start(const std::vector<std::string>& args, const std::string& err_path) {
+  std::vector<std::string> all = args;
+  std::vector<char*> argv;
+  for (auto& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int fd = open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(fd, 1);
+    dup2(fd, 2);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
+    setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  return {pid, err_path};
+}
+
+// waits (killing after timeout_s); the exit code, -signal when killed
+int wait_for(const Proc& p, double timeout_s = 240) {
+  const auto t0 = std::chrono::steady_clock::now();
+  int st = 0;
+  while (waitpid(p.pid, &st, WNOHANG) == 0) {
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > timeout_s) {
+      kill(p.pid, SIGKILL);
+      waitpid(p.pid, &st, 0);
+      ADD_FAILURE() << "timed out; its output:\n" << scenario::read_file(p.err_path);
+      return -SIGKILL;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -WTERMSIG(st);
+}
+
+std::vector<std::string> optimize_args(const std::string& problem, const std::string& out,
+                                       const std::vector<std::string>& more) {
+  std::vector<std::string> a{CHAINSIM_EXE, "optimize", problem, "--out", out, "--no-replay"};
+  a.insert(a.end(), more.begin(), more.end());
+  return a;
+}
+
+// runs a search to the end; its stderr
+std::string search(const std::vector<std::string>& args, const std::string& err_path, int expect_rc = 0) {
+  const Proc p = start(args, err_path);
+  const int rc = wait_for(p);
+  const std::string err = scenario::read_file(err_path);
+  EXPECT_EQ(rc, expect_rc) << err;
+  return err;
+}
+
+std::vector<std::string> mpirun(int np, const std::vector<std::string>& cmd, bool recovery) {
+  std::vector<std::string> a{MPIEXEC, "--oversubscribe", "--allow-run-as-root", "-np", std::to_string(np)};
+  if (recovery) a.insert(a.end(), {"--enable-recovery", "--mca", "orte_abort_on_non_zero_status", "0"});
+  a.insert(a.end(), cmd.begin(), cmd.end());
+  return a;
+}
+
+// a best.yaml without its comment header (which names the problem file's path)
+std::string scene_part(const std::string& best_yaml) {
+  std::string out, l;
+  std::istringstream in(best_yaml);
+  while (std::getline(in, l))
+    if (l.rfind("#", 0) != 0) out += l + "\n";
+  return out;
+}
+
+// the reference: the gait problem with population 4, 3 generations, 1 worker
+struct Reference {
+  std::string dir, history, best;
+};
+const Reference& reference() {
+  static const Reference r = [] {
+    Reference ref;
+    ref.dir = scenario::temp_dir("opt-ref");
+    const std::string p = write_problem(ref.dir, "gait");
+    search(optimize_args(p, ref.dir + "/out", {"--workers", "1", "--population", "4", "--generations", "3"}),
+           ref.dir + "/err.txt");
+    ref.history = history_without_wall(ref.dir + "/out/history.csv");
+    ref.best = scene_part(scenario::read_file(ref.dir + "/out/best.yaml"));
+    return ref;
+  }();
+  return r;
+}
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  std::string l;
+  while (std::getline(in, l)) out.push_back(l);
+  return out;
+}
+
+// the chainsim process of rank r among mpirun's children
+pid_t rank_pid(pid_t mpirun_pid, int r) {
+  for (pid_t c : scenario::children_of(mpirun_pid)) {
+    const std::string env = scenario::read_file("/proc/" + std::to_string(c) + "/environ");
+    if (env.find(std::string("OMPI_COMM_WORLD_RANK=") + std::to_string(r) + '\0') != std::string::npos) return c;
+  }
+  return -1;
+}
+
+}  // namespace
+
+TEST(Optimize, TheGaFindsTheEnumeratedOptimum) {
+  const std::string d = scenario::temp_dir("opt-enum");
+  const std::string p = write_problem(d, "gait");
+  search(optimize_args(p, d + "/all", {"--exhaustive", "--workers", "2", "--population", "9"}), d + "/all.txt");
+  search(optimize_args(p, d + "/ga", {"--workers", "2"}), d + "/ga.txt");
+  const auto all = lines(history_without_wall(d + "/all/history.csv"));
+  ASSERT_EQ(all.size(), 1u + 27u);  // every individual once
+  // the enumerated optimum
+  std::string best_key;
+  double best = -1e300;
+  for (size_t i = 1; i < all.size(); ++i) {
+    std::vector<std::string> f;
+    std::stringstream s(all[i]);
+    std::string x;
+    while (std::getline(s, x, ',')) f.push_back(x);
+    if (std::stod(f[3]) > best) {
+      best = std::stod(f[3]);
+      best_key = f[2];
+    }
+  }
+  // the GA's best, from its best.yaml header, and where it found it
+  const std::string ga_best = scenario::read_file(d + "/ga/best.yaml");
+  EXPECT_NE(ga_best.find("#   " + best_key + ", fitness"), std::string::npos) << ga_best << "\nenumerated: " << best_key;
+  const std::string ga_hist = scenario::read_file(d + "/ga/history.csv");
+  size_t in_gen0 = 0;
+  for (const auto& l : lines(ga_hist))
+    if (l.rfind("0,", 0) == 0 && l.find("," + best_key + ",") != std::string::npos) ++in_gen0;
+  EXPECT_EQ(in_gen0, 0u) << "the optimum was in the random initial population: the test shows nothing about the GA";
+  // the GA simulated fewer individuals than there are
+  const auto ga_rows = lines(ga_hist);
+  size_t simulated = 0;
+  for (size_t i = 1; i < ga_rows.size(); ++i) simulated += ga_rows[i].find(",no,") != std::string::npos;
+  EXPECT_LT(simulated, 27u);
+  EXPECT_EQ(ga_rows.size(), 1u + 6u * 8u);
+}
+
+TEST(Optimize, TheHistoryIsTheSameWithOneAndTwoWorkersAndUnderMpirun) {
+  const Reference& ref = reference();
+  const std::string d = scenario::temp_dir("opt-workers");
+  const std::string p = write_problem(d, "gait");
+  const std::vector<std::string> gens{"--population", "4", "--generations", "3"};
+  std::vector<std::string> two = gens;
+  two.insert(two.end(), {"--workers", "2"});
+  search(optimize_args(p, d + "/two", two), d + "/two.txt");
+  EXPECT_EQ(history_without_wall(d + "/two/history.csv"), ref.history);
+  EXPECT_EQ(scene_part(scenario::read_file(d + "/two/best.yaml")), ref.best);
+  const std::string err = search(mpirun(3, optimize_args(p, d + "/mpi", gens), false), d + "/mpi.txt");
+  EXPECT_NE(err.find("2 MPI worker ranks"), std::string::npos) << err;
+  EXPECT_EQ(history_without_wall(d + "/mpi/history.csv"), ref.history);
+  EXPECT_EQ(scene_part(scenario::read_file(d + "/mpi/best.yaml")), ref.best);
+  EXPECT_EQ(lines(ref.history).size(), 1u + 4u * 4u);
+}
+
+TEST(Optimize, ResumeAfterSigkillMidGenerationEqualsAnUninterruptedSearch) {
+  const Reference& ref = reference();
+  const std::string d = scenario::temp_dir("opt-resume");
+  const std::string p = write_problem(d, "gait");
+  const std::string out = d + "/out";
+  const Proc proc = start(optimize_args(p, out, {"--workers", "1", "--population", "4", "--generations", "3"}),
+                          d + "/first.txt");
+  // kill it when generation 1 is done and generation 2 has simulated some but not all
+  bool mid = scenario::wait_until(
+      [&] {
+        const nlohmann::json cp = nlohmann::json::parse(scenario::read_file(out + "/checkpoint.json"), nullptr, false);
+        if (!cp.is_object() || cp.value("generation", -1) < 1) return false;
+        const size_t journaled = lines(scenario::read_file(out + "/evaluations.jsonl")).size() - 1;  // a header
+        return journaled > cp["cache_keys"].size();
+      },
+      120);
+  kill(proc.pid, SIGKILL);
+  wait_for(proc);
+  ASSERT_TRUE(mid) << scenario::read_file(d + "/first.txt");
+  const nlohmann::json cp = nlohmann::json::parse(scenario::read_file(out + "/checkpoint.json"));
+  ASSERT_LT(cp["generation"].get<int>(), 3) << "the search ended before it was killed";
+  const std::string err = search(optimize_args(p, out, {"--workers", "2", "--resume", "--population", "4",
+                                                        "--generations", "3"}),
+                                 d + "/second.txt");
+  EXPECT_EQ(history_without_wall(out + "/history.csv"), ref.history);
+  EXPECT_EQ(scene_part(scenario::read_file(out + "/best.yaml")), ref.best);
+  // no chainsim run left behind by the kill
+  EXPECT_EQ(scenario::children_of(proc.pid).size(), 0u);
+  // and a second start without --resume refuses to overwrite it
+  const std::string again = search(optimize_args(p, out, {"--population", "4"}), d + "/third.txt", 1);
+  EXPECT_NE(again.find("already holds a search: continue it with --resume"), std::string::npos) << again;
+}
+
+TEST(Optimize, ResumeBeforeTheFirstGenerationEndedStartsOverAndKeepsTheJournal) {
+  const Reference& ref = reference();
+  const std::string d = scenario::temp_dir("opt-resume0");
+  const std::string p = write_problem(d, "gait");
+  const std::string out = d + "/out";
+  const std::vector<std::string> gens{"--population", "4", "--generations", "3"};
+  std::vector<std::string> one = gens;
+  one.insert(one.end(), {"--workers", "1"});
+  const Proc proc = start(optimize_args(p, out, one), d + "/first.txt");
+  const bool some = scenario::wait_until(
+      [&] { return lines(scenario::read_file(out + "/evaluations.jsonl")).size() >= 2; }, 120);
+  kill(proc.pid, SIGKILL);
+  wait_for(proc);
+  ASSERT_TRUE(some) << scenario::read_file(d + "/first.txt");
+  ASSERT_FALSE(std::filesystem::exists(out + "/checkpoint.json")) << "generation 0 ended before the kill";
+  std::vector<std::string> resume = gens;
+  resume.push_back("--resume");
+  search(optimize_args(p, out, resume), d + "/second.txt");
+  EXPECT_EQ(history_without_wall(out + "/history.csv"), ref.history);
+}
+
+TEST(Optimize, AnIndividualWhoseModuleCrashesGetsTheFailedFitnessAndTheSearchGoesOn) {
+  const std::string d = scenario::temp_dir("opt-fault");
+  const std::string p = write_problem(d, "fault");
+  search(optimize_args(p, d + "/out", {"--workers", "2"}), d + "/err.txt");
+  const auto rows = lines(scenario::read_file(d + "/out/history.csv"));
+  ASSERT_EQ(rows.size(), 1u + 4u * 3u);
+  int crashed = 0, fine = 0;
+  for (size_t i = 1; i < rows.size(); ++i) {
+    if (rows[i].find("chain[1].mode=2") != std::string::npos) {
+      ++crashed;
+      EXPECT_NE(rows[i].find(",-1,"), std::string::npos) << rows[i];  // the failed fitness
+      EXPECT_NE(rows[i].find("module 1 (rotation) ended: signal 11 (Segmentation fault) at t=0.151000 s"), std::string::npos) << rows[i];
+    } else {
+      ++fine;
+      EXPECT_EQ(rows[i].find("ended: signal"), std::string::npos) << rows[i];
+    }
+  }
+  EXPECT_GT(crashed, 0);
+  EXPECT_GT(fine, 0);
+  EXPECT_NE(scenario::read_file(d + "/out/best.yaml").find("chain[1].mode=0"), std::string::npos);
+}
+
+TEST(Optimize, MalformedProblemFilesGiveFileLineColumn) {
+  const std::string d = scenario::temp_dir("opt-bad");
+  write_problem(d, "gait");
+  const std::string p = scenario::write_file(d, "bad.yaml",
+                                             "scene: base.yaml\ngenome:\n  params:\n"
+                                             "    - {target: central.amplitude_cdeg, min: 1000, max: 5000, stpe: 2}\n");
+  const std::string err = search({CHAINSIM_EXE, "optimize", p, "--out", d + "/out"}, d + "/err.txt", 1);
+  EXPECT_NE(err.find(p + ":4:62: unknown key 'stpe' in 'genome.params[0]' (known: max, min, step, target)"),
+            std::string::npos)
+      << err;
+  EXPECT_FALSE(std::filesystem::exists(d + "/out/history.csv"));
+}
+
+TEST(Optimize, ARankKilledUnderMpirunIsNamedAndItsWorkDoneByAnother) {
+  const Reference& ref = reference();
+  const std::string d = scenario::temp_dir("opt-rankkill");
+  const std::string p = write_problem(d, "gait");
+  const Proc proc =
+      start(mpirun(3, optimize_args(p, d + "/out", {"--population", "4", "--generations", "3"}), true), d + "/err.txt");
+  // rank 2 while it runs an evaluation
+  pid_t victim = -1;
+  const bool busy = scenario::wait_until(
+      [&] {
+        victim = rank_pid(proc.pid, 2);
+        return victim > 0 && !scenario::children_of(victim).empty();
+      },
+      60);
+  ASSERT_TRUE(busy) << scenario::read_file(d + "/err.txt");
+  kill(victim, SIGKILL);
+  const int rc = wait_for(proc);
+  const std::string err = scenario::read_file(d + "/err.txt");
+  EXPECT_EQ(rc, 0) << err;
+  EXPECT_NE(err.find("optimize: rank 2 (pid " + std::to_string(victim) + " on "), std::string::npos) << err;
+  EXPECT_NE(err.find(") has died; its evaluation of individual "), std::string::npos) << err;
+  EXPECT_NE(err.find(" goes to another rank"), std::string::npos) << err;
+  EXPECT_EQ(history_without_wall(d + "/out/history.csv"), ref.history);
+}
