@@ -17,14 +17,23 @@ std::string effect_label(int e) {
 
 int dof_of(int e) { return static_cast<int>(effect_catalogue()[e].params.size()); }
 
+int channels(const FitProblem& p) { return p.m.has_current ? 2 : 1; }
+
+// squared residuals on the training blocks (samples x channels)
+double training_terms(const FitProblem& p) {
+  double n = 0;
+  for (size_t k = 0; k < p.split.block.size(); ++k) n += p.split.in(k, Samples::training);
+  return n * channels(p);
+}
+
 bool passes(const Candidate& c) { return c.fit.valid && c.profile.excludes_null && c.held_out.significant; }
 
 // both tests of every candidate against ref, best held-out gain first
 void test_candidates(const FitProblem& p, const Fit& ref, std::vector<Candidate>* cands) {
   const int k = static_cast<int>(cands->size());
   for (Candidate& c : *cands) {
-    c.profile = profile_test(ref.sse_train, c.fit.sse_train, c.fit.rho_train, dof_of(c.effect));
-    c.held_out = held_out_test(ref.loss, c.fit.loss, c.fit.rho_held, p.split, k, dof_of(c.effect));
+    c.profile = profile_test(ref.sse_train, c.fit.sse_train, training_terms(p), c.fit.rho_train, dof_of(c.effect));
+    c.held_out = held_out_test(ref.loss, c.fit.loss, c.fit.rho_held, p.split, channels(p), k, dof_of(c.effect));
     c.why = "LR " + fmt_g(c.profile.stat) + (c.profile.excludes_null ? " >= " : " < ") + fmt_g(c.profile.crit) +
             " (interval " + (c.profile.excludes_null ? "excludes" : "includes") + " the null), held-out gain " +
             fmt_g(c.held_out.gain, 3) + "/sample, held-out LR " + fmt_g(c.held_out.stat, 4) +
@@ -49,12 +58,14 @@ size_t choose_variant(const FitProblem& p, std::vector<Candidate>& cands, size_t
     const Candidate& b = cands[best];
     const Candidate& o = cands[s];
     const int extra = dof_of(b.effect) - dof_of(o.effect);
-    const HeldOutTest ho = held_out_test(o.fit.loss, b.fit.loss, b.fit.rho_held, p.split, 1, std::max(1, extra));
-    const ProfileTest pt = profile_test(o.fit.sse_train, b.fit.sse_train, b.fit.rho_train, std::max(1, extra));
+    const HeldOutTest ho =
+        held_out_test(o.fit.loss, b.fit.loss, b.fit.rho_held, p.split, channels(p), 1, std::max(1, extra));
+    const ProfileTest pt =
+        profile_test(o.fit.sse_train, b.fit.sse_train, training_terms(p), b.fit.rho_train, std::max(1, extra));
     vc->effect = effect_catalogue()[b.effect].name;
     if (extra > 0 && !(ho.significant && pt.excludes_null) && passes(o)) {
       // the richer form does not earn its parameters: the simpler one
-      const HeldOutTest back = held_out_test(b.fit.loss, o.fit.loss, o.fit.rho_held, p.split, 1, 1);
+      const HeldOutTest back = held_out_test(b.fit.loss, o.fit.loss, o.fit.rho_held, p.split, channels(p), 1, 1);
       *vc = {vc->effect, effect_catalogue()[o.effect].variant, effect_catalogue()[b.effect].variant, back.stat, false,
              std::string(effect_catalogue()[b.effect].variant) + " does not beat it (held-out LR " + fmt_g(ho.stat, 4) +
                  ", LR " + fmt_g(pt.stat) + " for " + std::to_string(extra) + " more parameter)"};

@@ -31,11 +31,21 @@ double chi_square_95(int dof) {
   return q[std::clamp(dof, 1, 8) - 1];
 }
 
-ProfileTest profile_test(double sse_ref, double sse_cand, double rho_cand, int dof) {
+double profiled_lr(double sse_ref, double sse_cand, double terms) {
+  if (terms <= 0) return 0.0;
+  // -2 log L = sse / v + terms log v, minimised over v >= 1 (the white noise)
+  auto m2ll = [terms](double sse) {
+    const double v = std::max(1.0, sse / terms);
+    return sse / v + terms * std::log(v);
+  };
+  return m2ll(sse_ref) - m2ll(sse_cand);
+}
+
+ProfileTest profile_test(double sse_ref, double sse_cand, double terms, double rho_cand, int dof) {
   ProfileTest t;
   t.dof = dof;
   t.inflation = (1 + rho_cand) / (1 - rho_cand);
-  t.stat = (sse_ref - sse_cand) / t.inflation;
+  t.stat = profiled_lr(sse_ref, sse_cand, terms) / t.inflation;
   t.crit = chi_square_95(dof);
   t.excludes_null = t.stat >= t.crit;
   return t;
@@ -48,22 +58,23 @@ double chi_square_upper_quantile(double p, int dof) {
 }
 
 HeldOutTest held_out_test(const std::vector<double>& loss_ref, const std::vector<double>& loss_cand, double rho_cand,
-                          const BlockSplit& s, int comparisons, int dof) {
+                          const BlockSplit& s, int channels, int comparisons, int dof) {
   HeldOutTest t;
   t.dof = dof;
-  double total = 0;
+  double sse_ref = 0, sse_cand = 0;
   size_t n = 0;
   for (size_t k = 0; k < loss_ref.size(); ++k) {
     if (!s.in(k, Samples::held_out)) continue;
-    total += loss_ref[k] - loss_cand[k];
+    sse_ref += loss_ref[k];
+    sse_cand += loss_cand[k];
     ++n;
   }
   const double rho = std::clamp(rho_cand, 0.0, 0.999);
   t.inflation = (1 + rho) / (1 - rho);
   t.crit = chi_square_upper_quantile(kTestLevel / std::max(1, comparisons), dof);
   if (n == 0) return t;
-  t.gain = total / n;
-  t.stat = total / t.inflation;
+  t.gain = (sse_ref - sse_cand) / n;
+  t.stat = profiled_lr(sse_ref, sse_cand, static_cast<double>(n) * std::max(1, channels)) / t.inflation;
   t.significant = t.stat >= t.crit;
   return t;
 }

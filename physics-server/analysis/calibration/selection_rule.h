@@ -5,12 +5,11 @@
 //
 //  1. Profile-likelihood interval: the effect's 95 % interval excludes its
 //     null value when the likelihood-ratio statistic on the training blocks,
-//     (SSE_ref - SSE_cand) in noise units divided by the residual's
-//     correlation inflation (1 + rho) / (1 - rho), reaches the chi-square
-//     95 % point for the effect's number of parameters.
-//  2. Held-out likelihood: on the held-out blocks (not fitted) the summed
-//     loss difference (reference - candidate), divided by the candidate's
-//     held-out correlation inflation, must reach the chi-square point at 5 %
+//     divided by the residual's correlation inflation (1 + rho) / (1 - rho),
+//     reaches the chi-square 95 % point for the effect's number of parameters.
+//  2. Held-out likelihood: on the held-out blocks (not fitted) the
+//     likelihood ratio (reference against candidate), divided by the
+//     candidate's held-out correlation inflation, must reach the chi-square point at 5 %
 //     divided by the number of candidates compared (Bonferroni) for the
 //     effect's number of parameters. A parameter that only fits noise loses
 //     on held-out data (its expected held-out difference is negative), so
@@ -19,6 +18,15 @@
 //     t test over batches of the held-out data was tried first: an effect
 //     that acts at a few events (frame edges, reversals) concentrates its
 //     gain in a few batches and never reached significance.
+//
+// Both ratios are Gaussian likelihoods whose variance is profiled per model:
+// each model's variance is its own mean squared residual on the samples
+// compared, floored at the white noise (the loss's unit). With residuals at
+// the noise, the ratio is the drop of the summed loss in noise units; with a
+// misfit no catalogue effect models (a record without noise, a generator the
+// model only approximates) the misfit counts as that model's noise, so a
+// candidate that trims a few percent off it is no evidence. A fixed unit of
+// the white noise alone counted such a trim as hundreds of noise variances.
 #pragma once
 
 #include <string>
@@ -46,19 +54,27 @@ struct ProfileTest {
   int dof = 1;
   bool excludes_null = false;
 };
-ProfileTest profile_test(double sse_ref, double sse_cand, double rho_cand, int dof);
+// sse_*: summed loss (noise units) on the training blocks; terms: its number
+// of squared residuals (samples x channels)
+ProfileTest profile_test(double sse_ref, double sse_cand, double terms, double rho_cand, int dof);
 
 struct HeldOutTest {
   double gain = 0;       // mean loss difference per held-out sample (reference - candidate), noise units
-  double stat = 0;       // summed difference / inflation
+  double stat = 0;       // likelihood ratio / inflation
   double crit = 0;       // the chi-square point at kTestLevel / comparisons
   double inflation = 1;  // (1 + rho) / (1 - rho) of the candidate's held-out residual
   int dof = 1;
   bool significant = false;
 };
 // loss_*: per-sample loss on all samples (sample_loss); rho_cand: the lag-1
-// autocorrelation of the candidate's held-out residual
+// autocorrelation of the candidate's held-out residual; channels: squared
+// residuals per sample
 HeldOutTest held_out_test(const std::vector<double>& loss_ref, const std::vector<double>& loss_cand, double rho_cand,
-                          const BlockSplit& s, int comparisons, int dof);
+                          const BlockSplit& s, int channels, int comparisons, int dof);
+
+// -2 x the Gaussian log-likelihood ratio of two models (reference minus
+// candidate) from their summed losses in noise units over `terms` squared
+// residuals, each model's variance profiled: max(1, sse / terms)
+double profiled_lr(double sse_ref, double sse_cand, double terms);
 
 }  // namespace chainsim

@@ -13,6 +13,8 @@
 #include <sstream>
 
 #include "analysis/calibration/calibration_report.h"
+#include "analysis/servo_bench/bench_config.h"
+#include "analysis/servo_bench/bench_csv.h"
 #include "bench_record.h"
 
 namespace chainsim {
@@ -75,6 +77,31 @@ TEST(ServoCalibration, NoEffectIsAddedWhenNoneIsMissingAndTheReportSaysSo) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
   std::filesystem::remove_all(dir);
   EXPECT_THROW(write_calibration_report(c, "", "m.csv", dir + "/no/such/dir"), ReportError);
+}
+
+// The shipped bench file and set-point program with a 3 degree backlash, as
+// `chainsim bench` writes it (the ODE stand at 500 us, no noise, 4 decimals)
+// and `chainsim calibrate --bench` reads it. Its residual after backlash is
+// the ODE stand's own difference from the fit's solver, above the white
+// level of a record without noise: no catalogue effect is that difference.
+TEST(ServoCalibration, TheShippedBacklashRecordNamesBacklashAlone) {
+  const std::string scenes = std::string(CHAINSIM_SOURCE_DIR) + "/scenes/bench/";
+  const BenchConfig sheet = load_bench_config(scenes + "servo-default.yaml");
+  BenchConfig truth = sheet;
+  truth.servo.backlash_deg = 3.0;
+  const SetpointProgram prog = read_setpoints(scenes + "step-30-120.csv");
+  const std::string dir = testing::TempDir() + "/servo_calibration_shipped";
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream(dir + "/m.csv") << format_bench_csv(prog, simulate_bench(truth, prog.t_s, prog.setpoint_deg));
+  }
+  const ServoCalibration c = calibrate_servo(sheet, read_measured(dir + "/m.csv", 32), [](const std::string&) {});
+  std::filesystem::remove_all(dir);
+  std::printf("shipped backlash record: verdict %s, effects %zu, gap %.4f -> %.4f\n", c.verdict.c_str(),
+              c.final_fit.effects.size(), c.base.gap, c.search.model.gap);
+  ASSERT_EQ(effect_names(c.final_fit), std::vector<std::string>{"backlash"});
+  EXPECT_NEAR(c.final_fit.x[kNumBase], 3.0, 0.3);
+  EXPECT_LT(c.search.model.gap, 0.5 * c.base.gap);
 }
 
 }  // namespace
