@@ -2,6 +2,7 @@
 #include "analysis/calibration/effect_search.h"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "analysis/calibration/regimes.h"
@@ -26,7 +27,9 @@ double training_terms(const FitProblem& p) {
   return n * channels(p);
 }
 
-bool passes(const Candidate& c) { return c.fit.valid && c.profile.excludes_null && c.held_out.significant; }
+bool passes(const Candidate& c) {
+  return c.fit.valid && c.profile.excludes_null && c.held_out.significant && c.resolution >= kMinResolution;
+}
 
 // both tests of every candidate against ref, best held-out gain first
 void test_candidates(const FitProblem& p, const Fit& ref, std::vector<Candidate>* cands) {
@@ -37,7 +40,9 @@ void test_candidates(const FitProblem& p, const Fit& ref, std::vector<Candidate>
     c.why = "LR " + fmt_g(c.profile.stat) + (c.profile.excludes_null ? " >= " : " < ") + fmt_g(c.profile.crit) +
             " (interval " + (c.profile.excludes_null ? "excludes" : "includes") + " the null), held-out gain " +
             fmt_g(c.held_out.gain, 3) + "/sample, held-out LR " + fmt_g(c.held_out.stat, 4) +
-            (c.held_out.significant ? " >= " : " < ") + fmt_g(c.held_out.crit, 3);
+            (c.held_out.significant ? " >= " : " < ") + fmt_g(c.held_out.crit, 3) + ", change where it acts " +
+            fmt_g(c.resolution, 3) + (c.resolution >= kMinResolution ? " >= " : " < ") + fmt_g(kMinResolution, 2) +
+            " noise";
     if (!c.fit.valid) c.why = "no frame clock fits the set-point changes' delays";
     c.accepted = false;
   }
@@ -83,6 +88,28 @@ size_t choose_variant(const FitProblem& p, std::vector<Candidate>& cands, size_t
 
 }  // namespace
 
+double effect_resolution(const FitProblem& p, const Fit& with, const Fit& without_effects, int effect,
+                         const std::vector<int>& regime) {
+  if (!with.valid) return 0;
+  const std::vector<double> xs(with.x.begin(), with.x.begin() + param_count(without_effects.effects));
+  const Residual a = run_model(p, model_config(p.datasheet, with.effects, with.x)).residual;
+  const Residual b = run_model(p, model_config(p.datasheet, without_effects.effects, xs)).residual;
+  // the effect's regimes and the 40 ms after each set-point change, whose
+  // label wins over the motion regimes (a short move is all step onset)
+  std::vector<std::string> names = effect_catalogue()[effect].regimes;
+  for (int r : {kStepOnset, kReversal}) names.push_back(regime_names()[r]);
+  double sum = 0;
+  size_t n = 0;
+  for (size_t k = 0; k < a.size() && k < regime.size(); ++k) {
+    if (std::find(names.begin(), names.end(), regime_names()[regime[k]]) == names.end()) continue;
+    const double da = (a.angle[k] - b.angle[k]) / p.noise.angle;
+    const double di = a.has_current ? (a.current[k] - b.current[k]) / p.noise.current : 0.0;
+    sum += (da * da + di * di) / a.channels();
+    ++n;
+  }
+  return n ? std::sqrt(sum / n) : 0.0;
+}
+
 EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<int>& regime,
                             const CalibrationProgress& say) {
   EffectSearch s;
@@ -107,6 +134,7 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
       c.effect = e;
       c.fit = fit_with_effect(p, ref, e);
       c.signature = regime_signature(rr, regime, ef.regimes);
+      c.resolution = effect_resolution(p, c.fit, ref, e, regime);
       say("  candidate " + effect_label(e) + " = " + fmt_g(c.fit.x[param_count(ref.effects)]) + ": training loss " +
           fmt_g(c.fit.train) + ", held-out NRMSE " + fmt_g(c.fit.held));
       cands.push_back(std::move(c));
