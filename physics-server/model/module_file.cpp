@@ -377,6 +377,9 @@ class Parser {
         {"supply_sag_ohm", &ServoParams::supply_sag_ohm, 0},
         {"pwm_frame_s", &ServoParams::pwm_frame_s, 0},
         {"current_limit_a", &ServoParams::current_limit_a, 0},
+        {"pwm_frame_phase_s", &ServoParams::pwm_frame_phase_s, 0},
+        {"supply_sag_linear_ohm", &ServoParams::supply_sag_linear_ohm, 0},
+        {"backlash_stiffness_nm_rad", &ServoParams::backlash_stiffness_nm_rad, 0},
     };
     Keys keys;
     for (const Field& f : kFields) keys.insert(f.key);

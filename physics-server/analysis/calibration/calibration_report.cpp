@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "analysis/calibration/evidence_plots.h"
 #include "analysis/calibration/regimes.h"
 #include "analysis/calibration/svg_chart.h"
 #include "analysis/calibration/text_format.h"
@@ -65,19 +66,50 @@ nlohmann::ordered_json regimes_json(const ServoCalibration& c) {
   return jr;
 }
 
+// an effect's parameters (and their intervals) from x at its offset
+nlohmann::ordered_json params_json(const Effect& ef, const std::vector<double>& x, size_t o) {
+  nlohmann::ordered_json j;
+  for (size_t q = 0; q < ef.params.size(); ++q) j[ef.params[q].name] = x[o + q];
+  return j;
+}
+
 nlohmann::ordered_json candidates_json(const ServoCalibration& c) {
   nlohmann::ordered_json jc = nlohmann::json::array();
-  for (size_t ri = 0; ri < c.search.rounds.size(); ++ri)
-    for (const Candidate& cd : c.search.rounds[ri])
-      jc.push_back({{"round", ri + 1},
-                    {"name", effect_catalogue()[cd.effect].name},
-                    {"param", effect_catalogue()[cd.effect].param},
-                    {"value", cd.fit.x.back()},
-                    {"held_out", cd.fit.held},
-                    {"signature", cd.signature},
-                    {"accepted", cd.accepted},
-                    {"why", cd.why}});
+  for (size_t ri = 0; ri < c.search.rounds.size(); ++ri) {
+    const SearchRound& rd = c.search.rounds[ri];
+    for (const Candidate& cd : rd.candidates) {
+      const Effect& ef = effect_catalogue()[cd.effect];
+      nlohmann::ordered_json j;
+      j["round"] = ri + 1;
+      j["name"] = ef.name;
+      if (*ef.variant) j["variant"] = ef.variant;
+      j["params"] = params_json(ef, cd.fit.x, param_count(rd.reference.effects));
+      j["held_out"] = cd.fit.held;
+      j["profile_lr"] = cd.profile.stat;
+      j["profile_lr_crit"] = cd.profile.crit;
+      j["held_out_gain"] = cd.held_out.gain;
+      j["held_out_lr"] = cd.held_out.stat;
+      j["held_out_lr_crit"] = cd.held_out.crit;
+      j["signature"] = cd.signature;
+      j["accepted"] = cd.accepted;
+      j["why"] = cd.why;
+      jc.push_back(j);
+    }
+  }
   return jc;
+}
+
+// the accepted candidate of an effect (by position in the final model)
+const Candidate* accepted_candidate(const ServoCalibration& c, size_t index) {
+  size_t n = 0;
+  for (const SearchRound& rd : c.search.rounds)
+    for (const Candidate& cd : rd.candidates)
+      if (cd.accepted && n++ == index) return &cd;
+  return nullptr;
+}
+
+std::string evidence_file(const ServoCalibration& c, size_t index) {
+  return "evidence_" + std::to_string(index + 1) + "_" + effect_catalogue()[c.final_fit.effects[index]].name + ".svg";
 }
 
 }  // namespace
@@ -88,12 +120,33 @@ nlohmann::ordered_json calibration_report_json(const ServoCalibration& c) {
   nlohmann::ordered_json j;
   j["verdict"] = c.verdict;
   j["effects"] = nlohmann::json::array();
+  const std::vector<EffectEvidence> evidence = effect_evidence(c);
   for (size_t e = 0; e < fin.effects.size(); ++e) {
     const Effect& ef = effect_catalogue()[fin.effects[e]];
+    const size_t o = param_offset(fin.effects, e);
     nlohmann::ordered_json je;
     je["name"] = ef.name;
-    je["params"][ef.param] = fin.x[kNumBase + e];
-    je["ci95"][ef.param] = {c.ci[kNumBase + e].first, c.ci[kNumBase + e].second};
+    if (*ef.variant) je["variant"] = ef.variant;
+    je["form"] = ef.form;
+    je["params"] = params_json(ef, fin.x, o);
+    for (size_t q = 0; q < ef.params.size(); ++q)
+      je["ci95"][ef.params[q].name] = {c.ci[o + q].first, c.ci[o + q].second};
+    if (const Candidate* cd = accepted_candidate(c, e)) {
+      je["tests"] = {{"profile_lr", cd->profile.stat},         {"profile_lr_crit", cd->profile.crit},
+                     {"correlation_inflation", cd->profile.inflation}, {"held_out_gain", cd->held_out.gain},
+                     {"held_out_lr", cd->held_out.stat},       {"held_out_lr_crit", cd->held_out.crit}};
+    }
+    for (const VariantChoice& v : c.search.variants)
+      if (v.effect == ef.name)
+        je["variant_choice"] = {{"chosen", v.chosen}, {"other", v.other}, {"held_out_lr", v.t},
+                                {"distinguished", v.distinguished}, {"why", v.why}};
+    if (e < evidence.size()) {
+      nlohmann::ordered_json jw = nlohmann::json::array();
+      for (const EvidenceWindow& w : evidence[e].windows)
+        jw.push_back({{"t0_s", c.problem.m.t[w.first]}, {"t1_s", c.problem.m.t[w.last]}, {"regime", w.regime},
+                      {"error_before", w.error_before}, {"error_after", w.error_after}});
+      je["evidence"] = {{"where", evidence[e].where}, {"plot", evidence_file(c, e)}, {"windows", jw}};
+    }
     j["effects"].push_back(je);
   }
   j["gap_before"] = c.base.gap;
@@ -143,10 +196,36 @@ std::string calibration_report_md(const ServoCalibration& c, const nlohmann::ord
   for (int i = 0; i < kNumBase; ++i)
     md << "| " << kBaseNames[i] << " (x datasheet) | " << fmt_g(fin.x[i]) << " | [" << fmt_g(ci[i].first) << ", "
        << fmt_g(ci[i].second) << "] |\n";
-  for (size_t e = 0; e < fin.effects.size(); ++e)
-    md << "| " << effect_catalogue()[fin.effects[e]].name << "." << effect_catalogue()[fin.effects[e]].param
-       << " | " << fmt_g(fin.x[kNumBase + e]) << " | [" << fmt_g(ci[kNumBase + e].first) << ", "
-       << fmt_g(ci[kNumBase + e].second) << "] |\n";
+  for (size_t e = 0; e < fin.effects.size(); ++e) {
+    const Effect& ef = effect_catalogue()[fin.effects[e]];
+    const size_t o = param_offset(fin.effects, e);
+    for (size_t q = 0; q < ef.params.size(); ++q)
+      md << "| " << ef.name << (*ef.variant ? std::string(" (") + ef.variant + ")" : "") << "." << ef.params[q].name
+         << " | " << fmt_g(fin.x[o + q]) << " | [" << fmt_g(ci[o + q].first) << ", " << fmt_g(ci[o + q].second)
+         << "] |\n";
+  }
+  if (!fin.effects.empty()) {
+    md << "\n## Effects found\n\n";
+    for (const auto& je : j["effects"]) {
+      md << "* **" << je["name"].get<std::string>() << "**";
+      if (je.contains("variant")) md << ", form `" << je["variant"].get<std::string>() << "`";
+      md << " (" << je["form"].get<std::string>() << ")";
+      if (je.contains("tests"))
+        md << ": likelihood ratio " << fmt_g(je["tests"]["profile_lr"].get<double>()) << " >= "
+           << fmt_g(je["tests"]["profile_lr_crit"].get<double>()) << " (its 95 % profile interval excludes the null), "
+           << "held-out likelihood ratio " << fmt_g(je["tests"]["held_out_lr"].get<double>(), 4) << " >= "
+           << fmt_g(je["tests"]["held_out_lr_crit"].get<double>(), 3);
+      if (je.contains("variant_choice"))
+        md << "; form: " << je["variant_choice"]["why"].get<std::string>();
+      md << ".\n";
+    }
+    md << "\n## Where the effects act (measured vs the model without the effect and the final model)\n\n";
+    for (const auto& je : j["effects"])
+      if (je.contains("evidence"))
+        md << "**" << je["name"].get<std::string>() << "** at " << je["evidence"]["where"].get<std::string>()
+           << ":\n\n![" << je["name"].get<std::string>() << "](" << je["evidence"]["plot"].get<std::string>()
+           << ")\n\n";
+  }
   md << "\n## Residual by regime (all data)\n\n| regime | share of time | error before | error after "
         "|\n|---|---|---|---|\n";
   const auto& jr = j["regimes"];
@@ -162,15 +241,22 @@ std::string calibration_report_md(const ServoCalibration& c, const nlohmann::ord
     md << "| " << fmt_g(rs[i]["t0_s"].get<double>()) << " | " << fmt_g(rs[i]["t1_s"].get<double>()) << " | "
        << rs[i]["label"].get<std::string>() << " | " << fmt_g(rs[i]["error"].get<double>(), 3) << " | "
        << fmt_g(rs[i]["error_after"].get<double>(), 3) << " |\n";
-  md << "\n## Candidates\n\nSignature = share of the current residual in the regimes where the effect acts, "
-        "over their share of time (> 1: the residual concentrates there).\n\n| round | effect | value | "
-        "held-out | signature | decision |\n|---|---|---|---|---|---|\n";
+  md << "\n## Candidates\n\nEach round re-fits the current model from two starts (the reference), fits each "
+        "effect on top, and accepts the best held-out gain that passes both tests: the likelihood ratio against "
+        "the reference (its 95 % profile interval excludes the effect's null) and the same ratio on the held-out "
+        "blocks, against the chi-square point at 5 % / the number of candidates. Signature = share of the reference's residual in the "
+        "regimes where the effect acts, over their share of time.\n\n| round | effect | values | held-out "
+        "NRMSE | signature | decision |\n|---|---|---|---|---|---|\n";
   const auto& jc = j["candidates"];
-  for (const auto& cd : jc)
-    md << "| " << cd["round"].get<int>() << " | " << cd["name"].get<std::string>() << " | "
-       << fmt_g(cd["value"].get<double>()) << " " << cd["param"].get<std::string>() << " | "
+  for (const auto& cd : jc) {
+    std::string vals;
+    for (auto it = cd["params"].begin(); it != cd["params"].end(); ++it)
+      vals += (vals.empty() ? "" : ", ") + fmt_g(it->get<double>()) + " " + it.key();
+    md << "| " << cd["round"].get<int>() << " | " << cd["name"].get<std::string>()
+       << (cd.contains("variant") ? " (" + cd["variant"].get<std::string>() + ")" : "") << " | " << vals << " | "
        << fmt_g(cd["held_out"].get<double>()) << " | " << fmt_g(cd["signature"].get<double>(), 3) << " | "
        << cd["why"].get<std::string>() << " |\n";
+  }
   if (jc.empty()) md << "| - | none tried: the refitted base already leaves a noise-like residual | | | | |\n";
   md << "\nCheck: the final model on the bench's ODE stand differs from the fast solver by at most "
      << fmt_g(c.ode_check_max_angle_diff_deg, 3) << " degrees.\n";
@@ -199,6 +285,9 @@ void write_calibration_report(const ServoCalibration& c, const std::string& benc
     write_file(out_dir + "/current.svg",
                svg_chart("filtered current: measured vs model", "A", m.t,
                          {{"measured", "#000", m.current}, {"before", "#d62728", ib}, {"after", "#1f77b4", ia}}));
+  const std::vector<EffectEvidence> evidence = effect_evidence(c);
+  for (size_t e = 0; e < evidence.size(); ++e)
+    write_file(out_dir + "/" + evidence_file(c, e), evidence_svg(c, evidence[e]));
   write_file(out_dir + "/report.md", calibration_report_md(c, j, bench_file, measured_file));
 }
 

@@ -1,30 +1,73 @@
 // The calibration's catalogue (effect_catalogue.h).
 #include "analysis/calibration/effect_catalogue.h"
 
+#include <cmath>
+
 namespace chainsim {
 
 const char* const kBaseNames[kNumBase] = {"Kp", "Km_Kt", "R", "load_inertia"};
 
 const std::vector<Effect>& effect_catalogue() {
+  using P = ServoParams;
   static const std::vector<Effect> c = {
-      {"static_friction_threshold", "i_threshold_a", &ServoParams::i_threshold_a, 1.0, 0.0, 0.2,
-       {0.02, 0.05, 0.1}, {"hold", "step_onset"}},
-      {"coulomb_friction", "torque_nm", &ServoParams::coulomb_nm, 1.0, 0.0, 0.03,
-       {0.002, 0.005, 0.01}, {"braking", "hold"}},
-      {"backlash", "width_deg", &ServoParams::backlash_deg, 1.0, 0.0, 10.0, {1.0, 2.5, 5.0},
+      {"static_friction_threshold", "", "no torque while |i| <= I_th",
+       {{"i_threshold_a", &P::i_threshold_a, 1.0, 0.0, 0.2}},
+       {{0.02}, {0.05}, {0.1}},
+       {"hold", "step_onset"}},
+      {"coulomb_friction", "", "output friction -Tc tanh(w / 0.005 rad/s)",
+       {{"torque_nm", &P::coulomb_nm, 1.0, 0.0, 0.03}},
+       {{0.002}, {0.005}, {0.01}},
+       {"braking", "hold"}},
+      {"backlash", "rigid", "gear play, rigid mesh: plastic closing",
+       {{"width_deg", &P::backlash_deg, 1.0, 0.0, 10.0}},
+       {{1.0}, {2.5}, {5.0}},
        {"reversal", "braking"}},
-      {"deadband", "width_deg", &ServoParams::deadband_deg, 1.0, 0.0, 10.0, {1.0, 2.5, 5.0},
+      // the mesh stiffness spans soft couplings (resonance ~100 Hz) to the
+      // rigid limit (~10 kHz at the 100 us fit step), on a log scale
+      {"backlash", "compliant", "gear play, compliant mesh: spring k, damper 2 sqrt(k J)",
+       {{"width_deg", &P::backlash_deg, 1.0, 0.0, 10.0},
+        {"stiffness_nm_rad", &P::backlash_stiffness_nm_rad, 1.0, 0.05, 1000.0, true}},
+       {{1.0, 3.0}, {2.5, 3.0}, {5.0, 3.0}, {2.5, 100.0}},
+       {"reversal", "braking"}},
+      {"deadband", "", "the amplifier ignores errors within +-width/2",
+       {{"width_deg", &P::deadband_deg, 1.0, 0.0, 10.0}},
+       {{1.0}, {2.5}, {5.0}},
        {"hold", "braking"}},
-      {"supply_sag", "r_ohm", &ServoParams::supply_sag_ohm, 1.0, 0.0, 12.0, {1.0, 3.0, 6.0},
+      {"supply_sag", "pwm_bridge", "PWM bridge: drive = duty x (Vs - Rs |i|)",
+       {{"r_ohm", &P::supply_sag_ohm, 1.0, 0.0, 12.0}},
+       {{1.0}, {3.0}, {6.0}},
        {"high_current", "slewing"}},
-      // the frame period is one of the usual servo frame rates (100, 60, 50,
-      // 40, 30 Hz), not refined: the latch instants are piecewise constant in it
-      {"pwm_frame_delay", "frame_ms", &ServoParams::pwm_frame_s, 1e-3, 0.0, 40.0,
-       {10.0, 50.0 / 3, 20.0, 25.0, 100.0 / 3}, {"step_onset", "reversal"}, true},
-      {"current_limit", "limit_a", &ServoParams::current_limit_a, 1.0, 0.03, 0.6, {0.1, 0.2, 0.3},
+      {"supply_sag", "linear_driver", "linear driver: gain kept, limit Vs - Rs |i|",
+       {{"r_ohm", &P::supply_sag_linear_ohm, 1.0, 0.0, 12.0}},
+       {{1.0}, {3.0}, {6.0}},
+       {"high_current", "slewing"}},
+      // period and phase come from the delays of the set-point changes
+      {"pwm_frame_delay", "", "set-point latched at frames: phase + n x period",
+       {{"frame_ms", &P::pwm_frame_s, 1e-3, 2.5, 40.0}, {"phase_ms", &P::pwm_frame_phase_s, 1e-3, 0.0, 40.0}},
+       {},
+       {"step_onset", "reversal"},
+       EffectFit::frame_clock},
+      {"current_limit", "", "drive limited to Km w +- R I_lim",
+       {{"limit_a", &P::current_limit_a, 1.0, 0.03, 0.6}},
+       {{0.1}, {0.2}, {0.3}},
        {"high_current", "slewing"}},
   };
   return c;
+}
+
+std::vector<int> effect_variants(const std::string& name) {
+  std::vector<int> out;
+  for (size_t e = 0; e < effect_catalogue().size(); ++e)
+    if (name == effect_catalogue()[e].name) out.push_back(static_cast<int>(e));
+  return out;
+}
+
+size_t param_count(const std::vector<int>& effects) { return param_offset(effects, effects.size()); }
+
+size_t param_offset(const std::vector<int>& effects, size_t e) {
+  size_t n = kNumBase;
+  for (size_t i = 0; i < e; ++i) n += effect_catalogue()[effects[i]].params.size();
+  return n;
 }
 
 BenchConfig model_config(const BenchConfig& datasheet, const std::vector<int>& effects,
@@ -35,10 +78,9 @@ BenchConfig model_config(const BenchConfig& datasheet, const std::vector<int>& e
   b.servo.kt *= x[1];
   b.servo.r *= x[2];
   b.load_inertia_kgm2 *= x[3];
-  for (size_t e = 0; e < effects.size(); ++e) {
-    const Effect& ef = effect_catalogue()[effects[e]];
-    b.servo.*(ef.member) = x[kNumBase + e] * ef.to_model;
-  }
+  size_t i = kNumBase;
+  for (int e : effects)
+    for (const EffectParam& q : effect_catalogue()[e].params) b.servo.*(q.member) = x[i++] * q.to_model;
   return b;
 }
 

@@ -2,6 +2,7 @@
 #include "analysis/calibration/effect_search.h"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "analysis/calibration/regimes.h"
@@ -10,66 +11,189 @@
 namespace chainsim {
 namespace {
 
-// every effect not in `used`, fitted onto cur, best first
-std::vector<Candidate> fit_candidates(const FitProblem& p, const Fit& cur, const std::set<int>& used,
-                                      const std::vector<int>& regime, const CalibrationProgress& say) {
-  const Residual rc = run_model(p, model_config(p.datasheet, cur.effects, cur.x)).residual;
-  std::vector<Candidate> cands;
-  for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e) {
-    if (used.count(e)) continue;
-    const Effect& ef = effect_catalogue()[e];
-    Candidate c{e, fit_with_effect(p, cur, e), regime_signature(rc, regime, ef.regimes), false, {}};
-    say("  candidate " + std::string(ef.name) + " = " + fmt_g(c.fit.x.back()) + ": held-out " +
-        fmt_g(c.fit.held) + ", structured " + fmt_g(c.fit.gap) + " (signature " + fmt_g(c.signature, 3) + ")");
-    cands.push_back(c);
+std::string effect_label(int e) {
+  const Effect& ef = effect_catalogue()[e];
+  return std::string(ef.name) + (*ef.variant ? std::string(" (") + ef.variant + ")" : "");
+}
+
+int dof_of(int e) { return static_cast<int>(effect_catalogue()[e].params.size()); }
+
+int channels(const FitProblem& p) { return p.m.has_current ? 2 : 1; }
+
+// squared residuals on the training blocks (samples x channels)
+double training_terms(const FitProblem& p) {
+  double n = 0;
+  for (size_t k = 0; k < p.split.block.size(); ++k) n += p.split.in(k, Samples::training);
+  return n * channels(p);
+}
+
+bool passes(const Candidate& c) {
+  return c.fit.valid && c.profile.excludes_null && c.held_out.significant && c.resolution >= kMinResolution;
+}
+
+// both tests of every candidate against ref, best held-out gain first
+void test_candidates(const FitProblem& p, const Fit& ref, std::vector<Candidate>* cands) {
+  const int k = static_cast<int>(cands->size());
+  for (Candidate& c : *cands) {
+    c.profile = profile_test(ref.sse_train, c.fit.sse_train, training_terms(p), c.fit.rho_train, dof_of(c.effect));
+    c.held_out = held_out_test(ref.loss, c.fit.loss, c.fit.rho_held, p.split, channels(p), k, dof_of(c.effect));
+    c.why = "LR " + fmt_g(c.profile.stat) + (c.profile.excludes_null ? " >= " : " < ") + fmt_g(c.profile.crit) +
+            " (interval " + (c.profile.excludes_null ? "excludes" : "includes") + " the null), held-out gain " +
+            fmt_g(c.held_out.gain, 3) + "/sample, held-out LR " + fmt_g(c.held_out.stat, 4) +
+            (c.held_out.significant ? " >= " : " < ") + fmt_g(c.held_out.crit, 3) + ", change where it acts " +
+            fmt_g(c.resolution, 3) + (c.resolution >= kMinResolution ? " >= " : " < ") + fmt_g(kMinResolution, 2) +
+            " noise";
+    if (!c.fit.valid) c.why = "no frame clock fits the set-point changes' delays";
+    c.accepted = false;
   }
-  std::sort(cands.begin(), cands.end(), [](const Candidate& x, const Candidate& y) {
-    return x.fit.gap != y.fit.gap ? x.fit.gap < y.fit.gap : x.signature > y.signature;
+  std::stable_sort(cands->begin(), cands->end(), [](const Candidate& a, const Candidate& b) {
+    if (a.fit.valid != b.fit.valid) return a.fit.valid;
+    return a.held_out.gain > b.held_out.gain;
   });
-  for (Candidate& c : cands) {
-    const double g = 1.0 - c.fit.gap / cur.gap;
-    c.why = "held-out structured error " + fmt_g(cur.gap) + " -> " + fmt_g(c.fit.gap) + " (" + fmt_g(100 * g, 3) +
-            " %), NRMSE " + fmt_g(cur.held) + " -> " + fmt_g(c.fit.held);
+}
+
+// of the passing candidate `best` and the other variants of its effect, the
+// form to name: a variant with more parameters must beat a simpler one that
+// passes by the same tests; between equals the held-out gain decides
+size_t choose_variant(const FitProblem& p, std::vector<Candidate>& cands, size_t best, VariantChoice* vc) {
+  for (size_t s = 0; s < cands.size(); ++s) {
+    if (s == best || std::string(effect_catalogue()[cands[s].effect].name) != effect_catalogue()[cands[best].effect].name ||
+        !cands[s].fit.valid)
+      continue;
+    const Candidate& b = cands[best];
+    const Candidate& o = cands[s];
+    const int extra = dof_of(b.effect) - dof_of(o.effect);
+    const HeldOutTest ho =
+        held_out_test(o.fit.loss, b.fit.loss, b.fit.rho_held, p.split, channels(p), 1, std::max(1, extra));
+    const ProfileTest pt =
+        profile_test(o.fit.sse_train, b.fit.sse_train, training_terms(p), b.fit.rho_train, std::max(1, extra));
+    vc->effect = effect_catalogue()[b.effect].name;
+    if (extra > 0 && !(ho.significant && pt.excludes_null) && passes(o)) {
+      // the richer form does not earn its parameters: the simpler one
+      const HeldOutTest back = held_out_test(b.fit.loss, o.fit.loss, o.fit.rho_held, p.split, channels(p), 1, 1);
+      *vc = {vc->effect, effect_catalogue()[o.effect].variant, effect_catalogue()[b.effect].variant, back.stat, false,
+             std::string(effect_catalogue()[b.effect].variant) + " does not beat it (held-out LR " + fmt_g(ho.stat, 4) +
+                 ", LR " + fmt_g(pt.stat) + " for " + std::to_string(extra) + " more parameter)"};
+      return s;
+    }
+    vc->chosen = effect_catalogue()[b.effect].variant;
+    vc->other = effect_catalogue()[o.effect].variant;
+    vc->t = ho.stat;
+    vc->distinguished = ho.significant;
+    vc->why = std::string(ho.significant ? "fits better than " : "not distinguished from ") + vc->other +
+              " on held-out data (LR " + fmt_g(ho.stat, 4) + " against " + fmt_g(ho.crit, 3) + ")";
   }
-  return cands;
+  return best;
 }
 
 }  // namespace
 
-EffectSearch search_effects(const FitProblem& p, const Fit& base, const std::vector<int>& regime,
+double effect_resolution(const FitProblem& p, const Fit& with, const Fit& without_effects, int effect,
+                         const std::vector<int>& regime) {
+  if (!with.valid) return 0;
+  const std::vector<double> xs(with.x.begin(), with.x.begin() + param_count(without_effects.effects));
+  const Residual a = run_model(p, model_config(p.datasheet, with.effects, with.x)).residual;
+  const Residual b = run_model(p, model_config(p.datasheet, without_effects.effects, xs)).residual;
+  // the effect's regimes and the 40 ms after each set-point change, whose
+  // label wins over the motion regimes (a short move is all step onset)
+  std::vector<std::string> names = effect_catalogue()[effect].regimes;
+  for (int r : {kStepOnset, kReversal}) names.push_back(regime_names()[r]);
+  double sum = 0;
+  size_t n = 0;
+  for (size_t k = 0; k < a.size() && k < regime.size(); ++k) {
+    if (std::find(names.begin(), names.end(), regime_names()[regime[k]]) == names.end()) continue;
+    const double da = (a.angle[k] - b.angle[k]) / p.noise.angle;
+    const double di = a.has_current ? (a.current[k] - b.current[k]) / p.noise.current : 0.0;
+    sum += (da * da + di * di) / a.channels();
+    ++n;
+  }
+  return n ? std::sqrt(sum / n) : 0.0;
+}
+
+EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<int>& regime,
                             const CalibrationProgress& say) {
   EffectSearch s;
-  s.model = base;
-  Fit& cur = s.model;
-  std::set<int> used;
-  while (cur.white > kWhiteMax && used.size() < effect_catalogue().size()) {
-    std::vector<Candidate> cands = fit_candidates(p, cur, used, regime, say);
-    Candidate& best = cands.front();
-    const double gain = 1.0 - best.fit.gap / cur.gap;
-    const Effect& be = effect_catalogue()[best.effect];
-    if (best.fit.x.back() < 0.01 * (be.hi - be.lo)) {
+  Fit cur = base;
+  std::set<std::string> used;
+  for (;;) {
+    SearchRound round;
+    // the loss's unit: the white noise left by the current model
+    p.noise = white_noise_scale(run_model(p, model_config(p.datasheet, cur.effects, cur.x)).residual, p.split);
+    round.noise = p.noise;
+    Fit ref = evaluate_fit(p, cur.effects, cur.x);
+    ref.held_ci = cur.held_ci;
+    ref = refit_from_starts(p, ref, {cur.x, datasheet_start(cur.x)}, kMaxEvalBase);
+    const Residual rr = run_model(p, model_config(p.datasheet, ref.effects, ref.x)).residual;
+    say("round " + std::to_string(s.rounds.size() + 1) + ": reference re-fitted from 2 starts, training loss " +
+        fmt_g(ref.train) + ", held-out NRMSE " + fmt_g(ref.held) + ", whiteness " + fmt_g(ref.white, 3));
+    std::vector<Candidate> cands;
+    for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e) {
+      const Effect& ef = effect_catalogue()[e];
+      if (used.count(ef.name)) continue;
+      Candidate c;
+      c.effect = e;
+      c.fit = fit_with_effect(p, ref, e);
+      c.signature = regime_signature(rr, regime, ef.regimes);
+      c.resolution = effect_resolution(p, c.fit, ref, e, regime);
+      say("  candidate " + effect_label(e) + " = " + fmt_g(c.fit.x[param_count(ref.effects)]) + ": training loss " +
+          fmt_g(c.fit.train) + ", held-out NRMSE " + fmt_g(c.fit.held));
+      cands.push_back(std::move(c));
+    }
+    if (cands.empty()) {
+      round.reference = ref;
+      s.rounds.push_back(std::move(round));
+      break;
+    }
+    long chosen = -1;
+    VariantChoice vc;
+    for (int attempt = 0; attempt < 3; ++attempt) {
+      test_candidates(p, ref, &cands);
+      const auto it = std::find_if(cands.begin(), cands.end(), passes);
+      if (it == cands.end()) break;
+      // a re-fit of the current model alone from where the candidate ended:
+      // if that is better, the candidate's gain was the optimiser's
+      const Candidate& b = *it;
+      const std::vector<double> xs(b.fit.x.begin(), b.fit.x.begin() + param_count(ref.effects));
+      Fit alt = fit_model(p, ref.effects, xs, Samples::training, kMaxEvalBase);
+      alt.held_ci = ref.held_ci;
+      if (alt.train < ref.train * (1 - 1e-6)) {
+        say("  the reference re-fitted from " + effect_label(b.effect) + "'s solution is better (" + fmt_g(ref.train) +
+            " -> " + fmt_g(alt.train) + "): candidates tested again");
+        ref = std::move(alt);
+        round.reference_refit = true;
+        continue;
+      }
+      vc = VariantChoice{};
+      chosen = static_cast<long>(choose_variant(p, cands, it - cands.begin(), &vc));
+      break;
+    }
+    round.reference = ref;
+    if (chosen < 0) {
       for (Candidate& c : cands) c.why += ": rejected";
-      best.why += " (fitted to its null value)";
-      say("the best candidate fits to its null value: stop");
-      s.rounds.push_back(cands);
+      say("no candidate passes both tests: stop");
+      round.candidates = std::move(cands);
+      s.rounds.push_back(std::move(round));
       break;
     }
-    if (gain >= kMinGain && best.fit.held < cur.held) {
-      best.accepted = true;
-      best.why += ": best candidate, gain >= " + fmt_g(100 * kMinGain) + " %: accepted";
-      for (size_t i = 1; i < cands.size(); ++i) cands[i].why += ": less than the best";
-      used.insert(best.effect);
-      cur = best.fit;
-      say("accepted " + std::string(be.name) + " (held-out " + fmt_g(cur.held) + ", whiteness " +
-          fmt_g(cur.white, 3) + ")");
-      s.rounds.push_back(cands);
-    } else {
-      for (Candidate& c : cands) c.why += ": gain below " + fmt_g(100 * kMinGain) + " %: rejected";
-      say("no candidate cuts the held-out error by " + fmt_g(100 * kMinGain) + " %: stop");
-      s.rounds.push_back(cands);
-      break;
+    Candidate& a = cands[chosen];
+    a.accepted = true;
+    a.why += ": accepted";
+    for (Candidate& c : cands)
+      if (!c.accepted) c.why += passes(c) ? ": passes, but another is better" : ": rejected";
+    const Effect& ae = effect_catalogue()[a.effect];
+    if (*ae.variant) {
+      if (vc.chosen.empty()) vc = {ae.name, ae.variant, "", 0, false, "the only variant fitted"};
+      s.variants.push_back(vc);
     }
+    used.insert(ae.name);
+    s.before.push_back(ref);
+    cur = a.fit;
+    say("accepted " + effect_label(a.effect) + " (held-out NRMSE " + fmt_g(cur.held) + ", whiteness " +
+        fmt_g(cur.white, 3) + ")");
+    round.candidates = std::move(cands);
+    s.rounds.push_back(std::move(round));
   }
+  s.model = s.rounds.back().reference;
   return s;
 }
 

@@ -1,19 +1,23 @@
-// The calibration's greedy search: while the held-out residual is structured
-// (not white), fit every catalogue effect not yet in the model, rank them by
-// held-out gap, and accept the best when it cuts the gap by kMinGain, lowers
-// the held-out error and is not fitted to its null value.
-// docs/calibration.md, "Method" 5.
+// The calibration's greedy search, round by round: the current model is
+// re-fitted from several starts (the reference), every catalogue effect not
+// yet in it is fitted on top (each variant of an effect separately), and the
+// candidate with the largest held-out gain that passes both tests of
+// selection_rule.h is accepted, after the reference has been re-fitted from
+// that candidate's own solution too. Of an effect's variants the one that
+// fits better on held-out data is named; a variant with more parameters must
+// beat the simpler one by the same tests. The search stops when no candidate
+// passes. docs/calibration.md, "Method".
 #pragma once
 
 #include <functional>
 #include <string>
 #include <vector>
 
+#include "analysis/calibration/selection_rule.h"
 #include "analysis/calibration/servo_fit.h"
 
 namespace chainsim {
 
-constexpr double kMinGain = 0.30;    // an effect must cut the held-out structured error by 30 %
 constexpr double kWhiteMax = 1.6;    // whiteness ratio at or below which a residual is noise
 
 // a progress line (the CLI prints it on stderr)
@@ -22,18 +26,51 @@ using CalibrationProgress = std::function<void(const std::string&)>;
 struct Candidate {
   int effect = 0;        // catalogue index
   Fit fit;
-  double signature = 0;  // regime_signature of the residual before it, in the effect's regimes
+  double signature = 0;  // regime_signature of the reference's residual in the effect's regimes
+  double resolution = 0; // rms change the effect makes where it acts, in white-noise units (effect_resolution)
+  ProfileTest profile;
+  HeldOutTest held_out;
   bool accepted = false;
   std::string why;       // the decision, in words
 };
 
-struct EffectSearch {
-  Fit model;                                   // the base with the accepted effects
-  std::vector<std::vector<Candidate>> rounds;  // each round's candidates, best first
+// how the accepted effect's form was chosen among its variants
+struct VariantChoice {
+  std::string effect, chosen, other;
+  double t = 0;             // held-out likelihood ratio of the chosen against the other (as its reference)
+  bool distinguished = false;
+  std::string why;
 };
 
-// the search from the refitted base; regime: classify_regimes of the measurement
-EffectSearch search_effects(const FitProblem& p, const Fit& base, const std::vector<int>& regime,
+struct SearchRound {
+  Fit reference;                      // the current model re-fitted from several starts
+  NoiseScale noise;                   // the loss's unit this round
+  std::vector<Candidate> candidates;  // best held-out gain first
+  bool reference_refit = false;       // the reference improved from a candidate's solution
+};
+
+struct EffectSearch {
+  Fit model;                          // the reference of the last round, or the base with the accepted effects
+  std::vector<SearchRound> rounds;
+  std::vector<VariantChoice> variants;   // per accepted effect with variants
+  std::vector<Fit> before;            // per accepted effect (in model.effects' order): the model without it
+};
+
+// how much the effect of candidate `with` changes the response where it acts:
+// the rms over the samples of the effect's regimes and of the step onsets and
+// reversals (their label hides the motion regimes) of (model with it - the
+// same model without it), each channel in its white-noise unit, the channels
+// pooled like the loss. Below 1 the effect stays under the noise at the very
+// samples it acts on: a measurement of that noise does not resolve it, and a
+// likelihood gain over thousands of samples is the model's sub-noise mismatch
+// with the measured system, not the effect (kMinResolution).
+constexpr double kMinResolution = 1.0;
+double effect_resolution(const FitProblem& p, const Fit& with, const Fit& without_effects, int effect,
+                         const std::vector<int>& regime);
+
+// the search from the refitted base; regime: classify_regimes of the
+// measurement; p.noise is set each round from the current model's residual
+EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<int>& regime,
                             const CalibrationProgress& say);
 
 }  // namespace chainsim

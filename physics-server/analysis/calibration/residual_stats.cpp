@@ -9,10 +9,51 @@ namespace chainsim {
 BlockSplit split_blocks(const std::vector<double>& t, int blocks) {
   BlockSplit s;
   s.block.resize(t.size());
+  s.batch.resize(t.size());
   const double t0 = t.front(), span = t.back() - t0;
-  for (size_t k = 0; k < t.size(); ++k)
-    s.block[k] = std::min(blocks - 1, static_cast<int>((t[k] - t0) / span * blocks));
+  for (size_t k = 0; k < t.size(); ++k) {
+    const double f = (t[k] - t0) / span * blocks;
+    s.block[k] = std::min(blocks - 1, static_cast<int>(f));
+    s.batch[k] = std::clamp(static_cast<int>((f - s.block[k]) * kBatchesPerBlock), 0, kBatchesPerBlock - 1);
+  }
   return s;
+}
+
+NoiseScale white_noise_scale(const Residual& r, const BlockSplit& s) {
+  NoiseScale n;
+  for (int ch = 0; ch < r.channels(); ++ch) {
+    const std::vector<double>& v = ch == 0 ? r.angle : r.current;
+    double d2 = 0;
+    size_t nd = 0;
+    for (size_t k = 1; k < v.size(); ++k)
+      if (s.block[k - 1] == s.block[k]) d2 += (v[k] - v[k - 1]) * (v[k] - v[k - 1]), ++nd;
+    const double sd = nd ? std::sqrt(d2 / nd / 2.0) : 1.0;
+    (ch == 0 ? n.angle : n.current) = std::max(sd, 1e-9);
+  }
+  return n;
+}
+
+std::vector<double> sample_loss(const Residual& r, const NoiseScale& n) {
+  std::vector<double> out(r.size());
+  for (size_t k = 0; k < r.size(); ++k) {
+    const double a = r.angle[k] / n.angle, i = r.has_current ? r.current[k] / n.current : 0.0;
+    out[k] = r.finite ? a * a + i * i : 1e12;
+  }
+  return out;
+}
+
+double residual_rho(const Residual& r, const NoiseScale& n, const BlockSplit& s, Samples set) {
+  double c0 = 0, c1 = 0;
+  for (int ch = 0; ch < r.channels(); ++ch) {
+    const std::vector<double>& v = ch == 0 ? r.angle : r.current;
+    const double sc = ch == 0 ? n.angle : n.current;
+    for (size_t k = 0; k < v.size(); ++k) {
+      if (!s.in(k, set)) continue;
+      c0 += (v[k] / sc) * (v[k] / sc);
+      if (k + 1 < v.size() && s.block[k + 1] == s.block[k]) c1 += (v[k] / sc) * (v[k + 1] / sc);
+    }
+  }
+  return c0 > 0 ? std::clamp(c1 / c0, 0.0, 0.999) : 0.0;
 }
 
 double stdev(const std::vector<double>& v) {

@@ -13,13 +13,15 @@
 namespace chainsim {
 
 constexpr int kCvBlocks = 8;   // time blocks; even = training, odd = held out
+constexpr int kBatchesPerBlock = 5;   // equal time spans of a block (the held-out test's batches)
 
 // which samples a statistic is taken over
 enum class Samples { training = 0, held_out = 1, all = 2 };
 
-// the block of each sample: kCvBlocks equal spans of time from t.front()
+// the block of each sample: kCvBlocks equal spans of time from t.front();
+// batch: the sample's span within its block (kBatchesPerBlock per block)
 struct BlockSplit {
-  std::vector<int> block;
+  std::vector<int> block, batch;
   bool in(size_t k, Samples s) const {
     return s == Samples::all || (block[k] % 2) == static_cast<int>(s);
   }
@@ -39,6 +41,22 @@ struct Residual {
     return angle[k] * angle[k] + (has_current ? current[k] * current[k] : 0.0);
   }
 };
+
+// the white (sample-to-sample) noise of a residual per channel, in its
+// units: sqrt(half the mean square of first differences within blocks), on
+// all samples; what the fit's loss divides by
+struct NoiseScale {
+  double angle = 1, current = 1;
+};
+NoiseScale white_noise_scale(const Residual& r, const BlockSplit& s);
+
+// per sample, the squared residual in noise units summed over the channels
+// (the Gaussian log-likelihood's -2x, up to a constant); 1e12 when non-finite
+std::vector<double> sample_loss(const Residual& r, const NoiseScale& n);
+
+// lag-1 autocorrelation of the residual in noise units on `set` (pairs
+// within blocks, the channels pooled), clamped to [0, 0.999]
+double residual_rho(const Residual& r, const NoiseScale& n, const BlockSplit& s, Samples set);
 
 // population standard deviation
 double stdev(const std::vector<double>& v);

@@ -1,8 +1,9 @@
 // Servo calibration (servo_calibration.h), in order:
 //  1. the measurement is cut into kCvBlocks time blocks; even blocks train,
 //     odd blocks are held out (block cross-validation of a time series);
-//  2. the base parameters are refitted on the training blocks; the gap
-//     before = the held-out structured error;
+//  2. the base parameters are refitted on the training blocks (the search's
+//     first round re-fits them from two starts); the gap before = the
+//     held-out structured error of that base;
 //  3. every sample gets a regime, for the report's localisation and the
 //     candidates' signatures;
 //  4. the greedy search adds catalogue effects (effect_search.h);
@@ -32,20 +33,25 @@ ServoCalibration calibrate_servo(const BenchConfig& datasheet, MeasuredRecord me
       (p.m.has_current ? "angle and current" : "angle only") + "; " + std::to_string(kCvBlocks) +
       " blocks (even: fit, odd: held out)");
 
-  c.nrmse_datasheet = nrmse(run_model(p, p.datasheet).residual, p.split, Samples::held_out);
-  c.base = fit_model(p, {}, std::vector<double>(kNumBase, 1.0), Samples::training, kMaxEvalBase);
-  say("datasheet model: held-out NRMSE " + fmt_g(c.nrmse_datasheet) + "; refitted base: " + fmt_g(c.base.held) +
-      ", structured " + fmt_g(c.base.gap) + " (whiteness " + fmt_g(c.base.white, 3) + ", " +
-      std::to_string(c.base.evals) + " evaluations)");
+  const Residual r_data = run_model(p, p.datasheet).residual;
+  c.nrmse_datasheet = nrmse(r_data, p.split, Samples::held_out);
+  // the loss's unit until the search re-estimates it from its models
+  c.problem.noise = white_noise_scale(r_data, p.split);
+  const Fit first = fit_model(p, {}, std::vector<double>(kNumBase, 1.0), Samples::training, kMaxEvalBase);
 
-  c.search = search_effects(p, c.base, c.regime, say);
+  c.search = search_effects(c.problem, first, c.regime, say);
+  c.base = c.search.rounds.front().reference;
+  say("datasheet model: held-out NRMSE " + fmt_g(c.nrmse_datasheet) + "; refitted base: " + fmt_g(c.base.held) +
+      ", structured " + fmt_g(c.base.gap) + " (whiteness " + fmt_g(c.base.white, 3) + ")");
   const Fit& cur = c.search.model;
   c.verdict = cur.white <= kWhiteMax ? (cur.effects.empty() ? "no_missing_effect" : "explained") : "unexplained";
 
   c.final_fit = fit_model(p, cur.effects, cur.x, Samples::all, kMaxEvalBase);
+  c.final_fit.held_ci = cur.held_ci;
   c.ci = fit_intervals(p, c.final_fit);
   c.before = run_model(p, model_config(p.datasheet, {}, c.base.x));
   c.after = run_model(p, model_config(p.datasheet, cur.effects, cur.x));
+  for (const Fit& f : c.search.before) c.without.push_back(run_model(p, model_config(p.datasheet, f.effects, f.x)));
   // the bench's own (ODE) stand with the final model, as a check of the fast solver
   const BenchConfig fin = model_config(p.datasheet, c.final_fit.effects, c.final_fit.x);
   const std::vector<BenchSample> ode = simulate_bench(fin, p.m.t, p.m.sp);

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "analysis/calibration/frame_clock.h"
+
 namespace chainsim {
 
 FitProblem make_fit_problem(const BenchConfig& datasheet, MeasuredRecord m) {
@@ -23,6 +25,7 @@ FitProblem make_fit_problem(const BenchConfig& datasheet, MeasuredRecord m) {
 ModelRun run_model(const FitProblem& p, const BenchConfig& b) {
   ModelRun run;
   run.sim = simulate_bench(b, p.m.t, p.m.sp, BenchSolver::closed_form);
+  ++p.model_runs;
   Residual& r = run.residual;
   const size_t n = p.m.t.size();
   r.has_current = p.m.has_current;
@@ -42,30 +45,76 @@ Residual residual_at(const FitProblem& p, const std::vector<int>& effects, const
   return run_model(p, model_config(p.datasheet, effects, x)).residual;
 }
 
+double mean_loss(const std::vector<double>& loss, const BlockSplit& s, Samples set) {
+  double sum = 0;
+  size_t n = 0;
+  for (size_t k = 0; k < loss.size(); ++k)
+    if (s.in(k, set)) sum += loss[k], ++n;
+  return n ? sum / n : 0.0;
+}
+
+// a parameter's bounds and scale in the optimiser
+struct Bound {
+  double lo, hi;
+  bool log;
+  double to_u(double x) const {
+    const double u = log ? std::log(std::max(x, lo) / lo) / std::log(hi / lo) : (x - lo) / (hi - lo);
+    return std::clamp(u, 0.0, 1.0);
+  }
+  double from_u(double u) const { return log ? lo * std::pow(hi / lo, u) : lo + u * (hi - lo); }
+};
+
+// the bounds of every parameter and which are free (not held)
+void layout(const std::vector<int>& effects, std::vector<Bound>* bounds, std::vector<size_t>* free) {
+  bounds->assign(kNumBase, Bound{kBaseFactorLo, kBaseFactorHi, false});
+  for (int i = 0; i < kNumBase; ++i) free->push_back(i);
+  for (int e : effects) {
+    const Effect& ef = effect_catalogue()[e];
+    for (const EffectParam& q : ef.params) {
+      if (ef.fit == EffectFit::smooth) free->push_back(bounds->size());
+      bounds->push_back({q.lo, q.hi, q.log_scale});
+    }
+  }
+}
+
 }  // namespace
+
+Fit evaluate_fit(const FitProblem& p, const std::vector<int>& effects, const std::vector<double>& x, Samples set) {
+  Fit f;
+  f.effects = effects;
+  f.x = x;
+  f.held_ci.assign(x.size(), {0.0, 0.0});
+  const Residual r = residual_at(p, effects, x);
+  f.loss = sample_loss(r, p.noise);
+  f.train = mean_loss(f.loss, p.split, set);
+  f.sse_train = 0;
+  for (size_t k = 0; k < f.loss.size(); ++k)
+    if (p.split.in(k, Samples::training)) f.sse_train += f.loss[k];
+  f.rho_train = residual_rho(r, p.noise, p.split, Samples::training);
+  f.rho_held = residual_rho(r, p.noise, p.split, Samples::held_out);
+  f.held = nrmse(r, p.split, Samples::held_out);
+  f.white = whiteness(r, p.split, Samples::held_out);
+  f.gap = structured_error(r, p.split, Samples::held_out);
+  return f;
+}
 
 Fit fit_model(const FitProblem& p, const std::vector<int>& effects, std::vector<double> x0, Samples set,
               int max_eval) {
-  const size_t n = x0.size();
-  std::vector<double> lo(n), hi(n);
-  for (int i = 0; i < kNumBase; ++i) lo[i] = kBaseFactorLo, hi[i] = kBaseFactorHi;
-  for (size_t e = 0; e < effects.size(); ++e) {
-    const Effect& ef = effect_catalogue()[effects[e]];
-    lo[kNumBase + e] = ef.lo;
-    hi[kNumBase + e] = ef.hi;
-    if (ef.discrete) lo[kNumBase + e] = hi[kNumBase + e] = x0[kNumBase + e];
-  }
-  // scaled variables: u = (x - lo)/(hi - lo) in [0, 1]
+  std::vector<Bound> bounds;
+  std::vector<size_t> free;
+  layout(effects, &bounds, &free);
+  const size_t n = free.size();
   std::vector<double> u(n);
-  for (size_t i = 0; i < n; ++i)
-    u[i] = hi[i] > lo[i] ? std::clamp((x0[i] - lo[i]) / (hi[i] - lo[i]), 0.0, 1.0) : 0.0;
+  for (size_t i = 0; i < n; ++i) u[i] = bounds[free[i]].to_u(x0[free[i]]);
   struct Ctx {
     const FitProblem* p;
     const std::vector<int>* effects;
-    const std::vector<double>*lo, *hi;
+    const std::vector<Bound>* bounds;
+    const std::vector<size_t>* free;
+    std::vector<double> x;
     Samples set;
     int evals = 0;
-  } ctx{&p, &effects, &lo, &hi, set};
+  } ctx{&p, &effects, &bounds, &free, x0, set};
   nlopt::opt opt(nlopt::LN_BOBYQA, static_cast<unsigned>(n));
   opt.set_lower_bounds(std::vector<double>(n, 0.0));
   opt.set_upper_bounds(std::vector<double>(n, 1.0));
@@ -76,95 +125,182 @@ Fit fit_model(const FitProblem& p, const std::vector<int>& effects, std::vector<
   opt.set_min_objective(
       [](unsigned nn, const double* uu, double*, void* data) -> double {
         Ctx& c = *static_cast<Ctx*>(data);
-        std::vector<double> x(nn);
-        for (unsigned i = 0; i < nn; ++i) x[i] = (*c.lo)[i] + uu[i] * ((*c.hi)[i] - (*c.lo)[i]);
+        for (unsigned i = 0; i < nn; ++i) c.x[(*c.free)[i]] = (*c.bounds)[(*c.free)[i]].from_u(uu[i]);
         ++c.evals;
-        const double m = nrmse(residual_at(*c.p, *c.effects, x), c.p->split, c.set);
-        return m * m;
+        const Residual r = residual_at(*c.p, *c.effects, c.x);
+        return mean_loss(sample_loss(r, c.p->noise), c.p->split, c.set);
       },
       &ctx);
-  double f = 0;
+  double fval = 0;
   try {
-    opt.optimize(u, f);
+    opt.optimize(u, fval);
   } catch (const nlopt::roundoff_limited&) {
   } catch (const std::runtime_error&) {
   }
-  Fit out;
-  out.effects = effects;
-  out.x.resize(n);
-  for (size_t i = 0; i < n; ++i) out.x[i] = lo[i] + u[i] * (hi[i] - lo[i]);
-  const Residual r = residual_at(p, effects, out.x);
-  out.train = nrmse(r, p.split, set);
-  out.held = nrmse(r, p.split, Samples::held_out);
-  out.white = whiteness(r, p.split, Samples::held_out);
-  out.gap = structured_error(r, p.split, Samples::held_out);
+  std::vector<double> x = x0;
+  for (size_t i = 0; i < n; ++i) x[free[i]] = bounds[free[i]].from_u(u[i]);
+  Fit out = evaluate_fit(p, effects, x, set);
   out.evals = ctx.evals;
-  p.model_runs += ctx.evals;
   return out;
 }
 
-// Why two starts: the current base was refitted without the new effect, so
-// it has absorbed what it could of it (a missing Coulomb friction pulls Km =
-// Kt down, R up and the load inertia to its bound), and from there a local
+std::vector<double> datasheet_start(const std::vector<double>& x) {
+  std::vector<double> s = x;
+  std::fill(s.begin(), s.begin() + kNumBase, 1.0);
+  return s;
+}
+
+Fit refit_from_starts(const FitProblem& p, const Fit& cur, const std::vector<std::vector<double>>& starts,
+                      int max_eval) {
+  Fit best = cur;
+  for (const std::vector<double>& x : starts) {
+    Fit f = fit_model(p, cur.effects, x, Samples::training, max_eval);
+    f.held_ci = cur.held_ci;
+    if (f.train < best.train) best = std::move(f);
+  }
+  return best;
+}
+
+namespace {
+
+// the phase (x[i], ms) that fits best on the training blocks, scanned over
+// +-span_ms in steps of step_ms around its value (the latch moves in whole
+// model steps, so the loss is piecewise constant in the phase: a scan, not
+// the optimiser); x keeps the best
+void scan_phase(const FitProblem& p, const std::vector<int>& eff, std::vector<double>* x, size_t i, double span_ms,
+                double step_ms) {
+  const double c = (*x)[i];
+  double best = evaluate_fit(p, eff, *x).train, best_v = c;
+  for (double d = -span_ms; d <= span_ms + 1e-9; d += step_ms) {
+    std::vector<double> xt = *x;
+    xt[i] = std::max(0.0, c + d);
+    const double l = evaluate_fit(p, eff, xt).train;
+    if (l < best - 1e-12) best = l, best_v = xt[i];
+  }
+  (*x)[i] = best_v;
+}
+
+// a frame clock on top of ref: its period and phase from the set-point
+// changes' delays against two models without it (the reference, which may
+// have bent its base to mimic the delay, and the datasheet base), then per
+// clock found: the phase scanned against the model (the delays carry the
+// base's timing error), the base re-fitted with the clock held, the phase
+// scanned again; the better training fit
+Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect) {
+  const Effect& ef = effect_catalogue()[effect];
+  std::vector<int> eff = ref.effects;
+  eff.push_back(effect);
+  const size_t ip = param_count(ref.effects) + 1;   // the phase
+  Fit best;
+  best.valid = false;
+  for (int start = 0; start < 2; ++start) {
+    const std::vector<double> base = start == 0 ? ref.x : datasheet_start(ref.x);
+    const FrameClockFit fc = frame_clock_for(p, model_config(p.datasheet, ref.effects, base));
+    if (!fc.found) continue;
+    std::vector<double> x = base;
+    x.push_back(fc.clock.period_s * 1e3);
+    x.push_back(fc.clock.phase_s * 1e3);
+    scan_phase(p, eff, &x, ip, 1.5, 0.1);
+    // the phase and the base's speed trade off (a later frame looks like a
+    // slower servo): the base and the phase in turn until the phase stays
+    Fit f;
+    for (int turn = 0; turn < 3; ++turn) {
+      f = fit_model(p, eff, x, Samples::training, kMaxEvalJoint);
+      x = f.x;
+      scan_phase(p, eff, &x, ip, 0.5, 0.05);
+      if (std::fabs(x[ip] - f.x[ip]) < 0.01) break;
+    }
+    f = evaluate_fit(p, eff, x);
+    if (!best.valid || f.train < best.train) {
+      // the phase's interval: the delays' least-squares one, widened to
+      // reach the scanned value
+      const double ph = f.x[ip], half = 0.5 * 1e3 * (fc.phase_ci_s.second - fc.phase_ci_s.first);
+      const double w = std::max(half, std::fabs(ph - 1e3 * fc.clock.phase_s));
+      best = std::move(f);
+      best.held_ci = ref.held_ci;
+      best.held_ci.push_back({fc.period_ci_s.first * 1e3, fc.period_ci_s.second * 1e3});
+      best.held_ci.push_back({ph - w, ph + w});
+    }
+  }
+  if (best.valid) return best;
+  Fit f = evaluate_fit(p, ref.effects, ref.x);
+  f.effects = eff;
+  for (const EffectParam& q : ef.params) f.x.push_back(q.lo);
+  f.held_ci.resize(f.x.size(), {0.0, 0.0});
+  f.valid = false;
+  return f;
+}
+
+}  // namespace
+
+// Why two starts: the reference was refitted without the new effect, so it
+// has absorbed what it could of it (a missing Coulomb friction pulls Km = Kt
+// down, R up and the load inertia to its bound), and from there a local
 // optimiser can stay in that compensated basin: the least-squares objective
 // is multimodal, for the generator's own physics as much as for the model
 // (docs/calibration.md, "Limits"). The effects already accepted keep their
 // values in the datasheet start.
-Fit fit_with_effect(const FitProblem& p, const Fit& base, int effect) {
+Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect) {
   const Effect& ef = effect_catalogue()[effect];
-  std::vector<int> eff = base.effects;
+  if (ef.fit == EffectFit::frame_clock) return fit_frame_clock_effect(p, ref, effect);
+  std::vector<int> eff = ref.effects;
   eff.push_back(effect);
-  Fit best_fit;
-  bool have = false;
+  const std::vector<std::vector<double>>& tails = ef.starts;
+  Fit best;
   for (int start = 0; start < 2; ++start) {
-    std::vector<double> x = base.x;
-    if (start == 1) std::fill(x.begin(), x.begin() + kNumBase, 1.0);
-    x.push_back(0.0);
-    double best = 1e300, best_v = ef.grid[0];
-    for (double v : ef.grid) {
-      x.back() = v;
-      const double m = nrmse(residual_at(p, eff, x), p.split, Samples::training);
-      ++p.model_runs;
-      if (m < best) best = m, best_v = v;
+    const std::vector<double> base = start == 0 ? ref.x : datasheet_start(ref.x);
+    std::vector<double> x;
+    double best_start = 1e300;
+    for (const std::vector<double>& tail : tails) {
+      std::vector<double> xt = base;
+      xt.insert(xt.end(), tail.begin(), tail.end());
+      const double m = tails.size() > 1 ? evaluate_fit(p, eff, xt).train : 0.0;
+      if (m < best_start) best_start = m, x = xt;
     }
-    x.back() = best_v;
     Fit f = fit_model(p, eff, x, Samples::training, kMaxEvalJoint);
-    if (!have || f.train < best_fit.train) best_fit = std::move(f), have = true;
+    if (f.train < best.train) best = std::move(f);
   }
-  return best_fit;
+  best.held_ci = ref.held_ci;
+  best.held_ci.resize(best.x.size(), {0.0, 0.0});
+  return best;
 }
 
 std::vector<std::pair<double, double>> fit_intervals(const FitProblem& p, const Fit& f) {
-  const size_t n = f.x.size();
+  std::vector<Bound> bounds;
+  std::vector<size_t> free;
+  layout(f.effects, &bounds, &free);
   const Residual r0 = residual_at(p, f.effects, f.x);
   const size_t m = r0.size();
   const int nch = r0.channels();
-  Eigen::MatrixXd J(m * nch, n);
+  const double wa = 1.0 / p.noise.angle, wi = 1.0 / p.noise.current;
+  Eigen::MatrixXd J(m * nch, free.size());
   Eigen::VectorXd r(m * nch);
   for (size_t k = 0; k < m; ++k) {
-    r(k) = r0.angle[k];
-    if (nch == 2) r(m + k) = r0.current[k];
+    r(k) = wa * r0.angle[k];
+    if (nch == 2) r(m + k) = wi * r0.current[k];
   }
-  for (size_t i = 0; i < n; ++i) {
-    double hstep;
-    if (i < kNumBase) {
-      hstep = 0.01;
-    } else {
-      const Effect& e = effect_catalogue()[f.effects[i - kNumBase]];
-      hstep = std::max(0.02 * std::fabs(f.x[i]), 0.002 * (e.hi - e.lo));
-    }
+  std::vector<double> xf(free.size());
+  for (size_t c = 0; c < free.size(); ++c) {
+    const size_t i = free[c];
+    xf[c] = f.x[i];
+    const Bound& b = bounds[i];
+    const double hstep = i < kNumBase ? 0.01 : std::max(0.02 * std::fabs(f.x[i]), 0.002 * (b.hi - b.lo));
     std::vector<double> xp = f.x, xm = f.x;
     xp[i] += hstep;
     xm[i] -= hstep;
-    if (i >= kNumBase && xm[i] < 0) xm[i] = 0, xp[i] = 2 * hstep;  // stay at >= 0
+    if (i >= kNumBase && xm[i] < std::max(0.0, b.lo)) xm[i] = std::max(0.0, b.lo), xp[i] = xm[i] + 2 * hstep;
     const Residual rp = residual_at(p, f.effects, xp);
     const Residual rm = residual_at(p, f.effects, xm);
     for (size_t k = 0; k < m; ++k) {
-      J(k, i) = (rp.angle[k] - rm.angle[k]) / (xp[i] - xm[i]);
-      if (nch == 2) J(m + k, i) = (rp.current[k] - rm.current[k]) / (xp[i] - xm[i]);
+      J(k, c) = wa * (rp.angle[k] - rm.angle[k]) / (xp[i] - xm[i]);
+      if (nch == 2) J(m + k, c) = wi * (rp.current[k] - rm.current[k]) / (xp[i] - xm[i]);
     }
   }
-  return confidence_intervals(J, r, m, f.x, kNumBase);
+  const auto ci_free = confidence_intervals(J, r, m, xf, kNumBase);
+  std::vector<std::pair<double, double>> ci(f.x.size());
+  for (size_t i = 0; i < f.x.size(); ++i) ci[i] = i < f.held_ci.size() ? f.held_ci[i] : std::make_pair(f.x[i], f.x[i]);
+  for (size_t c = 0; c < free.size(); ++c) ci[free[c]] = ci_free[c];
+  return ci;
 }
 
 }  // namespace chainsim

@@ -1,7 +1,8 @@
 // The calibration's fit: the bench model (servo_stand.h, closed-form solver)
-// against a measurement, least squares over the base factors and the
-// parameters of the effects in the model, with NLopt BOBYQA (derivative-free
-// and bounded: several effects are not smooth in their parameter).
+// against a measurement, least squares in noise units over the base factors
+// and the parameters of the effects in the model, with NLopt BOBYQA
+// (derivative-free and bounded: several effects are not smooth in their
+// parameter), from several starts.
 #pragma once
 
 #include <utility>
@@ -14,8 +15,8 @@
 
 namespace chainsim {
 
-constexpr int kMaxEvalBase = 250;    // evaluations of a base (or final) refit
-constexpr int kMaxEvalJoint = 400;   // evaluations of a fit with a new effect
+constexpr int kMaxEvalBase = 250;    // evaluations of a refit from one start
+constexpr int kMaxEvalJoint = 300;   // evaluations of a fit with a new effect from one start
 
 // a measurement and how it is compared with the model
 struct FitProblem {
@@ -23,12 +24,13 @@ struct FitProblem {
   MeasuredRecord m;
   double sa = 1, si = 1;   // normalisation: std of the measured angle / current
   BlockSplit split;
+  NoiseScale noise;        // white noise of the normalised residual: the loss's unit
   mutable int model_runs = 0;   // model evaluations of the fits so far
 };
 
 // the problem for a measurement: the datasheet's step capped at 100 us (the
 // scheme's own discretisation error, 0.09 degrees at 500 us, stays below the
-// noise), the normalisation and the block split
+// noise), the normalisation and the block split; noise 1 until set
 FitProblem make_fit_problem(const BenchConfig& datasheet, MeasuredRecord m);
 
 // the model's response to the measurement's set-points and its residual
@@ -40,23 +42,43 @@ ModelRun run_model(const FitProblem& p, const BenchConfig& b);
 
 struct Fit {
   std::vector<int> effects;    // catalogue indices
-  std::vector<double> x;       // base factors, then the effects' parameters
-  double train = 0, held = 0, white = 0, gap = 0;   // nrmse on the fitted set; held-out nrmse, whiteness, gap
+  std::vector<double> x;       // base factors, then the effects' parameters (param_offset)
+  double train = 1e300;        // mean loss on the fitted samples (the objective)
+  double sse_train = 0;        // summed loss on the training blocks
+  double rho_train = 0;        // lag-1 autocorrelation of the training residual
+  double rho_held = 0;         // and of the held-out residual
+  double held = 0, white = 0, gap = 0;   // held-out NRMSE, whiteness, structured error
+  std::vector<double> loss;    // per-sample loss, all samples
+  std::vector<std::pair<double, double>> held_ci;   // per x: a held parameter's interval ({0,0}: none)
   int evals = 0;
+  bool valid = true;           // false: the effect could not be fitted (e.g. no frame clock found)
 };
 
-// least squares on `set` from x0 within the bounds (a discrete effect keeps
-// its x0 value)
+// the statistics of x on the problem (one model run)
+Fit evaluate_fit(const FitProblem& p, const std::vector<int>& effects, const std::vector<double>& x,
+                 Samples set = Samples::training);
+
+// least squares on `set` from x0 within the bounds; the parameters of
+// frame-clock effects are held at their x0 values
 Fit fit_model(const FitProblem& p, const std::vector<int>& effects, std::vector<double> x0, Samples set,
               int max_eval);
 
-// the fit with one more effect on the training blocks: its parameter from
-// the best of its grid, then everything together, from two starts (the
-// current base factors and the datasheet's); the better training fit
-Fit fit_with_effect(const FitProblem& p, const Fit& base, int effect);
+// x with the base factors at the datasheet's (1) and the effects' values kept
+std::vector<double> datasheet_start(const std::vector<double>& x);
 
-// 95 % intervals of f.x on all data (finite-difference Jacobian;
-// residual_stats.h confidence_intervals)
+// the model `cur` refitted from each start (x vectors for cur.effects); the
+// best training fit (cur itself if none is better)
+Fit refit_from_starts(const FitProblem& p, const Fit& cur, const std::vector<std::vector<double>>& starts,
+                      int max_eval);
+
+// the fit with one more effect on the training blocks, from two starts: the
+// reference's base factors and the datasheet's, each with the effect's
+// parameters from the best of its starts (a frame clock: fitted to the
+// set-point changes' delays, frame_clock.h); the better training fit
+Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect);
+
+// 95 % intervals of f.x on all data (finite-difference Jacobian of the free
+// parameters; residual_stats.h confidence_intervals); held ones from f.held_ci
 std::vector<std::pair<double, double>> fit_intervals(const FitProblem& p, const Fit& f);
 
 }  // namespace chainsim

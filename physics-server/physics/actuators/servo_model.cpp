@@ -31,10 +31,12 @@ void ServoModel::update_constants(double h) {
 ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
   if (h != h_) update_constants(h);
   drive_ = enabled_;
-  // pwm_frame_delay: the set-point is latched at the pulse frames only
+  // pwm_frame_delay: the set-point is latched at the pulse frames only, the
+  // first at the phase (before it k < 0: the set-point held from before)
   if (p_.pwm_frame_s > 0.0) {
-    const long long k = static_cast<long long>(std::floor(time_s_ / p_.pwm_frame_s + 1e-9));
-    if (k != frame_) {
+    const long long k =
+        static_cast<long long>(std::floor((time_s_ - p_.pwm_frame_phase_s) / p_.pwm_frame_s + 1e-9));
+    if (k > frame_) {
       frame_ = k;
       applied_ = setpoint_;
     }
@@ -43,6 +45,8 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
   }
   time_s_ += h;
   const bool backlash = p_.backlash_deg > 0.0 && p_.j > 0.0;
+  // compliant mesh: the rotor always has its own state (below)
+  const bool mesh = backlash && p_.backlash_stiffness_nm_rad > 0.0;
   if (!backlash) engaged_ = true;
   // backlash: the step after the gap closed is the (plastic) impact: the rotor
   // still has its own rate wm_ and its momentum J wm_ joins the joint's (rather
@@ -51,7 +55,7 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
   closed_ = false;
   // the rotor's rate now: the joint's, or its own while it crosses the gap
   // and in the impact step
-  const double wr = engaged_ && !impact ? w : wm_;
+  const double wr = engaged_ && !impact && !mesh ? w : wm_;
   const double w_rotor = impact ? wm_ : w;
   StepLaw law;
   // rotor inertia, implicit on the joint rate: -J (w' - w)/h
@@ -67,6 +71,10 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
     ea_ = std::clamp(p_.kp * err, -p_.supply_v, p_.supply_v);
     if (p_.supply_sag_ohm > 0.0 && p_.supply_v > 0.0)  // supply_sag: duty x (Vs - Rs |i|)
       ea_ *= std::max(0.0, 1.0 - p_.supply_sag_ohm * std::fabs(i_) / p_.supply_v);
+    if (p_.supply_sag_linear_ohm > 0.0) {  // supply_sag, linear driver: the limit drops, the gain stays
+      const double lim = std::max(0.0, p_.supply_v - p_.supply_sag_linear_ohm * std::fabs(i_));
+      ea_ = std::clamp(ea_, -lim, lim);
+    }
     if (p_.current_limit_a > 0.0) {  // current_limit: |ea - Km w| <= R I_lim
       const double lim = p_.r * p_.current_limit_a;
       ea_ = std::clamp(ea_, p_.km * wr - lim, p_.km * wr + lim);
@@ -99,6 +107,33 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
     tc0 = -p_.coulomb_nm * th + dc * w;
   }
   gap_step_ = false;
+  mesh_step_ = false;
+  if (mesh) {
+    // rotor: (J/h + B + Kt ci) wm' = J wm / h + Kt i0 - tc, and in contact the
+    // mesh torque tc = k (pen + h (wm' - w')) + c (wm' - w'): both affine in
+    // w' once wm' is eliminated; contact from the rotor's free prediction,
+    // kept only if it pushes (no tension) at w' = w
+    const double g = deg_to_rad(0.5 * p_.backlash_deg);
+    const double k = p_.backlash_stiffness_nm_rad;
+    const double k2 = k * h + 2.0 * std::sqrt(k * p_.j);
+    const double a = jh + p_.b + p_.kt * ci, m = jh * wm_ + p_.kt * i0;
+    mesh_step_ = true;
+    mesh_a_ = a, mesh_m_ = m, mesh_kp_ = 0.0, mesh_k2_ = 0.0;
+    const double d_free = delta_ + h * (m / a - w);
+    if (std::fabs(d_free) > g) {
+      const double pen = delta_ - std::copysign(g, d_free);
+      const double t0 = (k * pen * a + k2 * m) / (a + k2), dm = k2 * a / (a + k2);
+      if ((t0 - dm * w) * d_free > 0.0) {
+        mesh_a_ = a + k2, mesh_kp_ = k * pen, mesh_k2_ = k2;
+        law.damping = dm + dc;
+        law.target_rate = (t0 + tc0) / law.damping;
+        return law;
+      }
+    }
+    law.damping = dc + 1e-9;
+    law.target_rate = tc0 / law.damping;
+    return law;
+  }
   if (backlash) {
     const double g = deg_to_rad(0.5 * p_.backlash_deg);
     const double tq = i0 - ci * wr;  // sign of the motor torque about to act
@@ -130,8 +165,13 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
 }
 
 void ServoModel::end_step(double w_next) {
-  const double wr = gap_step_ ? wm_ : w_next;  // the rotor's rate (back-EMF)
-  if (!gap_step_) wm_ = w_next;
+  if (mesh_step_) {  // compliant backlash: the rotor's own rate, from w'
+    const double wm_next = (mesh_m_ - mesh_kp_ + mesh_k2_ * w_next) / mesh_a_;
+    delta_ += (wm_next - w_next) * h_;
+    wm_ = wm_next;
+  }
+  const double wr = gap_step_ || mesh_step_ ? wm_ : w_next;  // the rotor's rate (back-EMF)
+  if (!gap_step_ && !mesh_step_) wm_ = w_next;
   const double i_inf = drive_ ? (ea_ - p_.km * wr) / p_.r : 0.0;
   i_mean_ = (1.0 - phi_) * i_inf + phi_ * i_;
   i_ = i_inf + (i_ - i_inf) * e_;
@@ -164,6 +204,7 @@ void ServoModel::reset_state() {
   wm_ = 0.0;
   engaged_ = !(p_.backlash_deg > 0.0);
   closed_ = false;
+  mesh_step_ = false;
 }
 
 }  // namespace chainsim

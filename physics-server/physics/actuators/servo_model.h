@@ -66,13 +66,22 @@
 //    electrical circuit, back-EMF at the rotor rate) is integrated here,
 //    implicitly; the gap closes inelastically (a plastic impact: the step
 //    after closing takes the rotor's momentum J wm at its own rate into the
-//    joint's, and the gap cannot reopen within that step).
+//    joint's, and the gap cannot reopen within that step). Compliant variant,
+//    backlash_stiffness_nm_rad > 0: the mesh is a spring of that stiffness
+//    with a damper c = 2 sqrt(k J) (critical for the rotor against a held
+//    output) acting on the penetration beyond the half play; the rotor always
+//    has its own state (a two-inertia gear), the joint gets the contact
+//    torque, both implicit in the step (see begin_step).
 //  * deadband  deadband_deg: the servo amplifier ignores position errors within
 //    +-deadband/2 (continuous dead zone on the error before Kp).
 //  * supply_sag  supply_sag_ohm: internal resistance of the supply; the bridge's
-//    duty cycle is applied to Vs - Rs |i| (i at the start of the step).
+//    duty cycle is applied to Vs - Rs |i| (i at the start of the step): a PWM
+//    bridge. Linear-driver variant, supply_sag_linear_ohm: the drive keeps its
+//    small-signal gain Kp and only its limit drops, |ea| <= Vs - Rs |i|.
 //  * pwm_frame_delay  pwm_frame_s: the set-point reaches the servo only at its
-//    pulse frames, every pwm_frame_s seconds (0.02 s: 50 Hz) from reset_state.
+//    pulse frames, every pwm_frame_s seconds (0.02 s: 50 Hz), the first at
+//    pwm_frame_phase_s after reset_state (before it the servo keeps the
+//    set-point it had).
 //  * current_limit  current_limit_a: the driver limits the drive voltage to
 //    Km w +- R I_lim (w at the start of the step), so |i| settles at <= I_lim.
 #pragma once
@@ -103,6 +112,10 @@ struct ServoParams {
   double supply_sag_ohm = 0.0;   // supply_sag: supply internal resistance, ohm
   double pwm_frame_s = 0.0;      // pwm_frame_delay: set-point frame period, s (50 Hz = 0.02)
   double current_limit_a = 0.0;  // current_limit: driver current limit, A
+  // variants and extra parameters of the catalogue's effects (see above); 0 = as without them
+  double pwm_frame_phase_s = 0.0;          // pwm_frame_delay: time of the first frame after reset, s
+  double supply_sag_linear_ohm = 0.0;      // supply_sag, linear driver: Rs, ohm (limit Vs - Rs |i|)
+  double backlash_stiffness_nm_rad = 0.0;  // backlash, compliant mesh: N m/rad (0 = rigid, plastic closing)
   // Current sense chain (our assumption, the paper gives no figures): a 1 ohm
   // shunt, an amplifier of gain 10 and a 10-bit ADC with a 5 V reference:
   // 1023 counts = 0.5 A (0.489 mA per count). The stall current is
@@ -170,6 +183,10 @@ class ServoModel {
   bool engaged_ = true;      // backlash: gap closed
   bool gap_step_ = false;    // backlash: this step the rotor crossed the gap alone
   bool closed_ = false;      // backlash: the gap closed in the last step (rotor rate wm_)
+  // compliant backlash, this step: rotor rate wm' = (mesh_m_ - mesh_kp_ + mesh_k2_ w') / mesh_a_
+  // (in contact; mesh_kp_ = mesh_k2_ = 0 out of it)
+  bool mesh_step_ = false;
+  double mesh_a_ = 1.0, mesh_m_ = 0.0, mesh_kp_ = 0.0, mesh_k2_ = 0.0;
   // held over the current step
   double ea_ = 0.0;
   bool drive_ = true;   // enabled_ at begin_step

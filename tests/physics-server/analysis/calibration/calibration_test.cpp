@@ -1,79 +1,97 @@
 // `chainsim calibrate` against synthetic measurements with hidden effects
-// (synth.h). For each catalogued effect the workflow must name it and shrink
-// the gap by at least half; null data give no_missing_effect; two effects at
-// once give both; an effect outside the catalogue gives unexplained.
+// (synth_cases.h), a few seeds of a few cases (calibration_study runs them
+// all, docs/calibration.md): each must come out exactly right (the hidden
+// effects and nothing else, the expected verdict and form), with the gap at
+// least halved when explained.
 #include <gtest/gtest.h>
-
-#include <set>
 
 #include "common.h"
 
 namespace {
 
-class Calibration : public ::testing::TestWithParam<int> {};
+struct Pick {
+  const char* name;   // the case
+  unsigned seed;
+  bool plain;         // 1 kHz without jitter; else the study's conditions of the seed
+};
 
-TEST_P(Calibration, FindsTheHiddenEffect) {
-  const synth::Case c = synth::cases()[GetParam()];
+// the study's conditions of these seeds: 100 noise 1, load 2e-5, 321 Hz;
+// 101 noise 2, load 2e-5, 220 Hz; 103 noise 1, 440 Hz, angle only
+const Pick kPicks[] = {
+    {"null", 101, false},
+    {"pwm_frame_delay", 100, false},
+    {"deadband", 103, false},
+    {"backlash+supply_sag", 1, true},
+    {"B: supply_sag (linear driver, rail capacitor)", 101, false},
+    {"cogging (outside the catalogue)", 1, true},
+};
+
+class Calibration : public ::testing::TestWithParam<Pick> {};
+
+TEST_P(Calibration, NamesExactlyTheHiddenEffects) {
+  const Pick pk = GetParam();
+  const synth::Case c = synth::case_named(pk.name);
+  ASSERT_FALSE(c.name.empty()) << pk.name;
+  const synth::Conditions cond = pk.plain ? synth::plain_conditions() : synth::conditions(pk.seed);
   const std::string dir = synth::make_temp_dir();
-  const synth::Outcome o = synth::calibrate_case(c, 1, dir);
+  const synth::Outcome o = synth::calibrate_case(c, pk.seed, cond, dir);
   ASSERT_EQ(o.exit_code, 0) << c.name;
   const nlohmann::json& j = o.report;
   ASSERT_TRUE(j.is_object()) << c.name;
-  std::vector<std::string> names;
-  for (const auto& e : j["effects"]) names.push_back(e["name"]);
   const double before = j["gap_before"], after = j["gap_after"];
-  SCOPED_TRACE(c.name + ": verdict " + j["verdict"].get<std::string>() + ", gap " + std::to_string(before) +
-               " -> " + std::to_string(after));
-  if (c.verdict == "no_missing_effect" || c.verdict == "unexplained") {
-    EXPECT_EQ(j["verdict"], c.verdict);
-    if (c.verdict == "no_missing_effect") {
-      EXPECT_TRUE(names.empty());
-    }
+  std::string found;
+  for (const auto& n : o.names) found += " " + n;
+  SCOPED_TRACE(c.name + " seed " + std::to_string(pk.seed) + " (" + std::to_string(cond.sample_hz) + " Hz" +
+               (cond.current ? "" : ", angle only") + "): verdict " + j["verdict"].get<std::string>() + "," + found +
+               ", gap " + std::to_string(before) + " -> " + std::to_string(after));
+  // an effect outside the catalogue: the verdict says so (effects that
+  // mimic part of it may be named; issue 14's target is the verdict)
+  if (c.verdict == "unexplained") {
+    EXPECT_EQ(j["verdict"], "unexplained");
   } else {
-    // every hidden effect is named, the first one found is a hidden one
-    for (const std::string& e : c.expect)
-      EXPECT_NE(std::find(names.begin(), names.end(), e), names.end()) << e << " not found";
-    ASSERT_FALSE(names.empty());
-    EXPECT_NE(std::find(c.expect.begin(), c.expect.end(), names.front()), c.expect.end());
-    EXPECT_LE(after, 0.5 * before);
-    // exactly the hidden ones, and the residual left is white
-    EXPECT_EQ(std::set<std::string>(names.begin(), names.end()),
-              std::set<std::string>(c.expect.begin(), c.expect.end()));
-    EXPECT_EQ(j["verdict"], "explained");
-    // the two effects whose models differed from the generator's until the
-    // fit's second start and the plastic gap closing: their values too
-    for (const auto& e : j["effects"]) {
-      if (e["name"] == "coulomb_friction")
-        EXPECT_NEAR(e["params"]["torque_nm"].get<double>(), c.truth.coulomb, 0.1 * c.truth.coulomb);
-      if (e["name"] == "backlash")
-        EXPECT_NEAR(e["params"]["width_deg"].get<double>(), c.truth.backlash_deg, 0.15 * c.truth.backlash_deg);
+    EXPECT_TRUE(synth::exactly_right(c, o));
+  }
+  for (const auto& [effect, form] : c.variant) {
+    if (o.variants.count(effect)) {
+      EXPECT_EQ(o.variants.at(effect), form) << effect;
     }
   }
-  std::system(("rm -rf '" + dir + "'").c_str());
+  if (j["verdict"] == "explained") {
+    EXPECT_LE(after, 0.5 * before);
+  }
+  // a frame clock: the fitted period and phase hold the truth within their intervals
+  const synth::Truth t = c.truth(pk.seed, cond);
+  for (const auto& e : j["effects"]) {
+    if (e["name"] != "pwm_frame_delay") continue;
+    const double period = t.frame_s * 1e3, phase = t.frame_phase_s * 1e3;
+    EXPECT_NEAR(e["params"]["frame_ms"].get<double>(), period, 0.05);
+    EXPECT_NEAR(e["params"]["phase_ms"].get<double>(), phase, 0.5);
+    // each accepted effect has its evidence plot
+    EXPECT_TRUE(std::filesystem::exists(dir + "/out/" + e["evidence"]["plot"].get<std::string>()));
+  }
+  std::filesystem::remove_all(dir);
 }
 
-INSTANTIATE_TEST_SUITE_P(Cases, Calibration, ::testing::Range(0, static_cast<int>(synth::cases().size())),
-                         [](const auto& info) {
-                           std::string n = synth::cases()[info.param].name;
-                           std::string out;
-                           for (char ch : n)
-                             if (std::isalnum(static_cast<unsigned char>(ch))) out += ch;
-                             else if (!out.empty() && out.back() != '_') out += '_';
-                           while (!out.empty() && out.back() == '_') out.pop_back();
-                           return out;
-                         });
+INSTANTIATE_TEST_SUITE_P(Cases, Calibration, ::testing::ValuesIn(kPicks), [](const auto& info) {
+  std::string out;
+  for (const char* p = info.param.name; *p; ++p)
+    if (std::isalnum(static_cast<unsigned char>(*p))) out += *p;
+    else if (!out.empty() && out.back() != '_') out += '_';
+  while (!out.empty() && out.back() == '_') out.pop_back();
+  return out + "_" + std::to_string(info.param.seed);
+});
 
 TEST(CalibrationFiles, ErrorsNameFileLineColumn) {
   const std::string dir = synth::make_temp_dir();
   std::ofstream(dir + "/m.csv") << "t_s,setpoint_deg,angle_deg\n0,30,30\n0.001,30,3x0\n";
-  const std::string cmd = std::string("'") + CHAINSIM_EXE + "' calibrate --measured '" + dir + "/m.csv' --out '" +
-                          dir + "/out' 2> '" + dir + "/err.txt'";
-  const int st = std::system(cmd.c_str());
-  EXPECT_EQ(WEXITSTATUS(st), 1);
+  double cpu = 0;
+  const int rc = synth::run_process({CHAINSIM_EXE, "calibrate", "--measured", dir + "/m.csv", "--out", dir + "/out"},
+                                    dir + "/err.txt", &cpu);
+  EXPECT_EQ(rc, 1);
   std::ifstream in(dir + "/err.txt");
   std::string err((std::istreambuf_iterator<char>(in)), {});
   EXPECT_NE(err.find("m.csv:3:10: '3x0' in column 'angle_deg' is not a number"), std::string::npos) << err;
-  std::system(("rm -rf '" + dir + "'").c_str());
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

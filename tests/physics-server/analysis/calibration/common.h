@@ -1,34 +1,77 @@
 // runs chainsim calibrate on one synthetic case (tests and study)
 #pragma once
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "synth.h"
+#include "synth_cases.h"
 
 namespace synth {
 
 struct Outcome {
   int exit_code = -1;
   nlohmann::json report;
+  double cpu_s = 0;   // user + system time of the calibration process
+  std::vector<std::string> names;   // effects found
+  std::map<std::string, std::string> variants;   // their forms
 };
 
-inline Outcome calibrate_case(const Case& c, unsigned seed, const std::string& dir) {
-  std::ofstream(dir + "/bench.yaml") << bench_yaml(c.truth);
-  write_csv(dir + "/m.csv", generate(c.truth, seed));
-  const std::string cmd = std::string("'") + CHAINSIM_EXE + "' calibrate -q --bench '" + dir +
-                          "/bench.yaml' --measured '" + dir + "/m.csv' --out '" + dir + "/out' 2> '" + dir +
-                          "/stderr.txt'";
-  const int st = std::system(cmd.c_str());
+// runs argv with stderr to err_file; exit code and the child's CPU time (s)
+inline int run_process(const std::vector<std::string>& argv, const std::string& err_file, double* cpu_s) {
+  std::vector<char*> av;
+  for (const std::string& a : argv) av.push_back(const_cast<char*>(a.c_str()));
+  av.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 2, err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  pid_t pid = -1;
+  const int rc = posix_spawn(&pid, av[0], &fa, nullptr, av.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  if (rc != 0) return -1;
+  int st = 0;
+  rusage u{};
+  while (wait4(pid, &st, 0, &u) < 0 && errno == EINTR) {
+  }
+  *cpu_s = u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+inline Outcome calibrate_case(const Case& c, unsigned seed, const Conditions& cond, const std::string& dir) {
+  const Truth t = c.truth(seed, cond);
+  std::ofstream(dir + "/bench.yaml") << bench_yaml(t);
+  write_csv(dir + "/m.csv", c.record(t, seed));
+  std::filesystem::remove_all(dir + "/out");
   Outcome o;
-  o.exit_code = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  o.exit_code = run_process({CHAINSIM_EXE, "calibrate", "-q", "--bench", dir + "/bench.yaml", "--measured",
+                             dir + "/m.csv", "--out", dir + "/out"},
+                            dir + "/stderr.txt", &o.cpu_s);
   std::ifstream in(dir + "/out/report.json");
   if (in) o.report = nlohmann::json::parse(in, nullptr, false);
+  if (o.report.is_object())
+    for (const auto& e : o.report["effects"]) {
+      o.names.push_back(e["name"]);
+      if (e.contains("variant")) o.variants[e["name"]] = e["variant"];
+    }
   return o;
+}
+
+// exactly the expected effects (in any order) with the expected verdict
+inline bool exactly_right(const Case& c, const Outcome& o) {
+  if (!o.report.is_object() || o.report["verdict"] != c.verdict) return false;
+  std::vector<std::string> a = o.names, b = c.expect;
+  std::sort(a.begin(), a.end());
+  std::sort(b.begin(), b.end());
+  return a == b;
 }
 
 inline std::string make_temp_dir() {

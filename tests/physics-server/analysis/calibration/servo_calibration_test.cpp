@@ -13,42 +13,14 @@
 #include <sstream>
 
 #include "analysis/calibration/calibration_report.h"
+#include "analysis/servo_bench/bench_config.h"
+#include "analysis/servo_bench/bench_csv.h"
+#include "bench_record.h"
 
 namespace chainsim {
 namespace {
 
-// the datasheet the calibration is given: the bench defaults with a load torque
-BenchConfig datasheet() {
-  BenchConfig b;
-  b.load_torque_nm = 0.004;
-  return b;
-}
-
-// 4 s at 1 kHz of moves, reversals and holds, from the bench model with
-// `truth`, plus 0.2 deg and 2 mA of noise
-MeasuredRecord bench_record(BenchConfig truth, unsigned seed) {
-  const std::vector<std::pair<double, double>> prog = {
-      {0.0, 30},   {0.107, 120}, {0.462, 100}, {0.719, 104}, {0.955, 60},  {1.314, 63}, {1.561, 58}, {1.806, 110},
-      {2.153, 90}, {2.417, 93},  {2.668, 140}, {3.002, 135}, {3.259, 80},  {3.611, 84}, {3.866, 70}};
-  MeasuredRecord m;
-  m.has_current = true;
-  size_t p = 0;
-  for (int k = 0; k <= 4000; ++k) {
-    const double t = k * 1e-3;
-    while (p + 1 < prog.size() && prog[p + 1].first <= t + 1e-12) ++p;
-    m.t.push_back(t);
-    m.sp.push_back(prog[p].second);
-  }
-  truth.dt_us = 100;
-  const std::vector<BenchSample> s = simulate_bench(truth, m.t, m.sp, BenchSolver::closed_form);
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> na(0, 0.2), ni(0, 0.002);
-  for (const BenchSample& x : s) {
-    m.angle.push_back(x.angle_deg + na(rng));
-    m.current.push_back(x.current_a + ni(rng));
-  }
-  return m;
-}
+BenchConfig datasheet() { return test_datasheet(); }
 
 std::vector<std::string> effect_names(const Fit& f) {
   std::vector<std::string> out;
@@ -74,8 +46,8 @@ TEST(ServoCalibration, FindsAHiddenDeadbandAndShrinksTheGap) {
   EXPECT_GE(c.ci[kNumBase].second, 3.0);
   // the round that accepted it says why, the others were less good
   ASSERT_FALSE(c.search.rounds.empty());
-  EXPECT_TRUE(c.search.rounds[0][0].accepted);
-  EXPECT_NE(c.search.rounds[0][0].why.find("accepted"), std::string::npos);
+  EXPECT_TRUE(c.search.rounds[0].candidates[0].accepted);
+  EXPECT_NE(c.search.rounds[0].candidates[0].why.find("accepted"), std::string::npos);
   EXPECT_LT(c.ode_check_max_angle_diff_deg, 0.01);
 }
 
@@ -105,6 +77,31 @@ TEST(ServoCalibration, NoEffectIsAddedWhenNoneIsMissingAndTheReportSaysSo) {
     EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
   std::filesystem::remove_all(dir);
   EXPECT_THROW(write_calibration_report(c, "", "m.csv", dir + "/no/such/dir"), ReportError);
+}
+
+// The shipped bench file and set-point program with a 3 degree backlash, as
+// `chainsim bench` writes it (the ODE stand at 500 us, no noise, 4 decimals)
+// and `chainsim calibrate --bench` reads it. Its residual after backlash is
+// the ODE stand's own difference from the fit's solver, above the white
+// level of a record without noise: no catalogue effect is that difference.
+TEST(ServoCalibration, TheShippedBacklashRecordNamesBacklashAlone) {
+  const std::string scenes = std::string(CHAINSIM_SOURCE_DIR) + "/scenes/bench/";
+  const BenchConfig sheet = load_bench_config(scenes + "servo-default.yaml");
+  BenchConfig truth = sheet;
+  truth.servo.backlash_deg = 3.0;
+  const SetpointProgram prog = read_setpoints(scenes + "step-30-120.csv");
+  const std::string dir = testing::TempDir() + "/servo_calibration_shipped";
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream(dir + "/m.csv") << format_bench_csv(prog, simulate_bench(truth, prog.t_s, prog.setpoint_deg));
+  }
+  const ServoCalibration c = calibrate_servo(sheet, read_measured(dir + "/m.csv", 32), [](const std::string&) {});
+  std::filesystem::remove_all(dir);
+  std::printf("shipped backlash record: verdict %s, effects %zu, gap %.4f -> %.4f\n", c.verdict.c_str(),
+              c.final_fit.effects.size(), c.base.gap, c.search.model.gap);
+  ASSERT_EQ(effect_names(c.final_fit), std::vector<std::string>{"backlash"});
+  EXPECT_NEAR(c.final_fit.x[kNumBase], 3.0, 0.3);
+  EXPECT_LT(c.search.model.gap, 0.5 * c.base.gap);
 }
 
 }  // namespace

@@ -1,0 +1,189 @@
+// The pwm frame clock of a measurement (frame_clock.h).
+#include "analysis/calibration/frame_clock.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace chainsim {
+namespace {
+
+constexpr double kGrid_s = 1e-4;     // the delay grid and the model's output grid
+constexpr double kWindow_s = 0.3;    // a change's response window (at most)
+
+// how far a measured delay is from the clock's predicted one (in [0,
+// period)): directly, or across one frame edge (a change right at a frame
+// can land on either side of it); a delay longer than the period plus the
+// tolerance is never explained, so a clock of a fraction of the true period
+// (whose predictions match the delays modulo its period) does not fit
+double delay_dist(double pred, double delay, double period, double tol) {
+  if (delay > period + tol) return 1e300;
+  return std::min({std::fabs(pred - delay), std::fabs(pred + period - delay), std::fabs(pred - period - delay)});
+}
+
+}  // namespace
+
+std::vector<SetpointChange> setpoint_changes(const MeasuredRecord& m) {
+  std::vector<SetpointChange> out;
+  for (size_t k = 1; k < m.size(); ++k)
+    if (std::fabs(m.sp[k] - m.sp[k - 1]) > 0.25) out.push_back({k, m.t[k]});
+  return out;
+}
+
+std::vector<ChangeDelay> estimate_delays(const FitProblem& p, const BenchConfig& b, double max_delay_s) {
+  const MeasuredRecord& m = p.m;
+  const double t0 = m.t.front();
+  // the model on a uniform grid (the set-points act from the first step at
+  // or after their time either way)
+  const size_t ng = static_cast<size_t>(std::floor((m.t.back() - t0) / kGrid_s)) + 1;
+  std::vector<double> tg(ng), spg(ng);
+  for (size_t j = 0, k = 0; j < ng; ++j) {
+    tg[j] = t0 + j * kGrid_s;
+    while (k + 1 < m.size() && m.t[k + 1] <= tg[j] + 1e-12) ++k;
+    spg[j] = m.sp[k];
+  }
+  const std::vector<BenchSample> sim = simulate_bench(b, tg, spg, BenchSolver::closed_form);
+  ++p.model_runs;
+  auto at = [&](double t, bool current) {
+    const double f = std::clamp((t - t0) / kGrid_s, 0.0, static_cast<double>(ng - 1));
+    const size_t j = std::min(static_cast<size_t>(f), ng - 2);
+    const double w = f - j;
+    return current ? (1 - w) * sim[j].current_a + w * sim[j + 1].current_a
+                   : (1 - w) * sim[j].angle_deg + w * sim[j + 1].angle_deg;
+  };
+  const double wa = 1.0 / (p.sa * p.noise.angle), wi = 1.0 / (p.si * p.noise.current);
+  const std::vector<SetpointChange> ch = setpoint_changes(m);
+  const int nd = static_cast<int>(std::lround(max_delay_s / kGrid_s));
+  std::vector<ChangeDelay> out;
+  for (size_t c = 0; c < ch.size(); ++c) {
+    const double tc = ch[c].t;
+    const double t_end = std::min(tc + kWindow_s, c + 1 < ch.size() ? ch[c + 1].t : m.t.back() + 1);
+    std::vector<double> e(nd + 1, 0.0);
+    for (int i = 0; i <= nd; ++i) {
+      const double delay = i * kGrid_s;
+      for (size_t k = ch[c].k; k < m.size() && m.t[k] < t_end; ++k) {
+        // delayed: until tc + delay the servo still does what it did at tc
+        const double ts = std::max(m.t[k] - delay, tc);
+        const double ra = wa * (at(ts, false) - m.angle[k]);
+        const double ri = m.has_current ? wi * (at(ts, true) - m.current[k]) : 0.0;
+        e[i] += ra * ra + ri * ri;
+      }
+    }
+    const int best = static_cast<int>(std::min_element(e.begin(), e.end()) - e.begin());
+    // curvature over +-1 ms: e ~ e_min + (delay - d)^2 / sd^2
+    const int s = std::max(1, static_cast<int>(std::lround(1e-3 / kGrid_s)));
+    const int lo = std::max(0, best - s), hi = std::min(nd, best + s);
+    ChangeDelay d{tc, best * kGrid_s, -1};
+    if (hi > lo && best > 0 && best < nd) {
+      const double hl = (best - lo) * kGrid_s, hh = (hi - best) * kGrid_s;
+      const double c2 = 2 * ((e[lo] - e[best]) / hl + (e[hi] - e[best]) / hh) / (hl + hh);
+      if (c2 > 0) d.sd = std::max(kGrid_s, std::sqrt(2.0 / c2));
+    } else if (best == 0 && hi > 0) {   // at the edge: the one-sided rise
+      const double rise = e[hi] - e[0];
+      if (rise > 0) d.sd = std::max(kGrid_s, hi * kGrid_s / std::sqrt(rise));
+    }
+    out.push_back(d);
+  }
+  return out;
+}
+
+double frame_delay(const FrameClock& c, double t0, double t) {
+  const double x = std::fmod(c.phase_s - (t - t0), c.period_s);
+  return x < 0 ? x + c.period_s : x;
+}
+
+FrameClockFit fit_frame_clock(const std::vector<ChangeDelay>& all, double t0, double period_lo, double period_hi) {
+  FrameClockFit out;
+  // the changes that tell their delay within 2 ms
+  std::vector<ChangeDelay> d;
+  for (const ChangeDelay& c : all)
+    if (c.sd > 0 && c.sd < 2e-3) d.push_back(c);
+  out.used = static_cast<int>(d.size());
+  if (d.size() < 4) return out;
+  std::vector<double> tol(d.size());
+  for (size_t c = 0; c < d.size(); ++c) tol[c] = std::max(5e-4, 2.5 * d[c].sd);
+  auto score = [&](double period, double frame_abs) {
+    double s = 0;
+    for (size_t c = 0; c < d.size(); ++c) {
+      const double pred = std::fmod(std::fmod(frame_abs - d[c].t, period) + period, period);
+      const double q = delay_dist(pred, d[c].delay, period, tol[c]) / tol[c];
+      if (q < 1) s += 1 - q * q;
+    }
+    return s;
+  };
+  // anchors: the best-determined changes; each one's frame time sets the phase
+  std::vector<size_t> order(d.size());
+  for (size_t c = 0; c < d.size(); ++c) order[c] = c;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return d[a].sd < d[b].sd; });
+  order.resize(std::min<size_t>(6, order.size()));
+  const double span = std::max(0.1, d.back().t - d.front().t);
+  const double df = 0.04 / span;
+  double best = -1, best_period = 0, best_frame = 0;
+  for (double f = 1.0 / period_hi; f <= 1.0 / period_lo + 1e-12; f += df)
+    for (size_t a : order) {
+      const double s = score(1.0 / f, d[a].t + d[a].delay);
+      if (s > best + 1e-9) best = s, best_period = 1.0 / f, best_frame = d[a].t + d[a].delay;
+    }
+  // weighted least squares of the inliers' frame times on their frame numbers
+  double period = best_period, frame = best_frame;
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  int inliers = 0;
+  bool solved = false;
+  for (int pass = 0; pass < 2; ++pass) {
+    Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
+    std::vector<std::pair<double, double>> pts;   // (n, frame time), weight
+    std::vector<double> wts;
+    int inl = 0;
+    for (size_t c = 0; c < d.size(); ++c) {
+      const double pred = std::fmod(std::fmod(frame - d[c].t, period) + period, period);
+      if (delay_dist(pred, d[c].delay, period, tol[c]) >= tol[c]) continue;
+      ++inl;
+      // a delay within 2 sd of 0 is censored (it cannot come out negative):
+      // an inlier, but biased, so it stays out of the least squares
+      if (d[c].delay < 2 * d[c].sd) continue;
+      const double fc = d[c].t + d[c].delay;
+      const double n = std::round((fc - frame) / period);
+      const double w = 1.0 / (d[c].sd * d[c].sd);
+      A(0, 0) += w, A(0, 1) += w * n, A(1, 1) += w * n * n;
+      rhs(0) += w * fc, rhs(1) += w * n * fc;
+      pts.push_back({n, fc});
+      wts.push_back(w);
+    }
+    A(1, 0) = A(0, 1);
+    inliers = inl;
+    if (pts.size() < 3 || std::fabs(A.determinant()) < 1e-30) break;
+    const Eigen::Vector2d sol = A.ldlt().solve(rhs);   // frame time at n = 0, period
+    double chi2 = 0;
+    for (size_t i = 0; i < pts.size(); ++i) {
+      const double r = pts[i].second - sol(0) - sol(1) * pts[i].first;
+      chi2 += wts[i] * r * r;
+    }
+    frame = sol(0), period = sol(1);
+    solved = true;
+    cov = A.inverse() * std::max(1.0, chi2 / std::max<int>(1, static_cast<int>(pts.size()) - 2));
+  }
+  out.inliers = inliers;
+  // the range with 1 % slack: a clock at the range's end fits a hair beyond it
+  if (!solved || inliers < 4 || 2 * inliers < out.used || !(period >= 0.99 * period_lo && period <= 1.01 * period_hi))
+    return out;
+  // the phase: the first frame at or after t0, t0 + phase = frame + m period
+  const double m = std::ceil((t0 - frame) / period - 1e-12);
+  out.clock.period_s = period;
+  out.clock.phase_s = std::clamp(frame + m * period - t0, 0.0, period);
+  const double sd_t = std::sqrt(std::max(0.0, cov(1, 1)));
+  const double sd_p = std::sqrt(std::max(0.0, cov(0, 0) + m * m * cov(1, 1) + 2 * m * cov(0, 1)));
+  out.period_ci_s = {period - 1.96 * sd_t, period + 1.96 * sd_t};
+  out.phase_ci_s = {out.clock.phase_s - 1.96 * sd_p, out.clock.phase_s + 1.96 * sd_p};
+  out.found = true;
+  return out;
+}
+
+FrameClockFit frame_clock_for(const FitProblem& p, const BenchConfig& b) {
+  const std::vector<Effect>& cat = effect_catalogue();
+  double lo = 2.5e-3, hi = 40e-3;
+  for (const Effect& e : cat)
+    if (e.fit == EffectFit::frame_clock) lo = e.params[0].lo * e.params[0].to_model, hi = e.params[0].hi * e.params[0].to_model;
+  return fit_frame_clock(estimate_delays(p, b, hi), p.m.t.front(), lo, hi);
+}
+
+}  // namespace chainsim

@@ -1,0 +1,56 @@
+// The pwm frame clock of a measurement: a servo that reads its set-point only
+// at pulse frames (phase + n x period, the phase arbitrary on a real servo)
+// answers each set-point change late by the time to the next frame. The
+// delay of every change is measured against the current model (its response
+// shifted in time), then the period and phase are fitted to those delays:
+// a scan of the frequency, then weighted least squares of the frame times
+// on their frame numbers, which gives the intervals.
+// docs/calibration.md, "Method".
+#pragma once
+
+#include <utility>
+#include <vector>
+
+#include "analysis/calibration/servo_fit.h"
+
+namespace chainsim {
+
+// a set-point change of more than 0.25 degrees: its first sample and time
+struct SetpointChange {
+  size_t k = 0;
+  double t = 0;
+};
+std::vector<SetpointChange> setpoint_changes(const MeasuredRecord& m);
+
+// a change's measured delay and its standard deviation (s); sd < 0: the
+// change does not tell (its response does not depend on the delay)
+struct ChangeDelay {
+  double t = 0, delay = 0, sd = -1;
+};
+
+// per change, the delay in [0, max_delay_s] at which the model b's response
+// (one run on a 100 us grid, shifted) fits the measurement best in noise units
+std::vector<ChangeDelay> estimate_delays(const FitProblem& p, const BenchConfig& b, double max_delay_s);
+
+// frames at t0 + phase + n period (0 <= phase < period)
+struct FrameClock {
+  double period_s = 0, phase_s = 0;
+};
+// the delay the clock gives a change at t: to the first frame at or after t
+double frame_delay(const FrameClock& c, double t0, double t);
+
+struct FrameClockFit {
+  bool found = false;
+  FrameClock clock;
+  std::pair<double, double> period_ci_s, phase_ci_s;   // 95 %
+  int used = 0, inliers = 0;   // changes that tell the delay; those the clock explains
+};
+
+// the clock (period in [period_lo, period_hi]) whose delays match d: found
+// when at least 4 changes, and half of those that tell, agree with it
+FrameClockFit fit_frame_clock(const std::vector<ChangeDelay>& d, double t0, double period_lo, double period_hi);
+
+// delays against the model b, then the clock (2.5..40 ms)
+FrameClockFit frame_clock_for(const FitProblem& p, const BenchConfig& b);
+
+}  // namespace chainsim

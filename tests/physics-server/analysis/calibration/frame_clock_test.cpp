@@ -1,0 +1,107 @@
+// The frame clock: period and phase from the delays of set-point changes,
+// first on delays made from a known clock, then on a record of the bench
+// model whose servo reads its set-point at 20 ms frames starting 7 ms in.
+#include "analysis/calibration/frame_clock.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "bench_record.h"
+
+namespace chainsim {
+namespace {
+
+// 15 changes at random times over 4 s, delayed by the clock, plus noise
+std::vector<ChangeDelay> delays_of(const FrameClock& c, double t0, double noise, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.05, 4.0);
+  std::normal_distribution<double> n(0, noise);
+  std::vector<double> t(15);
+  for (double& x : t) x = t0 + u(rng);
+  std::sort(t.begin(), t.end());
+  std::vector<ChangeDelay> d;
+  for (double x : t) d.push_back({x, std::max(0.0, frame_delay(c, t0, x) + n(rng)), std::max(noise, 1e-4)});
+  return d;
+}
+
+TEST(FrameClock, DelayIsTheTimeToTheNextFrame) {
+  const FrameClock c{0.02, 0.007};
+  EXPECT_NEAR(frame_delay(c, 1.0, 1.0), 0.007, 1e-12);
+  EXPECT_NEAR(frame_delay(c, 1.0, 1.008), 0.019, 1e-12);
+  EXPECT_NEAR(frame_delay(c, 1.0, 1.027), 0.0, 1e-12);
+  EXPECT_NEAR(frame_delay(c, 1.0, 2.5), 0.007, 1e-9);   // 1.507 + 0.02 k
+}
+
+TEST(FrameClock, RecoversPeriodAndPhaseFromNoisyDelays) {
+  int runs = 0, missed = 0;   // 95 % period intervals that miss the truth
+  for (const FrameClock truth : {FrameClock{0.02, 0.007}, FrameClock{0.0123, 0.0111}, FrameClock{0.0035, 0.001}}) {
+    for (unsigned seed = 1; seed <= 5; ++seed) {
+      const double t0 = 0.25;
+      const FrameClockFit f = fit_frame_clock(delays_of(truth, t0, 2e-4, seed), t0, 2.5e-3, 40e-3);
+      ASSERT_TRUE(f.found) << truth.period_s << " seed " << seed;
+      EXPECT_NEAR(f.clock.period_s, truth.period_s, 2e-5) << seed;
+      // phases compare modulo the period
+      const double dp = std::fmod(f.clock.phase_s - truth.phase_s + 1.5 * truth.period_s, truth.period_s) -
+                        0.5 * truth.period_s;
+      EXPECT_NEAR(dp, 0.0, 6e-4) << seed;
+      ++runs;
+      missed += f.period_ci_s.first > truth.period_s || f.period_ci_s.second < truth.period_s;
+      EXPECT_GE(f.inliers, 12);
+    }
+  }
+  // a 95 % interval misses about 1 in 20; 3 or more of 15 would happen by
+  // chance 3.6 % of the time
+  std::printf("period intervals missing the truth: %d of %d\n", missed, runs);
+  EXPECT_LE(missed, 2);
+}
+
+TEST(FrameClock, NeitherHalfNorTwiceThePeriod) {
+  // 40 ms frames: 20 ms would predict half the delays too short, 80 ms
+  // half of them a frame too late
+  const FrameClock truth{0.04, 0.013};
+  const FrameClockFit f = fit_frame_clock(delays_of(truth, 0.0, 1e-4, 3), 0.0, 2.5e-3, 40e-3);
+  ASSERT_TRUE(f.found);
+  EXPECT_NEAR(f.clock.period_s, 0.04, 1e-4);
+  // outliers (a change the model got wrong) do not move it
+  std::vector<ChangeDelay> d = delays_of(truth, 0.0, 1e-4, 4);
+  d[3].delay += 0.011, d[9].delay = 0.0;
+  const FrameClockFit g = fit_frame_clock(d, 0.0, 2.5e-3, 40e-3);
+  ASSERT_TRUE(g.found);
+  EXPECT_NEAR(g.clock.period_s, 0.04, 1e-4);
+  EXPECT_EQ(g.inliers, 13);
+  // too few changes tell their delay
+  d.resize(3);
+  EXPECT_FALSE(fit_frame_clock(d, 0.0, 2.5e-3, 40e-3).found);
+}
+
+TEST(FrameClock, FromABenchRecordWithFramesAtAnArbitraryPhase) {
+  BenchConfig truth = test_datasheet();
+  truth.servo.pwm_frame_s = 0.02;
+  truth.servo.pwm_frame_phase_s = 0.007;
+  FitProblem p = make_fit_problem(test_datasheet(), bench_record(truth, 3));
+  // the loss's unit: the record's noise (0.2 deg, 2 mA) in normalised units
+  p.noise.angle = 0.2 / p.sa;
+  p.noise.current = 0.002 / p.si;
+  const std::vector<ChangeDelay> d = estimate_delays(p, test_datasheet(), 0.04);
+  ASSERT_EQ(d.size(), 14u);
+  int told = 0;
+  for (const ChangeDelay& c : d) {
+    if (c.sd < 0 || c.sd > 2e-3) continue;
+    ++told;
+    const double truth_delay = frame_delay({0.02, 0.007}, 0.0, c.t);
+    EXPECT_NEAR(c.delay, truth_delay, 1e-3) << "change at " << c.t;
+  }
+  EXPECT_GE(told, 10);
+  const FrameClockFit f = frame_clock_for(p, test_datasheet());
+  ASSERT_TRUE(f.found);
+  std::printf("bench record, 20 ms frames at 7 ms: period %.4f ms [%.4f, %.4f], phase %.3f ms [%.3f, %.3f], %d of %d "
+              "changes\n",
+              f.clock.period_s * 1e3, f.period_ci_s.first * 1e3, f.period_ci_s.second * 1e3, f.clock.phase_s * 1e3,
+              f.phase_ci_s.first * 1e3, f.phase_ci_s.second * 1e3, f.inliers, f.used);
+  EXPECT_NEAR(f.clock.period_s, 0.02, 5e-5);
+  EXPECT_NEAR(f.clock.phase_s, 0.007, 5e-4);
+}
+
+}  // namespace
+}  // namespace chainsim

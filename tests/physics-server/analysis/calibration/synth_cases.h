@@ -1,0 +1,108 @@
+// The hidden-effect cases of the calibration tests and the study: every
+// catalogue effect alone, every pair, null data, an effect outside the
+// catalogue (generator A, synth.h), and backlash and supply sag from the
+// independent generator B (synth_b.h). Each case draws its magnitudes (and a
+// frame period and phase) from the seed, so no two seeds see the same servo.
+#pragma once
+
+#include <functional>
+#include <map>
+
+#include "synth.h"
+#include "synth_b.h"
+
+namespace synth {
+
+struct Case {
+  std::string name;
+  std::vector<std::string> expect;              // effect names (empty: no_missing_effect / unexplained)
+  std::string verdict;                          // the expected verdict
+  char generator = 'A';
+  std::map<std::string, std::string> variant;   // the form expected where it is checked
+  std::function<void(Truth&, std::mt19937_64&)> set;
+
+  Truth truth(unsigned seed, const Conditions& c) const {
+    Truth t;
+    apply(c, &t);
+    std::mt19937_64 rng(0xca5e0000u + seed);
+    if (set) set(t, rng);
+    return t;
+  }
+  Series record(const Truth& t, unsigned seed) const {
+    return generator == 'B' ? generate_b(t, seed) : generate(t, seed);
+  }
+};
+
+// magnitude factor U(0.7, 1.3)
+inline double spread(std::mt19937_64& rng) { return std::uniform_real_distribution<double>(0.7, 1.3)(rng); }
+
+// one effect of the catalogue on generator A's truth
+struct EffectSetter {
+  std::string name;
+  std::function<void(Truth&, std::mt19937_64&)> set;
+};
+
+inline const std::vector<EffectSetter>& effect_setters() {
+  static const std::vector<EffectSetter> e = {
+      {"static_friction_threshold", [](Truth& t, std::mt19937_64& r) { t.i_th = 0.06 * spread(r); }},
+      {"coulomb_friction", [](Truth& t, std::mt19937_64& r) { t.coulomb = 0.006 * spread(r); }},
+      {"backlash", [](Truth& t, std::mt19937_64& r) { t.backlash_deg = 3 * spread(r); }},
+      {"deadband", [](Truth& t, std::mt19937_64& r) { t.deadband_deg = 3 * spread(r); }},
+      {"supply_sag", [](Truth& t, std::mt19937_64& r) { t.sag_ohm = 4 * spread(r); }},
+      {"pwm_frame_delay",
+       [](Truth& t, std::mt19937_64& r) {
+         t.frame_s = std::uniform_real_distribution<double>(0.008, 0.025)(r);
+         t.frame_phase_s = std::uniform_real_distribution<double>(0, t.frame_s)(r);
+       }},
+      {"current_limit", [](Truth& t, std::mt19937_64& r) { t.ilim = 0.22 * spread(r); }},
+  };
+  return e;
+}
+
+inline std::vector<Case> cases() {
+  std::vector<Case> c;
+  c.push_back({"null", {}, "no_missing_effect", 'A', {}, nullptr});
+  const auto& es = effect_setters();
+  for (const EffectSetter& e : es) {
+    Case k{e.name, {e.name}, "explained", 'A', {}, e.set};
+    if (e.name == "supply_sag") k.variant["supply_sag"] = "pwm_bridge";
+    c.push_back(k);
+  }
+  for (size_t a = 0; a < es.size(); ++a)
+    for (size_t b = a + 1; b < es.size(); ++b) {
+      const auto sa = es[a].set, sb = es[b].set;
+      c.push_back({es[a].name + "+" + es[b].name, {es[a].name, es[b].name}, "explained", 'A', {},
+                   [sa, sb](Truth& t, std::mt19937_64& r) {
+                     sa(t, r);
+                     sb(t, r);
+                   }});
+    }
+  c.push_back({"cogging (outside the catalogue)", {}, "unexplained", 'A', {},
+               [](Truth& t, std::mt19937_64& r) { t.cogging_nm = 0.01 * spread(r); }});
+  // generator B
+  c.push_back({"B: null", {}, "no_missing_effect", 'B', {}, nullptr});
+  c.push_back({"B: backlash (rigid, restitution 0.2)", {"backlash"}, "explained", 'B', {{"backlash", "rigid"}},
+               [](Truth& t, std::mt19937_64& r) { t.backlash_deg = 3 * spread(r); }});
+  c.push_back({"B: supply_sag (PWM bridge, rail capacitor)", {"supply_sag"}, "explained", 'B',
+               {{"supply_sag", "pwm_bridge"}}, [](Truth& t, std::mt19937_64& r) { t.sag_ohm = 4 * spread(r); }});
+  c.push_back({"B: supply_sag (linear driver, rail capacitor)", {"supply_sag"}, "explained", 'B',
+               {{"supply_sag", "linear_driver"}}, [](Truth& t, std::mt19937_64& r) {
+                 t.sag_ohm = 4 * spread(r);
+                 t.linear_driver = true;
+               }});
+  c.push_back({"B: backlash+supply_sag", {"backlash", "supply_sag"}, "explained", 'B',
+               {{"backlash", "rigid"}, {"supply_sag", "pwm_bridge"}}, [](Truth& t, std::mt19937_64& r) {
+                 t.backlash_deg = 3 * spread(r);
+                 t.sag_ohm = 4 * spread(r);
+               }});
+  return c;
+}
+
+// the case of that name (tests)
+inline Case case_named(const std::string& name) {
+  for (const Case& c : cases())
+    if (c.name == name) return c;
+  return {};
+}
+
+}  // namespace synth

@@ -1,0 +1,144 @@
+// The servo model's catalogue variants (servo_model.h): the pwm frame phase,
+// the linear-driver supply sag and the compliant backlash mesh, each on a
+// one-hinge stand stepped in closed form ((Jl/h + D) w' = Jl w / h + D v + tau).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "physics/actuators/servo_model.h"
+
+namespace chainsim {
+namespace {
+
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+constexpr double kLoad = 3e-6;
+
+struct Stand {
+  ServoModel s;
+  double theta = 0, w = 0, tau = 0, h = 1e-4;
+  explicit Stand(const ServoParams& p) : s(p) {}
+  void step() {
+    const ServoModel::StepLaw law = s.begin_step(theta, w, h);
+    const double jh = kLoad / h;
+    w = (jh * w + law.damping * law.target_rate + tau) / (jh + law.damping);
+    s.end_step(w);
+    theta += h * w;
+  }
+  // runs to time t (s) from its current time, set-point sp (rad)
+  void run(double seconds, double sp) {
+    s.set_setpoint(sp);
+    for (long k = std::lround(seconds / h); k > 0; --k) step();
+  }
+};
+
+// the time (s) of the first step whose applied set-point is sp
+double latch_time(const ServoParams& p, double change_at, double sp) {
+  Stand st(p);
+  const double h = st.h;
+  for (int n = 0; n < 2000; ++n) {
+    if (n * h >= change_at - 1e-12) st.s.set_setpoint(sp);
+    st.step();
+    if (st.s.applied_setpoint() == sp) return n * h;
+  }
+  return -1;
+}
+
+TEST(ServoVariants, FramesStartAtThePhaseAndRepeatEveryPeriod) {
+  ServoParams p;
+  p.pwm_frame_s = 0.02;
+  // phase 0: frames at 0, 20, 40 ms; a change at 3 ms waits for 20 ms
+  EXPECT_NEAR(latch_time(p, 0.003, 0.5), 0.020, 1e-9);
+  // phase 7 ms: frames at 7, 27, 47 ms
+  p.pwm_frame_phase_s = 0.007;
+  EXPECT_NEAR(latch_time(p, 0.003, 0.5), 0.007, 1e-9);
+  EXPECT_NEAR(latch_time(p, 0.0071, 0.5), 0.027, 1e-9);
+  // a phase longer than the period: the first frame is at the phase
+  p.pwm_frame_phase_s = 0.031;
+  EXPECT_NEAR(latch_time(p, 0.0, 0.5), 0.031, 1e-9);
+  // before the first frame the servo holds the set-point it had (0)
+  Stand st(p);
+  st.run(0.03, 0.5);
+  EXPECT_EQ(st.s.applied_setpoint(), 0.0);
+  EXPECT_EQ(st.theta, 0.0);
+}
+
+TEST(ServoVariants, LinearDriverSagKeepsTheGainAndLowersTheLimit) {
+  // hold the output still against a set-point error e and read the drive
+  auto drive = [](const ServoParams& p, double err_rad) {
+    ServoModel s(p);
+    s.set_setpoint(err_rad);
+    for (int k = 0; k < 400; ++k) {
+      s.begin_step(0.0, 0.0, 1e-4);
+      s.end_step(0.0);
+    }
+    return std::pair<double, double>(s.drive_voltage_v(), s.current_a());
+  };
+  ServoParams pwm, lin;
+  pwm.supply_sag_ohm = 4.0;
+  lin.supply_sag_linear_ohm = 4.0;
+  // small error (Kp e = 0.84 V): the linear driver keeps Kp e, the bridge scales it
+  const double e = 4 * kDeg;
+  const auto [vl, il] = drive(lin, e);
+  const auto [vp, ip] = drive(pwm, e);
+  EXPECT_NEAR(vl, ServoParams{}.kp * e, 1e-9);
+  EXPECT_NEAR(vp, ServoParams{}.kp * e * (1 - 4.0 * ip / 5.0), 1e-4);
+  EXPECT_LT(vp, 0.97 * vl);   // 1 - Rs i / Vs = 0.94 at i = 70 mA
+  // stalled at a large error: both reach Vs - Rs i (duty 1 / the limit),
+  // i = Vs / (R + Rs)
+  const auto [vl2, il2] = drive(lin, 1.0);
+  const auto [vp2, ip2] = drive(pwm, 1.0);
+  EXPECT_NEAR(il2, 5.0 / 16.0, 1e-6);
+  EXPECT_NEAR(ip2, 5.0 / 16.0, 1e-6);
+  EXPECT_NEAR(vl2, 5.0 - 4.0 * il2, 1e-6);
+  EXPECT_NEAR(vp2, vl2, 1e-6);
+}
+
+TEST(ServoVariants, CompliantMeshDeflectsUnderLoadByTorqueOverStiffness) {
+  ServoParams p;
+  p.backlash_deg = 2.0;
+  p.backlash_stiffness_nm_rad = 0.5;
+  Stand st(p);
+  st.tau = 0.01;  // pushes the output towards larger angles
+  st.run(1.0, 0.0);
+  // the servo holds the output near 0 by pulling against the load: the rotor
+  // sits behind it by the half play plus tau / k
+  const double expect = -(1.0 * kDeg + st.tau / p.backlash_stiffness_nm_rad);
+  std::printf("compliant mesh under 0.01 N m: offset %.4f deg (half play + tau/k = %.4f)\n",
+              st.s.backlash_offset() / kDeg, expect / kDeg);
+  EXPECT_NEAR(st.s.backlash_offset(), expect, 1e-4);
+  EXPECT_NEAR(st.s.motor_torque_nm(), -st.tau, 1e-6);
+}
+
+TEST(ServoVariants, AStiffMeshMovesLikeTheRigidContact) {
+  // a 60 degree move and back: the stiff compliant mesh against the rigid one
+  auto path = [](double k) {
+    ServoParams p;
+    p.backlash_deg = 3.0;
+    p.backlash_stiffness_nm_rad = k;
+    Stand st(p);
+    st.tau = 0.004;
+    std::vector<double> th;
+    for (double sp : {0.0, 60.0, 20.0, 25.0}) {
+      st.s.set_setpoint(sp * kDeg);
+      for (int n = 0; n < 3000; ++n) {
+        st.step();
+        if (n % 10 == 0) th.push_back(st.theta / kDeg);
+      }
+    }
+    return th;
+  };
+  const std::vector<double> rigid = path(0.0), stiff = path(200.0), soft = path(0.3);
+  double d_stiff = 0, d_soft = 0;
+  for (size_t k = 0; k < rigid.size(); ++k) {
+    d_stiff = std::max(d_stiff, std::fabs(stiff[k] - rigid[k]));
+    d_soft = std::max(d_soft, std::fabs(soft[k] - rigid[k]));
+  }
+  std::printf("mesh 200 N m/rad vs rigid: max %.3f deg; 0.3 N m/rad vs rigid: %.3f deg\n", d_stiff, d_soft);
+  EXPECT_LT(d_stiff, 0.3);
+  EXPECT_GT(d_soft, 1.0);   // a soft mesh is another servo
+  EXPECT_NEAR(stiff.back(), 25.0, 2.0);
+}
+
+}  // namespace
+}  // namespace chainsim
