@@ -104,25 +104,35 @@ void hs_connect(const char *path)
 
 /* ---- framing ------------------------------------------------------------ */
 
+/* send the first n bytes of tx_buf; 0, or the errno of the failure. Plain
+ * send() only: also used from a signal handler (hs_send_last_words) */
+static int send_tx(size_t n)
+{
+    size_t off = 0;
+    while (off < n) { /* normally a single send() */
+        ssize_t w = send(hs.fd, tx_buf + off, n - off, MSG_NOSIGNAL);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w <= 0)
+            return w < 0 ? errno : EPIPE;
+        off += (size_t)w;
+    }
+    return 0;
+}
+
 static void send_msg(const cs_msg *m)
 {
     const char *reason = "?";
     size_t n = cs_encode(m, tx_buf, sizeof tx_buf, &reason);
-    size_t off = 0;
+    int err;
 
     if (n == 0)
         hs_die(HS_EXIT_PROTOCOL, "cannot encode %s: %s", cs_msg_name(m->type), reason);
-    while (off < n) { /* normally a single send() */
-        ssize_t w = send(hs.fd, tx_buf + off, n - off, MSG_NOSIGNAL);
-        if (w < 0) {
-            if (errno == EINTR)
-                continue;
-            if (errno == EPIPE || errno == ECONNRESET)
-                hs_die(HS_EXIT_PROTOCOL, "server closed the connection");
-            hs_die(HS_EXIT_PROTOCOL, "send(): %s", strerror(errno));
-        }
-        off += (size_t)w;
-    }
+    err = send_tx(n);
+    if (err == EPIPE || err == ECONNRESET)
+        hs_die(HS_EXIT_PROTOCOL, "server closed the connection");
+    if (err != 0)
+        hs_die(HS_EXIT_PROTOCOL, "send(): %s", strerror(err));
 }
 
 /* make at least need bytes available at rx_buf + rx_pos */
@@ -348,20 +358,13 @@ uint8_t hs_exchange(uint64_t wake_time_us, uint8_t wake_events)
 void hs_send_last_words(void)
 {
     const char *reason = "?";
-    size_t n, off = 0;
+    size_t n;
 
     if (hs.fd < 0 || !hs.owes_tick_end || hs.n_log == 0)
         return;
     hs.owes_tick_end = 0;
     fill_tick_end(hs.time_us + hs.tick_us, 0, 0);
     n = cs_encode(&tx_msg, tx_buf, sizeof tx_buf, &reason);
-    while (off < n) {
-        ssize_t w = send(hs.fd, tx_buf + off, n - off, MSG_NOSIGNAL);
-        if (w < 0 && errno == EINTR)
-            continue;
-        if (w <= 0)
-            return;
-        off += (size_t)w;
-    }
-    hs.n_log = 0;
+    if (n != 0 && send_tx(n) == 0)
+        hs.n_log = 0;
 }

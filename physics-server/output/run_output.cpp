@@ -18,8 +18,8 @@
 namespace chainsim {
 
 namespace {
-FILE* open_or_throw(const std::string& path, const char* mode = "we") {
-  FILE* f = std::fopen(path.c_str(), mode);  // "e": close-on-exec, module processes must not inherit it
+FILE* open_or_throw(const std::string& path) {
+  FILE* f = std::fopen(path.c_str(), "we");  // close-on-exec: module processes must not inherit it
   if (!f) throw std::runtime_error("cannot write " + path + ": " + std::strerror(errno));
   std::setvbuf(f, nullptr, _IOFBF, 1 << 16);
   return f;

@@ -4,19 +4,12 @@
 #include <string>
 
 #include "scene/scene.h"
+#include "scene_error_of.h"
 
 using chainsim::load_scene_text;
-using chainsim::SceneError;
+using chainsim::testing::scene_error_of;
 
 namespace {
-std::string error_of(const std::string& yaml) {
-  try {
-    load_scene_text(yaml, "s.yaml");
-  } catch (const SceneError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
 
 std::string pipe_of(int segments) {
   std::string segs;
@@ -26,19 +19,19 @@ std::string pipe_of(int segments) {
 }  // namespace
 
 TEST(SceneBounds, ChainOfMoreThan64ModulesNamesTheCountAndTheLimit) {
-  EXPECT_EQ(error_of("chain: " + std::string(65, 'R') + "\n"),
+  EXPECT_EQ(scene_error_of("chain: " + std::string(65, 'R') + "\n"),
             "s.yaml:1:8: 'chain' has 65 modules, more than the limit of 64");
   std::string list = "chain:\n";
   for (int i = 0; i < 100; ++i) list += "  - {type: rotation}\n";
-  EXPECT_EQ(error_of(list), "s.yaml:2:3: 'chain' has 100 modules, more than the limit of 64");
+  EXPECT_EQ(scene_error_of(list), "s.yaml:2:3: 'chain' has 100 modules, more than the limit of 64");
   EXPECT_EQ(load_scene_text("chain: " + std::string(64, 'R') + "\n", "s.yaml").modules.size(), 64u);
 }
 
 // 100 000 segments used to be accepted and the run never finished building
 TEST(SceneBounds, PipeOfMoreThan1000SegmentsNamesTheCountAndTheLimit) {
-  const std::string e = error_of(pipe_of(1001));
+  const std::string e = scene_error_of(pipe_of(1001));
   EXPECT_NE(e.find("s.yaml:6:15: 'environment.pipe.segments' has 1001 segments, more than the limit of 1000"),
             std::string::npos)
       << e.substr(0, 300);
-  EXPECT_EQ(error_of(pipe_of(1000)).find("more than the limit"), std::string::npos);
+  EXPECT_EQ(scene_error_of(pipe_of(1000)).find("more than the limit"), std::string::npos);
 }

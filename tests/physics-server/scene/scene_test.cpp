@@ -6,20 +6,10 @@
 #include <vector>
 
 #include "scene/scene.h"
+#include "scene_error_of.h"
 
 using chainsim::load_scene_text;
-using chainsim::SceneError;
-
-namespace {
-std::string error_of(const std::string& yaml) {
-  try {
-    load_scene_text(yaml, "s.yaml");
-  } catch (const SceneError& e) {
-    return e.what();
-  }
-  return "(no error)";
-}
-}  // namespace
+using chainsim::testing::scene_error_of;
 
 TEST(Scene, BuiltInDefaultIsASnakeOfEightRotationModules) {
   const auto s = chainsim::default_scene();
@@ -55,7 +45,7 @@ TEST(Scene, ChainTypesFollowTheModuleList) {
 TEST(Scene, SeedIsTheWorldsSeed) {
   EXPECT_EQ(load_scene_text("chain: R\n", "s.yaml").world.seed, 1u);
   EXPECT_EQ(load_scene_text("chain: R\nseed: 42\n", "s.yaml").world.seed, 42u);
-  const std::string e = error_of("chain: R\nseed: -3\n");
+  const std::string e = scene_error_of("chain: R\nseed: -3\n");
   EXPECT_EQ(e.rfind("s.yaml:2:7: ", 0), 0u) << e;
   EXPECT_NE(e.find("'scene.seed' = -3 is out of range"), std::string::npos) << e;
 }
@@ -106,69 +96,69 @@ TEST(Scene, ProgramsGiveEveryModuleAndEveryTypeItsProgramAndParameters) {
 }
 
 TEST(Scene, ProgramsForAnUnknownTypeOrWithAnUnknownKeyAreNamed) {
-  std::string e = error_of("programs:\n  rotaton: {firmware: fw-x}\nchain: R\n");
+  std::string e = scene_error_of("programs:\n  rotaton: {firmware: fw-x}\nchain: R\n");
   EXPECT_NE(e.find("s.yaml:2:3"), std::string::npos) << e;
   EXPECT_NE(e.find("'rotaton'"), std::string::npos) << e;
-  e = error_of("programs:\n  rotation: {firmwre: fw-x}\nchain: R\n");
+  e = scene_error_of("programs:\n  rotation: {firmwre: fw-x}\nchain: R\n");
   EXPECT_NE(e.find("s.yaml:2"), std::string::npos) << e;
   EXPECT_NE(e.find("firmwre"), std::string::npos) << e;
 }
 
 TEST(Scene, UnknownKeyIsNamedWithItsLineAndColumn) {
-  const std::string e = error_of("chain: RR\nphysics:\n  dt_us: 500\n  tik_us: 1000\n");
+  const std::string e = scene_error_of("chain: RR\nphysics:\n  dt_us: 500\n  tik_us: 1000\n");
   EXPECT_NE(e.find("s.yaml:4:3"), std::string::npos) << e;
   EXPECT_NE(e.find("tik_us"), std::string::npos) << e;
   EXPECT_NE(e.find("tick_us"), std::string::npos) << e;  // the known keys are listed
 }
 
 TEST(Scene, UnknownChainLetterIsAnError) {
-  EXPECT_EQ(error_of("chain: RRX\n"),
+  EXPECT_EQ(scene_error_of("chain: RRX\n"),
             "s.yaml:1:8: 'chain' has unknown module letter 'X' (T touch, R rotation, H helicoidal, "
             "S support, E extension, W traveller, P passive)");
 }
 
 TEST(Scene, MissingChainIsAnError) {
-  EXPECT_EQ(error_of("name: x\n"),
+  EXPECT_EQ(scene_error_of("name: x\n"),
             "s.yaml:1:1: missing key 'chain' (a string such as \"RRRRRRRR\" or a list of modules)");
 }
 
 TEST(Scene, NumberOfTheWrongTypeNamesTheKey) {
-  const std::string e = error_of("chain: R\nduration_s: long\n");
+  const std::string e = scene_error_of("chain: R\nduration_s: long\n");
   EXPECT_EQ(e.rfind("s.yaml:2:13: 'scene.duration_s' ", 0), 0u) << e;
 }
 
 TEST(Scene, TickMustBeAMultipleOfThePhysicsStep) {
-  EXPECT_EQ(error_of("chain: R\nphysics: {dt_us: 400, tick_us: 1000}\n"),
+  EXPECT_EQ(scene_error_of("chain: R\nphysics: {dt_us: 400, tick_us: 1000}\n"),
             "s.yaml:2:10: 'physics.tick_us' (1000) must be a multiple of 'physics.dt_us' (400)");
-  EXPECT_EQ(error_of("chain: R\nphysics: {dt_us: 400, tick_us: 1200}\n"), "(no error)");
+  EXPECT_EQ(scene_error_of("chain: R\nphysics: {dt_us: 400, tick_us: 1200}\n"), "(no error)");
 }
 
 TEST(Scene, OutOfRangeValueIsAnError) {
-  const std::string e = error_of("chain: R\nenvironment: {material: {bounce: 2}}\n");
+  const std::string e = scene_error_of("chain: R\nenvironment: {material: {bounce: 2}}\n");
   EXPECT_EQ(e.rfind("s.yaml:2:34: 'environment.material.bounce' = 2 ", 0), 0u) << e;
-  EXPECT_EQ(error_of("chain: R\nenvironment: {material: {bounce: 1}}\n"), "(no error)");
+  EXPECT_EQ(scene_error_of("chain: R\nenvironment: {material: {bounce: 1}}\n"), "(no error)");
 }
 
 // ODE aborts on a non-finite position: the scene reader must stop it first
 TEST(Scene, PlacementPositionIsFiniteAndBounded) {
-  EXPECT_EQ(error_of("chain: R\nplacement: {position_m: [0, .nan, 0.02]}\n"),
+  EXPECT_EQ(scene_error_of("chain: R\nplacement: {position_m: [0, .nan, 0.02]}\n"),
             "s.yaml:2:29: 'placement.position_m[1]' must be a finite number, not '.nan'");
-  EXPECT_EQ(error_of("chain: R\nplacement: {position_m: [-.inf, 0, 0.02]}\n"),
+  EXPECT_EQ(scene_error_of("chain: R\nplacement: {position_m: [-.inf, 0, 0.02]}\n"),
             "s.yaml:2:26: 'placement.position_m[0]' must be a finite number, not '-.inf'");
-  EXPECT_EQ(error_of("chain: R\nplacement: {position_m: [0, 0, 1e300]}\n"),
+  EXPECT_EQ(scene_error_of("chain: R\nplacement: {position_m: [0, 0, 1e300]}\n"),
             "s.yaml:2:32: 'placement.position_m[2]' = 1e300 is out of range [-10000, 10000]");
-  EXPECT_EQ(error_of("chain: R\nplacement: {position_m: [1, 2, 0.1]}\n"), "(no error)");
+  EXPECT_EQ(scene_error_of("chain: R\nplacement: {position_m: [1, 2, 0.1]}\n"), "(no error)");
 }
 
 TEST(Scene, DuplicateKeyAndSecondDocumentAreErrors) {
-  EXPECT_EQ(error_of("chain: R\nduration_s: 2\nduration_s: 5\n"),
+  EXPECT_EQ(scene_error_of("chain: R\nduration_s: 2\nduration_s: 5\n"),
             "s.yaml:3:1: duplicate key 'duration_s' (first at line 2, column 1)");
-  EXPECT_EQ(error_of("chain: R\n---\nchain: [\n").rfind("s.yaml:", 0), 0u);
-  EXPECT_EQ(error_of("chain: R\n---\nchain: S\n").rfind("s.yaml:3:1: a second YAML document", 0), 0u);
+  EXPECT_EQ(scene_error_of("chain: R\n---\nchain: [\n").rfind("s.yaml:", 0), 0u);
+  EXPECT_EQ(scene_error_of("chain: R\n---\nchain: S\n").rfind("s.yaml:3:1: a second YAML document", 0), 0u);
 }
 
 TEST(Scene, MalformedYamlGivesTheParserPosition) {
-  const std::string e = error_of("chain: R\nphysics: {dt_us: 500\n");
+  const std::string e = scene_error_of("chain: R\nphysics: {dt_us: 500\n");
   EXPECT_EQ(e.rfind("s.yaml:", 0), 0u) << e;
   EXPECT_NE(e, "(no error)");
 }
@@ -176,6 +166,6 @@ TEST(Scene, MalformedYamlGivesTheParserPosition) {
 TEST(Scene, SolverIterationsAreAPhysicsSetting) {
   EXPECT_EQ(load_scene_text("chain: R\n", "s.yaml").world.solver_iterations, 30);
   EXPECT_EQ(load_scene_text("chain: R\nphysics: {solver_iterations: 200}\n", "s.yaml").world.solver_iterations, 200);
-  const std::string e = error_of("chain: R\nphysics: {solver_iterations: 0}\n");
+  const std::string e = scene_error_of("chain: R\nphysics: {solver_iterations: 0}\n");
   EXPECT_EQ(e.rfind("s.yaml:2:30: 'physics.solver_iterations' = 0 ", 0), 0u) << e;
 }
