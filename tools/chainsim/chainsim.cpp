@@ -96,6 +96,9 @@ int cmd_run(const RunArgs& a) {
   RunResult r;
   try {
     r = run_scene(scene, opt);
+  } catch (const WorldSetupError& e) {  // the scene asks for a world that cannot be built
+    std::fprintf(stderr, "chainsim: %s: %s\n", scene.source.c_str(), e.what());
+    return kExitBadInput;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "chainsim: %s\n", e.what());
     return kExitInternal;
