@@ -218,7 +218,7 @@ int main(int argc, char** argv) {
   run->add_flag("--quiet,-q", ra.quiet, "print only errors");
   run->add_flag("--check", ra.check,
                 "check the scene and run nothing: load it and its module and mesh files, build the world, find "
-                "every program; start no process and write no file (exit 0, or 1 naming file:line:column)");
+                "every program; start no process and write no file (exit 0, or 1 naming file:line:column or the program)");
   run->footer("Exit codes: 0 finished; 1 bad scene, module file or options (file:line:column, or the --out path); "
               "2 a module or the central control faulted (crash, exit, hang, bad frame); 3 internal error; 4 the physics diverged "
               "(--on-divergence); 5 an output file could not be written (disk full); 130 interrupted. "
