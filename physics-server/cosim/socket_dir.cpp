@@ -129,7 +129,8 @@ int remove_stale_old_socket_dirs(const std::string& tmp_dir, double min_age_s) {
     // a server that has just made its directory may not have bound its socket yet
     if (std::difftime(std::time(nullptr), newest) < min_age_s) continue;
     if (!bound && !(bound = bound_socket_paths())) return removed;
-    const std::string tail = "/" + name + "/" + kSocketName;
+    // any bound path ending so keeps it, whatever comes before (a relative one too)
+    const std::string tail = name + "/" + kSocketName;
     bool in_use = false;
     for (const auto& p : *bound)
       in_use |= p.size() >= tail.size() && p.compare(p.size() - tail.size(), tail.size(), tail) == 0;
