@@ -21,8 +21,9 @@
 //    rad (hinge) or m (slider).
 //  * Docking faces: a frame whose origin is the centre of the face and whose
 //    x axis is the chain's forward direction. Docking module k+1 behind module k
-//    makes k's back-face frame coincide with k+1's front-face frame, and fixes
-//    k's back-face body to k+1's front-face body with a fixed joint.
+//    makes k's back-face frame coincide with k+1's front-face frame, and joins
+//    k's back-face body to k+1's front-face body rigidly (one ODE body,
+//    physics/module_builder.h).
 //  * Units: SI (m, kg, rad, N, N m).
 #pragma once
 

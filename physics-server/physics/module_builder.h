@@ -1,7 +1,17 @@
-// The rigid parts of one module in ODE: its bodies (with their collision
-// geoms) and the joints between them, built from its ModuleDef with the
-// module frame at a given pose. Actuators, sensors and docking are the
-// World's (world.cpp).
+// The rigid parts of a chain's modules in ODE, and the joints between them,
+// built from their ModuleDefs with each module frame at a given pose.
+//
+// Parts joined rigidly (a fixed joint inside a module, such as the touch
+// module's cover on its base, and the dock between a module's back face and
+// the next module's front face) become ONE ODE body: its mass is the parts'
+// combined mass about their common centre, each part's collision geom sits
+// at its offset in it, and no fixed joint is left for the solver (a fixed
+// joint is 6 constraint rows that QuickStep only nearly satisfies). A part
+// alone in its group is a body of its own exactly as placed. Everything that
+// speaks of a part (poses in traces, sensors, wheels, forces) goes through
+// its offset in the shared body.
+//
+// Actuators, sensors and wheels are the World's (world.cpp).
 #pragma once
 
 #include <ode/ode.h>
@@ -14,14 +24,22 @@
 namespace chainsim {
 
 struct ModuleBodies {
-  std::vector<dBodyID> bodies;  // in def.bodies order
-  std::vector<dGeomID> geoms;   // bodies[b]'s geom, in space; nullptr: it does not collide
-  std::vector<dJointID> joints; // in def.joints order; body1 = child, body2 = parent
+  std::vector<dBodyID> bodies;            // the ODE body of each part (def.bodies order); shared within a rigid group
+  std::vector<Eigen::Isometry3d> offsets; // each part's frame in its ODE body's frame (identity for a lone part)
+  std::vector<dGeomID> geoms;             // each part's geom, in space; nullptr: it does not collide
+  std::vector<dJointID> joints;           // def.joints order; nullptr for a fixed joint (its parts share a body)
 };
 
-// creates def's bodies and joints; frame = module frame -> world
-ModuleBodies build_module_bodies(dWorldID world, dSpaceID space, const ModuleDef& def,
-                                 const Eigen::Isometry3d& frame);
+// creates the parts and joints of a chain: module k is defs[k] with its
+// module frame at frames[k] (module frame -> world); module k's back face is
+// docked to module k + 1's front face. Throws std::invalid_argument naming
+// the joint when a hinge or slider would join two parts of one rigid group.
+std::vector<ModuleBodies> build_chain_bodies(dWorldID world, dSpaceID space,
+                                             const std::vector<ModuleDef>& defs,
+                                             const std::vector<Eigen::Isometry3d>& frames);
+
+// a part's own mass in its own frame (centre at its origin), as ODE computes it
+dMass part_mass(const BodyDef& bd);
 
 // a Pose as a transform
 Eigen::Isometry3d to_isometry(const Pose& p);

@@ -19,10 +19,9 @@
 //
 // Solver: QuickStep, WorldConfig::solver_iterations (default 30). Measured
 // (tests/physics-server/physics, physics_bench), for 10 / 20 / 30 / 40 / 60 iterations:
-//  * largest docking-joint stretch of an 8-module chain hanging from its head,
-//    swinging limp onto the joint stops: 0.42 / 0.45 / 0.26 / 0.17 / 0.10 mm
-//    (powered and sagging: 0.36 / 0.14 / 0.11 / 0.07 / 0.04 mm); while
-//    crawling: 0.17 / 0.07 / 0.07 / 0.06 / 0.03 mm;
+//  * (when docks were fixed joints, before they became shared bodies) the
+//    largest docking-joint stretch of an 8-module chain hanging from its head,
+//    swinging limp onto the joint stops: 0.42 / 0.45 / 0.26 / 0.17 / 0.10 mm;
 //  * a servo holding a module at 45 degrees against gravity jitters by
 //    0.44 / 0.21 / 0.12 / 0.07 / 0.03 degrees peak to peak. That is solver
 //    noise (the unconverged iteration, reordered at random by ODE each step):
@@ -91,9 +90,13 @@ ContactMaterials resolve_materials(const WorldConfig& cfg, const EnvironmentGeom
 }  // namespace
 
 struct World::Impl {
+  // a module's part: its ODE body is shared with the parts rigidly joined to it
   struct Body {
     dBodyID id = nullptr;
     std::string name;
+    Eigen::Isometry3d offset = Eigen::Isometry3d::Identity();  // the part's frame in id's frame
+    dMass mass{};                                              // the part's own, in its frame
+    Eigen::Isometry3d pose() const { return body_isometry(id) * offset; }  // part frame -> world
   };
   struct Module {
     std::string type;
@@ -110,8 +113,7 @@ struct World::Impl {
   ~Impl();
   void build(const WorldConfig& cfg, const std::vector<std::string>& chain);
   void add_module(int index, const ModuleDef& def, const Eigen::Isometry3d& frame,
-                  const WorldConfig& cfg);
-  void dock(const Module& front, const Module& back);
+                  const ModuleBodies& parts, const WorldConfig& cfg);
   void begin_actuators();
   void end_actuators();
 
@@ -169,12 +171,15 @@ void World::Impl::build(const WorldConfig& cfg, const std::vector<std::string>& 
                       ? cfg.head_orientation->normalized().toRotationMatrix()
                       : Eigen::AngleAxisd(cfg.heading_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   face.translation() = cfg.head_position;
-  for (size_t k = 0; k < defs.size(); ++k) {
-    const Eigen::Isometry3d frame = face * to_isometry(defs[k].front.frame).inverse();
-    add_module(static_cast<int>(k), defs[k], frame, cfg);
-    face = frame * to_isometry(defs[k].back.frame);
+  std::vector<Eigen::Isometry3d> frames;
+  for (const ModuleDef& def : defs) {
+    frames.push_back(face * to_isometry(def.front.frame).inverse());
+    face = frames.back() * to_isometry(def.back.frame);
   }
-  for (size_t k = 0; k + 1 < modules.size(); ++k) dock(modules[k], modules[k + 1]);
+  // docked faces share one body (module_builder.h)
+  const std::vector<ModuleBodies> parts = build_chain_bodies(world, space, defs, frames);
+  for (size_t k = 0; k < defs.size(); ++k)
+    add_module(static_cast<int>(k), defs[k], frames[k], parts[k], cfg);
 
   // memory for step(): ODE's stepper keeps what it reserved; the contact
   // group keeps its arenas when emptied, so fill it once and empty it
@@ -188,15 +193,14 @@ void World::Impl::build(const WorldConfig& cfg, const std::vector<std::string>& 
 }
 
 void World::Impl::add_module(int index, const ModuleDef& def, const Eigen::Isometry3d& frame,
-                             const WorldConfig& cfg) {
+                             const ModuleBodies& parts, const WorldConfig& cfg) {
   Module md;
   md.type = def.type;
   md.body0 = static_cast<int>(bodies.size());
   md.nbody = static_cast<int>(def.bodies.size());
-  const ModuleBodies parts = build_module_bodies(world, space, def, frame);
   for (int b = 0; b < md.nbody; ++b) {
     contacts->add_body(parts.geoms[b], index);
-    bodies.push_back({parts.bodies[b], def.bodies[b].name});
+    bodies.push_back({parts.bodies[b], def.bodies[b].name, parts.offsets[b], part_mass(def.bodies[b])});
   }
 
   // actuators, in definition order (module-local index -> the World's)
@@ -225,22 +229,16 @@ void World::Impl::add_module(int index, const ModuleDef& def, const Eigen::Isome
         break;  // sensors.add_module
     }
   }
-  sensors.add_module(index, def, parts.bodies, parts.joints, frame.linear());
+  sensors.add_module(index, def, parts, frame.linear());
   wheels->add_module(index, def.wheels, def.pads, parts.bodies, frame);
 
   md.front_body = md.body0 + def.front.body;
   md.back_body = md.body0 + def.back.body;
-  md.front_in_body =
-      to_isometry(def.bodies[def.front.body].pose).inverse() * to_isometry(def.front.frame);
-  md.back_in_body = to_isometry(def.bodies[def.back.body].pose).inverse() * to_isometry(def.back.frame);
+  md.front_in_body = parts.offsets[def.front.body] *
+                     to_isometry(def.bodies[def.front.body].pose).inverse() * to_isometry(def.front.frame);
+  md.back_in_body = parts.offsets[def.back.body] *
+                    to_isometry(def.bodies[def.back.body].pose).inverse() * to_isometry(def.back.frame);
   modules.push_back(std::move(md));
-}
-
-// back face of `front` fixed to the front face of `back`
-void World::Impl::dock(const Module& front, const Module& back) {
-  dJointID j = dJointCreateFixed(world, nullptr);
-  dJointAttach(j, bodies[front.back_body].id, bodies[back.front_body].id);
-  dJointSetFixed(j);
 }
 
 void World::Impl::begin_actuators() {
@@ -366,11 +364,8 @@ Eigen::Vector3d World::chain_com() const {
   Eigen::Vector3d acc = Eigen::Vector3d::Zero();
   double mass = 0;
   for (const Impl::Body& b : impl_->bodies) {
-    dMass m;
-    dBodyGetMass(b.id, &m);
-    const dReal* p = dBodyGetPosition(b.id);
-    acc += m.mass * Eigen::Vector3d(p[0], p[1], p[2]);
-    mass += m.mass;
+    acc += b.mass.mass * b.pose().translation();
+    mass += b.mass.mass;
   }
   return mass > 0 ? Eigen::Vector3d(acc / mass) : Eigen::Vector3d::Zero();
 }
@@ -382,20 +377,30 @@ const std::string& World::body_name(int module, int body) const {
 }
 
 World::BodyState World::body_state(int module, int body) const {
-  dBodyID id = impl_->bodies[impl_->body_index(module, body)].id;
+  const Impl::Body& part = impl_->bodies[impl_->body_index(module, body)];
+  const dBodyID id = part.id;
   BodyState s;
-  dMass m;
-  dBodyGetMass(id, &m);
-  s.mass_kg = m.mass;
+  s.mass_kg = part.mass.mass;
   for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) s.inertia_kg_m2(r, c) = m.I[r * 4 + c];
-  const dReal* p = dBodyGetPosition(id);
-  const dReal* q = dBodyGetQuaternion(id);
-  const dReal* v = dBodyGetLinearVel(id);
+    for (int c = 0; c < 3; ++c) s.inertia_kg_m2(r, c) = part.mass.I[r * 4 + c];
   const dReal* av = dBodyGetAngularVel(id);
   s.angular_velocity = Eigen::Vector3d(av[0], av[1], av[2]);
-  s.position = Eigen::Vector3d(p[0], p[1], p[2]);
-  s.quaternion_wxyz = Eigen::Vector4d(q[0], q[1], q[2], q[3]);
+  dVector3 v;
+  if (part.offset.matrix() == Eigen::Matrix4d::Identity()) {  // a body of its own: ODE's values as they are
+    const dReal* p = dBodyGetPosition(id);
+    const dReal* q = dBodyGetQuaternion(id);
+    s.position = Eigen::Vector3d(p[0], p[1], p[2]);
+    s.quaternion_wxyz = Eigen::Vector4d(q[0], q[1], q[2], q[3]);
+    const dReal* lv = dBodyGetLinearVel(id);
+    s.linear_velocity = Eigen::Vector3d(lv[0], lv[1], lv[2]);
+    return s;
+  }
+  const Eigen::Isometry3d pose = part.pose();
+  const Eigen::Quaterniond q(pose.linear());
+  s.position = pose.translation();
+  s.quaternion_wxyz = Eigen::Vector4d(q.w(), q.x(), q.y(), q.z());
+  const Eigen::Vector3d& r = part.offset.translation();
+  dBodyGetRelPointVel(id, r.x(), r.y(), r.z(), v);
   s.linear_velocity = Eigen::Vector3d(v[0], v[1], v[2]);
   return s;
 }
@@ -426,13 +431,15 @@ void World::pin_body(int module, int body) {
 }
 
 void World::add_body_torque(int module, int body, const Eigen::Vector3d& torque_nm) {
+  // a torque acts alike wherever on the (shared) body it is applied
   dBodyAddTorque(impl_->bodies[impl_->body_index(module, body)].id, torque_nm.x(), torque_nm.y(),
                  torque_nm.z());
 }
 
 void World::add_body_force(int module, int body, const Eigen::Vector3d& force_n) {
-  dBodyAddForce(impl_->bodies[impl_->body_index(module, body)].id, force_n.x(), force_n.y(),
-                force_n.z());
+  const Impl::Body& part = impl_->bodies[impl_->body_index(module, body)];
+  const Eigen::Vector3d p = part.pose().translation();  // the part's centre of mass
+  dBodyAddForceAtPos(part.id, force_n.x(), force_n.y(), force_n.z(), p.x(), p.y(), p.z());
 }
 
 double World::max_docking_error_m() const {

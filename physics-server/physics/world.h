@@ -126,8 +126,8 @@ class World {
   // only (a test load: pushing a traveller along the floor)
   void add_body_force(int module, int body, const Eigen::Vector3d& force_n);
   // largest distance between the two docking-face frames of a docked pair
-  // (back face of k, front face of k+1), each computed from its own body: how
-  // much the docking joints stretch, m
+  // (back face of k, front face of k+1), each computed from its own part: 0
+  // up to rounding, since docked parts share one ODE body, m
   double max_docking_error_m() const;
   // contact joints created in the last step
   int last_contact_count() const;

@@ -25,10 +25,12 @@ Actuator make_actuator(int module, const ModuleDef& def, int a, dWorldID world,
                              parts.joints[ad.joint], parts.bodies[jd.child], parts.bodies[jd.parent],
                              Eigen::Vector3d(frame.linear() * jd.axis.normalized()))};
     }
-    case ActuatorType::ScrewDrive:
+    case ActuatorType::ScrewDrive: {
+      ScrewDrive::Params p = ScrewDrive::params_of(ad, servo, h_s);
+      p.direction = parts.offsets[ad.body].linear() * p.direction;  // the part's axis in its ODE body
       return Actuator{module, true, -1,
-                      Device(std::in_place_type<ScrewDrive>, ScrewDrive::params_of(ad, servo, h_s), world,
-                             parts.bodies[ad.body])};
+                      Device(std::in_place_type<ScrewDrive>, p, world, parts.bodies[ad.body])};
+    }
     case ActuatorType::DcMotor: {
       const JointDef& jd = def.joints[ad.joint];
       return Actuator{module, true, -1,

@@ -20,8 +20,10 @@ Eigen::Matrix3d body_rotation(dBodyID b) {
   return Eigen::Quaterniond(q[0], q[1], q[2], q[3]).toRotationMatrix();
 }
 
-Eigen::Vector3d body_velocity(dBodyID b) {
-  const dReal* v = dBodyGetLinearVel(b);
+// velocity of a point fixed in body b (body frame), world frame
+Eigen::Vector3d point_velocity(dBodyID b, const Eigen::Vector3d& point) {
+  dVector3 v;
+  dBodyGetRelPointVel(b, point.x(), point.y(), point.z(), v);
   return Eigen::Vector3d(v[0], v[1], v[2]);
 }
 
@@ -52,9 +54,10 @@ void Sensors::init(dWorldID world, uint64_t seed, double gravity_m_s2) {
   gravity_ = Eigen::Vector3d(0, 0, -gravity_m_s2);
 }
 
-void Sensors::add_module(int module, const ModuleDef& def, const std::vector<dBodyID>& bodies,
-                         const std::vector<dJointID>& joints,
+void Sensors::add_module(int module, const ModuleDef& def, const ModuleBodies& parts,
                          const Eigen::Matrix3d& frame_rotation) {
+  const std::vector<dBodyID>& bodies = parts.bodies;
+  const std::vector<dJointID>& joints = parts.joints;
   for (size_t j = 0; j < def.joints.size(); ++j) {
     const JointDef& jd = def.joints[j];
     if (jd.type != JointType::Hinge || !(jd.friction_nm_s_rad > 0)) continue;
@@ -76,15 +79,17 @@ void Sensors::add_module(int module, const ModuleDef& def, const std::vector<dBo
       a.module = module;
       a.sensor = static_cast<int>(k);
       a.body = bodies[sd.body];
-      // sensor axes in the body frame: R_bs = R_mb^T R_ms
+      a.point = parts.offsets[sd.body].translation();
+      // sensor axes in the ODE body's frame: R_bs = R_offset R_mp^T R_ms (p: the part)
       const Eigen::Matrix3d r_bs =
+          parts.offsets[sd.body].linear() *
           def.bodies[sd.body].pose.orientation.normalized().toRotationMatrix().transpose() *
           sd.orientation.normalized().toRotationMatrix();
       a.body_to_sensor = r_bs.transpose();
       a.channel = sd.channel;
       a.range_g = sd.range_g;
       a.noise_g = sd.noise_g;
-      a.v_prev = body_velocity(a.body);
+      a.v_prev = point_velocity(a.body, a.point);
       // settled at rest: -g only
       a.f = a.body_to_sensor * body_rotation(a.body).transpose() * (-gravity_);
       accels_.push_back(a);
@@ -109,7 +114,7 @@ void Sensors::step_end(double h_s) {
       accels_[k].alpha = bandwidth_[k] > 0 ? 1.0 - std::exp(-2.0 * kPi * bandwidth_[k] * h_s) : 1.0;
   }
   for (Accel& a : accels_) {
-    const Eigen::Vector3d v = body_velocity(a.body);
+    const Eigen::Vector3d v = point_velocity(a.body, a.point);
     const Eigen::Vector3d acc = (v - a.v_prev) / h_s;
     a.v_prev = v;
     const Eigen::Vector3d f =

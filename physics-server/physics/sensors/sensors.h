@@ -5,7 +5,7 @@
 //  * Accelerometer (paper 4.3.2, Fig. 8): 3 axes on ADC channels c, c+1, c+2
 //    = the sensor frame's x, y, z (SensorDef::orientation; by default the
 //    module's axes: x forward, y left, z up). It measures the specific force
-//    at the body's centre of mass: f = a - g (a = the body's acceleration over
+//    at its part's centre of mass: f = a - g (a = that point's acceleration over
 //    the last step, (v_after - v_before) / h; g = (0, 0, -gravity)), so a
 //    sensor at rest reads +1 g on the axis pointing up. Then a first-order
 //    low-pass filter (bandwidth_hz, 0 = none; the filter starts settled at
@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "model/module_def.h"
+#include "physics/module_builder.h"
 #include "physics/sensors/module_sample.h"
 
 namespace chainsim {
@@ -48,10 +49,10 @@ class Sensors {
  public:
   void init(dWorldID world, uint64_t seed, double gravity_m_s2);
   // module `module`'s accelerometers, wheel encoders and joint friction;
-  // bodies[b] and joints[j] are the ODE objects of def.bodies[b], def.joints[j]
-  // as built in the module frame `frame_rotation` (module -> world)
-  void add_module(int module, const ModuleDef& def, const std::vector<dBodyID>& bodies,
-                  const std::vector<dJointID>& joints, const Eigen::Matrix3d& frame_rotation);
+  // parts: the ODE objects of def's bodies and joints as built in the module
+  // frame `frame_rotation` (module -> world)
+  void add_module(int module, const ModuleDef& def, const ModuleBodies& parts,
+                  const Eigen::Matrix3d& frame_rotation);
   // after each physics step of length h_s
   void step_end(double h_s);
   // fill module `module`'s accelerometer ADC channels and counters (n_adc and
@@ -63,6 +64,7 @@ class Sensors {
     int module = -1;
     int sensor = 0;  // index in ModuleDef::sensors (noise stream)
     dBodyID body = nullptr;
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();  // the part's centre of mass in body's frame
     Eigen::Matrix3d body_to_sensor;  // R_bs^T: body-frame vector -> sensor frame
     int channel = 0;
     double range_g = 3.0, noise_g = 0.0;
