@@ -99,7 +99,10 @@ TEST(FaultInjection, KillStormEndsEveryRunAsDocumented) {
     // quarter, a module half (whichever exist at that moment)
     const std::vector<pid_t> tree = children_of(server);
     std::vector<pid_t> modules, central;
-    for (pid_t p : tree) (env_of(p, "CHAINSIM_MODULE_TYPE") == "central" ? central : modules).push_back(p);
+    for (pid_t p : tree) {
+      const std::string type = env_of(p, "CHAINSIM_MODULE_TYPE");  // empty before its exec: not a candidate
+      if (!type.empty()) (type == "central" ? central : modules).push_back(p);
+    }
     const size_t pick = r.below(4);
     pid_t victim = server;
     if (pick == 1 && !central.empty()) victim = central[0];
