@@ -217,7 +217,14 @@ struct Query {
   }
 };
 
+// a ball around the other geom that cannot reach the wall: no contact (exact)
+bool clear(dGeomID pipe, const Vec& c, double rho) {
+  const auto* gd = static_cast<const PipeGeomData*>(dGeomGetClassData(pipe));
+  return pipe_piece_ball_clear(gd->layout->pieces[gd->piece], c, rho);
+}
+
 int collide_sphere(dGeomID o1, dGeomID o2, int flags, dContactGeom* contact, int skip) {
+  if (clear(o1, to_vec(dGeomGetPosition(o2)), dGeomSphereGetRadius(o2))) return 0;
   const auto* gd = static_cast<const PipeGeomData*>(dGeomGetClassData(o1));
   Candidates cand;
   const Query q{*gd->layout, gd->piece, gd->layout->pieces[gd->piece], &cand};
@@ -232,6 +239,7 @@ int collide_capsule(dGeomID o1, dGeomID o2, int flags, dContactGeom* contact, in
   dReal radius, length;
   dGeomCapsuleGetParams(o2, &radius, &length);
   const Vec c = to_vec(dGeomGetPosition(o2));
+  if (clear(o1, c, 0.5 * length + radius)) return 0;
   const Vec z = column(dGeomGetRotation(o2), 2);
   q.segment(c - 0.5 * length * z, c + 0.5 * length * z, radius, true);
   return cand.emit(o1, o2, flags, contact, skip);
@@ -245,6 +253,7 @@ int collide_cylinder(dGeomID o1, dGeomID o2, int flags, dContactGeom* contact, i
   dGeomCylinderGetParams(o2, &radius, &length);
   const dReal* r = dGeomGetRotation(o2);
   const Vec c = to_vec(dGeomGetPosition(o2));
+  if (clear(o1, c, std::hypot(0.5 * length, radius))) return 0;
   const Vec x = column(r, 0), y = column(r, 1), z = column(r, 2);
   q.rim(c - 0.5 * length * z, x, y, radius);
   q.rim(c + 0.5 * length * z, x, y, radius);
@@ -281,6 +290,7 @@ int collide_box(dGeomID o1, dGeomID o2, int flags, dContactGeom* contact, int sk
   dGeomBoxGetLengths(o2, side);
   const dReal* r = dGeomGetRotation(o2);
   const Vec c = to_vec(dGeomGetPosition(o2));
+  if (clear(o1, c, 0.5 * std::sqrt(side[0] * side[0] + side[1] * side[1] + side[2] * side[2]))) return 0;
   const Vec h[3] = {0.5 * side[0] * column(r, 0), 0.5 * side[1] * column(r, 1),
                     0.5 * side[2] * column(r, 2)};
   Vec corner[8];

@@ -209,6 +209,23 @@ double pipe_piece_depth(const PipeLayout& layout, int k, const Eigen::Vector3d& 
   return dist + r - p.radius_m;
 }
 
+bool pipe_piece_ball_clear(const PipePiece& p, const Eigen::Vector3d& c, double rho_m) {
+  double dist;  // from c to the piece's whole axis line or circle
+  if (p.kind == PipePiece::Kind::Straight) {
+    const Eigen::Vector3d q = c - p.start.point;
+    const double s = q.dot(p.start.tangent);
+    if (s + rho_m < 0 || s - rho_m > p.length_m) return true;  // beyond an end
+    dist = (q - s * p.start.tangent).norm();
+  } else {
+    const Eigen::Vector3d q = c - p.centre;
+    const double h = q.dot(p.normal);
+    const double in_plane = (q - h * p.normal).norm();
+    dist = std::hypot(in_plane - p.bend_radius_m, h);
+  }
+  const double margin = 1e-9;  // m: rounding in the callers' ball radii
+  return dist + rho_m + margin < p.radius_m || dist - rho_m - margin > 2 * p.radius_m;
+}
+
 double pipe_depth(const PipeLayout& layout, const Eigen::Vector3d& p, double r) {
   double best = -kInf;
   for (int k = 0; k < static_cast<int>(layout.pieces.size()); ++k)

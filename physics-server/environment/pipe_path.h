@@ -76,6 +76,13 @@ PipeLayout layout_pipe(const PipeSpec& spec);
 double pipe_piece_depth(const PipeLayout& layout, int k, const Eigen::Vector3d& p, double r,
                         Eigen::Vector3d* dir_out);
 
+// no point within rho_m of c can have a positive pipe_piece_depth (with r
+// = 0) for piece p: the ball lies wholly inside the bore, wholly beyond one
+// of the piece's ends, or wholly farther than 2 inner radii from its axis.
+// Exact (distance from the axis changes by at most the distance moved), so
+// a collider may skip such a ball without losing a contact.
+bool pipe_piece_ball_clear(const PipePiece& p, const Eigen::Vector3d& c, double rho_m);
+
 // the largest pipe_piece_depth over the pieces; -infinity if none owns p
 double pipe_depth(const PipeLayout& layout, const Eigen::Vector3d& p, double r);
 

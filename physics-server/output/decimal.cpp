@@ -1,6 +1,7 @@
 // Decimal formats of the outputs. See decimal.h.
 #include "output/decimal.h"
 
+#include <charconv>
 #include <cinttypes>
 #include <cstdio>
 
@@ -18,12 +19,14 @@ std::string seconds_text(int64_t t_us) {
   return s;
 }
 
+// std::to_chars with a precision writes what printf's "%.Nf" writes in the
+// C locale (both exactly rounded), several times faster: the trace's numbers
 void append_fixed(std::string* out, double value, int decimals) {
   char buf[352];  // "%.Nf" of the largest double with N <= 20 fits
   if (decimals < 0) decimals = 0;
   if (decimals > 20) decimals = 20;
-  const int n = std::snprintf(buf, sizeof buf, "%.*f", decimals, value);
-  out->append(buf, static_cast<size_t>(n));
+  const std::to_chars_result r = std::to_chars(buf, buf + sizeof buf, value, std::chars_format::fixed, decimals);
+  out->append(buf, r.ptr);
 }
 
 std::string fixed_text(double value, int decimals) {

@@ -6,8 +6,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <random>
 #include <sstream>
 #include <string>
 
@@ -177,6 +181,27 @@ TEST(Decimal, FormatsAreExactAndPrintfs) {
   append_fixed(&s, 0.1, 6);
   append_seconds(&s, 1);
   EXPECT_EQ(s, "x0.1000000.000001");
+}
+
+// fixed_text is printf's "%.Nf", byte for byte, for numbers of every size,
+// halfway cases, signed zeros and the non-finite values
+TEST(Decimal, FixedTextIsPrintfsTextForAnyDouble) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> mantissa(-1.0, 1.0);
+  std::uniform_int_distribution<int> exponent(-30, 30), places(0, 20);
+  std::vector<double> values = {0.0, -0.0, 0.5, 1.5, 2.5, -2.5, 0.125, 1e-300, 1.7976931348623157e308,
+                                std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+                                std::nan("")};
+  for (int i = 0; i < 200000; ++i) values.push_back(std::ldexp(mantissa(rng), exponent(rng)));
+  int checked = 0;
+  for (double v : values) {
+    const int n = places(rng);
+    char buf[400];
+    std::snprintf(buf, sizeof buf, "%.*f", n, v);
+    ASSERT_EQ(fixed_text(v, n), buf) << "value " << v << " with " << n << " decimals";
+    ++checked;
+  }
+  EXPECT_EQ(checked, 200012);
 }
 
 TEST(RunSummary, CarriesTheRunAndEachEndpoint) {

@@ -1,12 +1,13 @@
 // Cost of the physics: microseconds of wall time per 0.5 ms step for chains of
 // 2, 8 and 32 rotation modules crawling on the plane (the gait of
 // gait_test.cpp), after a 1 s settling run. Prints figures, asserts nothing.
-//   physics_bench [seconds=5] [iterations=<WorldConfig default>]
+//   physics_bench [seconds=5] [iterations=<WorldConfig default>] [modules... = 2 8 32]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <algorithm>
+#include <vector>
 
 #include "physics/units.h"
 #include "physics/world.h"
@@ -20,7 +21,10 @@ int main(int argc, char** argv) {
   std::printf("QuickStep iterations %d, %.1f s simulated per chain\n", iterations, seconds);
   std::printf("%8s %7s %10s %12s %10s %12s %10s\n", "modules", "bodies", "us/step", "x real time",
               "contacts", "dock max mm", "moved m");
-  for (int n : {2, 8, 32}) {
+  std::vector<int> counts;
+  for (int a = 3; a < argc; ++a) counts.push_back(std::atoi(argv[a]));
+  if (counts.empty()) counts = {2, 8, 32};
+  for (int n : counts) {
     WorldConfig c;
     c.head_position = Eigen::Vector3d(0, 0, 0.0126);
     c.solver_iterations = iterations;
