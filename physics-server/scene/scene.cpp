@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -130,6 +131,30 @@ void load_chain(const Ctx& c, const YAML::Node& root, Scene* s) {
   }
 }
 
+// a run is whole ticks: a tick longer than the run would silently stretch it
+void check_tick_within_duration(const Ctx& c, const YAML::Node& root, const Scene& s) {
+  if (s.tick_us <= std::llround(s.duration_s * 1e6)) return;
+  const YAML::Node p = root["physics"];
+  const YAML::Node at = p && p["tick_us"] ? p["tick_us"] : root;  // the default tick fits the shortest run
+  char duration[32];
+  std::snprintf(duration, sizeof duration, "%g", s.duration_s);
+  c.fail(at, "'physics.tick_us' (" + std::to_string(s.tick_us) + " us) is longer than the run ('duration_s' " +
+                 duration + " s)");
+}
+
+// The shipped central control's gait numbers (docs/firmware.md, "Gait
+// codes"; 10 is the elbow's own bend, never a parameter). Checked here until
+// programs declare their parameters; any other program is not checked.
+void check_central_gait(const Ctx& c, const YAML::Node& params) {
+  if (!params || !params.IsMap() || !params["gait"]) return;
+  const YAML::Node g = params["gait"];
+  const int64_t gait = c.integer_at(g, "central.params.gait", INT32_MIN, INT32_MAX);
+  if (gait < 0 || gait > 9)
+    c.fail(g, "'central.params.gait' = " + std::to_string(gait) +
+                  " is not a gait of fw-central (0 none, 1 forward, 2 backward, 3 turn left, 4 turn right, 5 roll, "
+                  "6 rotate in place, 7 lateral shift, 8 inchworm, 9 helicoidal drive)");
+}
+
 }  // namespace
 
 std::vector<std::string> Scene::chain_types() const {
@@ -180,6 +205,7 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
       c.fail(p, "'physics.tick_us' (" + std::to_string(s.tick_us) +
                      ") must be a multiple of 'physics.dt_us' (" + std::to_string(s.world.dt_us) + ")");
   }
+  check_tick_within_duration(c, root, s);
 
   // environment and contacts: scene_environment.cpp; mesh files relative to the scene's directory
   const std::string base_dir =
@@ -203,6 +229,7 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
     c.keys(ce, "central", {"program", "params"});
     s.central.firmware = c.string(ce, "program", "fw-central", "central");
     s.central.params = get_params(c, ce, "central");
+    if (s.central.firmware == "fw-central") check_central_gait(c, ce["params"]);
   }
 
   // a program given as a relative path resolves against the scene's directory,

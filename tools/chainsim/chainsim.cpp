@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <iostream>
@@ -22,6 +23,8 @@
 #include "chainsim/optimize_command.h"
 #include "viewer/live_view.h"
 #include "cosim/lockstep_server.h"
+#include "cosim/scene_check.h"
+#include "output/decimal.h"
 #include "output/run_dir.h"
 #include "scene/scene.h"
 #include "testing/test_runner.h"
@@ -49,6 +52,7 @@ struct RunArgs {
   std::vector<int> attach;
   std::string firmware_dir;
   bool quiet = false;
+  bool check = false;      // --check: load and check, run nothing
   bool live = false;       // --live: serve the live view while running
   int live_port = 0;
   double live_wait = 0;
@@ -65,6 +69,28 @@ int cmd_run(const RunArgs& a) {
   }
   if (a.duration > 0) scene.duration_s = a.duration;
   if (a.seed >= 0) scene.world.seed = static_cast<uint64_t>(a.seed);
+  // a run is whole ticks: a shorter duration would silently become one tick
+  if (a.duration > 0 && std::llround(a.duration * 1e6) < scene.tick_us) {
+    std::fprintf(stderr, "chainsim: --duration %s s is shorter than one tick of the scene (physics.tick_us = %lld us)\n",
+                 fixed_text(a.duration, 6).c_str(), static_cast<long long>(scene.tick_us));
+    return kExitBadInput;
+  }
+  for (int i : a.attach) {
+    if (i < 0 || i > static_cast<int>(scene.modules.size())) {
+      std::fprintf(stderr, "chainsim: --attach %d: the scene has modules 0..%zu and the central control %zu\n", i,
+                   scene.modules.size() - 1, scene.modules.size());
+      return kExitBadInput;
+    }
+  }
+  if (a.check) {
+    const SceneCheck c = check_scene(scene, a.firmware_dir);
+    if (c.exit_code != kExitOk) {
+      std::fprintf(stderr, "chainsim: %s\n", c.message.c_str());
+      return c.exit_code;
+    }
+    if (!a.quiet) std::printf("%s\n", c.message.c_str());
+    return kExitOk;
+  }
   RunOptions opt;
   opt.out_dir = a.out.empty() ? default_out_dir(scene) : a.out;
   opt.on_fault = a.fault == "limp" ? FaultMode::Limp : FaultMode::Stop;
@@ -82,14 +108,7 @@ int cmd_run(const RunArgs& a) {
     return kExitBadInput;
   }
   if (dir.had_run) say(opt, "--out '" + opt.out_dir + "' already holds a run: its files are replaced");
-  for (int i : a.attach) {
-    if (i < 0 || i > static_cast<int>(scene.modules.size())) {
-      std::fprintf(stderr, "chainsim: --attach %d: the scene has modules 0..%zu and the central control %zu\n", i,
-                   scene.modules.size() - 1, scene.modules.size());
-      return kExitBadInput;
-    }
-    opt.attach.insert(i);
-  }
+  opt.attach.insert(a.attach.begin(), a.attach.end());
   std::unique_ptr<LiveView> live;
   if (a.live && !(live = start_live_view(scene.name, a.live_port, a.live_wait))) return kExitBadInput;
   opt.observer = live.get();
@@ -200,6 +219,9 @@ int main(int argc, char** argv) {
   run->add_option("--firmware-dir", ra.firmware_dir,
                   "where to look for programs first (DIR[:DIR...], e.g. your own build), then next to chainsim");
   run->add_flag("--quiet,-q", ra.quiet, "print only errors");
+  run->add_flag("--check", ra.check,
+                "check the scene and run nothing: load it and its module and mesh files, build the world, find "
+                "every program; start no process and write no file (exit 0, or 1 naming file:line:column or the program)");
   run->footer("Exit codes: 0 finished; 1 bad scene, module file or options (file:line:column, or the --out path); "
               "2 a module or the central control faulted (crash, exit, hang, bad frame); 3 internal error; 4 the physics diverged "
               "(--on-divergence); 5 an output file could not be written (disk full); 130 interrupted. "
