@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cosim/program_params.h"
 #include "cosim/socket_dir.h"
 #include "output/decimal.h"
 
@@ -85,18 +86,6 @@ std::string Endpoints::name_of(const Endpoint& e) const {
   return s + ")";
 }
 
-std::string Endpoints::program_path(const std::string& program) const {
-  if (program.find('/') != std::string::npos) return program;
-  const std::string& dirs = opt_.firmware_dir;
-  for (size_t b = 0; b < dirs.size();) {
-    const size_t e = std::min(dirs.find(':', b), dirs.size());
-    const std::string p = dirs.substr(b, e - b) + "/" + program;
-    if (e > b && access(p.c_str(), X_OK) == 0) return p;
-    b = e + 1;
-  }
-  return executable_dir() + "/" + program;
-}
-
 void Endpoints::start() {
   remove_stale_socket_dirs();  // of servers killed outright, which could not remove their own
   socket_dir_ = make_socket_dir();
@@ -106,7 +95,7 @@ void Endpoints::start() {
   chmod(socket_path_.c_str(), 0600);
   for (auto& ep : ep_) {
     Endpoint& e = *ep;
-    const std::string prog = program_path(e.program);
+    const std::string prog = program_path(e.program, opt_.firmware_dir);
     e.attached = opt_.attach.count(e.index) > 0;
     if (e.attached) {
       say(opt_, "waiting for " + name_of(e) + " started by hand:\n  CHAINSIM_SOCKET=" + socket_path_ +

@@ -78,7 +78,6 @@ class Endpoints {
 
  private:
   void on_hello(std::shared_ptr<ModuleLink> link);
-  std::string program_path(const std::string& program) const;
 
   const Scene& scene_;
   const RunOptions& opt_;

@@ -21,6 +21,7 @@ constexpr int kExitModuleFault = 2;  // a module crashed, hung or broke the prot
 constexpr int kExitInternal = 3;
 constexpr int kExitDivergence = 4;   // the physics diverged (non-finite or beyond the documented bounds)
 constexpr int kExitOutput = 5;       // an output file could not be written (disk full, I/O error)
+constexpr int kExitSilentModule = 6; // a module never answered discovery (Scene::discovery_s)
 constexpr int kExitInterrupted = 130;
 
 // watches a run as it happens (the live view); called from the simulation

@@ -46,6 +46,11 @@ nlohmann::json summary_json(const Scene& scene, const RunSummary& run) {
            {{"displacement_m", {d.x(), d.y(), d.z()}},
             {"distance_m", d.norm()},
             {"speed_m_s", sim_s > 0 ? d.norm() / sim_s : 0.0}}},
+          {"discovery",
+           {{"judged_at_s", run.discovery_us * 1e-6},
+            {"judged", run.discovery_judged},
+            {"silent", run.silent},
+            {"allowed_silent", run.allowed_silent}}},
           {"exit_code", run.exit_code},
           {"stopped_by", run.stopped_by.empty() ? nlohmann::json(nullptr) : nlohmann::json(run.stopped_by)}};
 }
