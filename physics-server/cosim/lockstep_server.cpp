@@ -198,13 +198,14 @@ bool Server::judge_discovery() {
   for (size_t k = 0; k < silent_.size(); ++k) {
     Endpoint& e = (*endpoints_)[silent_[k]];
     if (!e.fault.empty()) continue;  // it crashed or hung: that fault says more
-    std::string what = "did not answer discovery: no I2C address after " + fixed_text(scene_.discovery_s, 3) +
-                       " s (central.discovery_s)";
-    if (k == 0 && silent_.size() > 1)
-      what += "; module" + std::string(silent_.size() > 2 ? "s " : " ") + std::to_string(silent_[1]) +
-              (silent_.size() > 2 ? " to " + std::to_string(silent_.back()) : "") + " behind it " +
-              (silent_.size() > 2 ? "have" : "has") + " none either";
-    what += " (a module that takes no part in discovery: may_stay_silent: true in the scene)";
+    std::string what = "did not answer discovery: it has no I2C address (judged at central.discovery_s)";
+    const size_t others = silent_.size() - 1;  // behind the first, the shipped central control stops
+    if (k == 0 && others > 0)
+      what += "; " + std::string(others == 1 ? "module " : "modules ") + std::to_string(silent_[1]) +
+              (others == 2 ? " and " : others > 2 ? " to " : "") +
+              (others >= 2 ? std::to_string(silent_.back()) : "") + " after it " + (others == 1 ? "has" : "have") +
+              " none either";
+    what += "; a module that takes no part in discovery says may_stay_silent: true in the scene";
     if (!fault(e, what, kExitSilentModule)) return false;
   }
   return true;
