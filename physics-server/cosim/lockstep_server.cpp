@@ -87,7 +87,10 @@ class Server : public BarrierSink {
     out_->bus(t_us, line);
     if (opt_.observer) opt_.observer->bus_line(t_us, line);
   }
-  void module_log(int endpoint, int64_t t_us, const char* line) override { out_->module_log(endpoint, t_us, line); }
+  void module_log(int endpoint, int64_t t_us, const char* line) override {
+    out_->module_log(endpoint, t_us, line);
+    if (opt_.observer) opt_.observer->module_log(endpoint, t_us, line);
+  }
   void address(int endpoint, int64_t t_us, uint8_t address) override {
     out_->event(address_event(t_us, endpoint, (*endpoints_)[endpoint].type, address));
   }

@@ -33,6 +33,8 @@ class RunObserver {
   virtual void started(const nlohmann::json& scene, const std::string& trace_header) = 0;
   virtual void trace_row(const std::string& row) = 0;      // one CSV line, newline included
   virtual void bus_line(int64_t t_us, const char* line) = 0;
+  // a log line of endpoint e (modules/NN-TYPE.log)
+  virtual void module_log(int endpoint, int64_t t_us, const char* line) { (void)endpoint, (void)t_us, (void)line; }
   virtual void finished(const nlohmann::json& summary) = 0;
 };
 
