@@ -9,12 +9,12 @@
 
 #include "hal_pic.h"
 
+#ifdef HAL_PIC_PARAMS
 typedef struct {
     const char *name;
     int32_t value;
 } hp_param;
 
-#ifdef HAL_PIC_PARAMS
 static const hp_param params[] = { HAL_PIC_PARAMS };
 #define N_PARAMS (sizeof params / sizeof params[0])
 #endif
@@ -40,39 +40,39 @@ static const hal_param_decl *declared(const char *name)
     return 0;
 }
 
+#ifdef HAL_PIC_PARAMS
 /* the compiled-in entry of name, or 0 */
 static const hp_param *given(const char *name)
 {
-#ifdef HAL_PIC_PARAMS
     uint8_t i;
     for (i = 0; i < N_PARAMS; i++)
         if (same(params[i].name, name))
             return &params[i];
-#else
-    (void)name;
-#endif
     return 0;
 }
+#endif
 
 int32_t hal_param(const char *name)
 {
     const hal_param_decl *d = declared(name);
-    const hp_param *p;
-    int32_t v;
     if (d == 0)
         return 0;
-    p = given(name);
-    if (p == 0)
-        return d->def;
-    v = p->value;
-    if (v < d->min)
-        return d->min;
-    if (v > d->max)
-        return d->max;
-    return v;
+#ifdef HAL_PIC_PARAMS
+    {
+        const hp_param *p = given(name);
+        if (p != 0)
+            return p->value < d->min ? d->min : p->value > d->max ? d->max : p->value;
+    }
+#endif
+    return d->def; /* no value compiled in: the clamping costs no flash */
 }
 
 uint8_t hal_param_given(const char *name)
 {
+#ifdef HAL_PIC_PARAMS
     return declared(name) != 0 && given(name) != 0;
+#else
+    (void)name;
+    return 0; /* nothing is compiled in */
+#endif
 }
