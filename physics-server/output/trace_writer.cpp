@@ -2,6 +2,7 @@
 #include "output/trace_writer.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <utility>
 
@@ -48,9 +49,12 @@ std::vector<int> first_columns(const std::vector<SensorColumn>& sensors, int mod
   return first;
 }
 
+// no allocation: a trace row is written in the step loop
 void integer_field(std::string* out, int64_t v) {
-  out->push_back(',');
-  *out += std::to_string(v);
+  char buf[24];
+  buf[0] = ',';
+  const auto r = std::to_chars(buf + 1, buf + sizeof buf, v);
+  out->append(buf, static_cast<size_t>(r.ptr - buf));
 }
 
 void field(std::string* out, double value, int decimals) {
