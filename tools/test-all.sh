@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Set up (packages, build) and run the whole test suite with ctest: unit tests,
-# multi-process scenarios, the PIC18 build run in gpsim, and a bounded
+# multi-process scenarios, the fault-injection suite (docs/reliability.md),
+# the PIC18 build run in gpsim, and a bounded
 # libFuzzer run of the protocol decoder.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -12,7 +12,10 @@
 central_params params;
 
 const hal_param_decl hal_param_table[] = {
-    HAL_PARAM("gait", HAL_PARAM_U8, 0, 255, GAIT_FORWARD, "gait code (1-10, docs/firmware.md); 0 = don't start"),
+    /* 10 (bend) is the elbow's own gait, never a parameter */
+    HAL_PARAM("gait", HAL_PARAM_U8, GAIT_NONE, GAIT_HELICOIDAL, GAIT_FORWARD,
+              "0 none, 1 forward, 2 backward, 3 turn left, 4 turn right, 5 roll, 6 rotate in place, 7 lateral shift, "
+              "8 inchworm, 9 helicoidal drive"),
     HAL_PARAM("amplitude_cdeg", HAL_PARAM_I16, 0, HAL_SERVO_CDEG_MAX, 4000, "amplitude A of the wave, cdeg"),
     HAL_PARAM("omega_mrad_s", HAL_PARAM_I16, -32767, 32767, 6000, "angular velocity w of the wave, mrad/s"),
     HAL_PARAM("phase_mrad", HAL_PARAM_I16, -32767, 32767, 1000, "phase step phi between consecutive modules, mrad"),

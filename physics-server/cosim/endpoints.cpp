@@ -86,6 +86,17 @@ std::string Endpoints::name_of(const Endpoint& e) const {
   return s + ")";
 }
 
+std::string program_path(const std::string& program, const std::string& dirs) {
+  if (program.find('/') != std::string::npos) return program;
+  for (size_t b = 0; b < dirs.size();) {
+    const size_t e = std::min(dirs.find(':', b), dirs.size());
+    const std::string p = dirs.substr(b, e - b) + "/" + program;
+    if (e > b && access(p.c_str(), X_OK) == 0) return p;
+    b = e + 1;
+  }
+  return executable_dir() + "/" + program;
+}
+
 void Endpoints::start() {
   remove_stale_socket_dirs();  // of servers killed outright, which could not remove their own
   socket_dir_ = make_socket_dir();
@@ -115,7 +126,12 @@ void Endpoints::start() {
 }
 
 void Endpoints::on_hello(std::shared_ptr<ModuleLink> link) {
+  // those dropped already are let go: a peer connecting and closing again
+  // and again costs nothing that grows
+  std::erase_if(pending_, [](const std::shared_ptr<ModuleLink>& l) { return !l->open(); });
+  pending_.push_back(link);
   link->async_receive([this, link](const std::string& err) {
+    if (!link->open()) return;  // dropped at the end of the handshake
     // a peer that breaks the handshake is dropped; the module it should have
     // been is then reported when it does not connect in time
     if (!err.empty() || link->received().type != CS_MSG_HELLO) {
@@ -194,8 +210,20 @@ bool Endpoints::handshake(const FaultHandler& on_fault, const int* interrupted) 
     io_->run_one_for(std::chrono::milliseconds(20));
   }
   acceptor_->close();
-  io_->poll();
+  drop_pending("it sent no HELLO before every module had connected");
   return true;
+}
+
+void Endpoints::drop_pending(const std::string& why) {
+  for (const auto& link : pending_) {
+    bool adopted = false;
+    for (const auto& e : ep_) adopted |= e->link == link;
+    if (adopted || !link->open()) continue;
+    if (!why.empty()) say(opt_, "dropped a connection: " + why);
+    link->close();
+  }
+  io_->poll();  // their reads end (aborted) while the links still exist
+  pending_.clear();
 }
 
 std::string Endpoints::describe_end(Endpoint& e, const std::string& what, int64_t now_us) {
@@ -245,6 +273,7 @@ void Endpoints::shutdown(bool finished) {
   }
   terminate_all(kids, kTerminateGraceMs);
   if (acceptor_) acceptor_->close();
+  drop_pending("");  // a handshake that a fault or a signal cut short
   std::error_code ec;
   std::filesystem::remove_all(socket_dir_, ec);
   socket_dir_.clear();

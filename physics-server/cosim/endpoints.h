@@ -39,6 +39,11 @@ struct Endpoint {
 // the type of each endpoint: the modules', then "central"
 std::vector<std::string> endpoint_types(const Scene& scene);
 
+// where a program a scene names runs from: a path as given; a bare name from
+// the first of firmware_dir's directories (DIR[:DIR...]) that holds it, else
+// beside chainsim
+std::string program_path(const std::string& program, const std::string& firmware_dir);
+
 class Endpoints {
  public:
   // on_fault(e, what): e failed as `what` says; returns true if the run goes on
@@ -78,6 +83,9 @@ class Endpoints {
 
  private:
   void on_hello(std::shared_ptr<ModuleLink> link);
+  // closes every connection that is no endpoint's (a peer that sent half a
+  // HELLO and fell silent), saying why (unless why is empty)
+  void drop_pending(const std::string& why);
 
   const Scene& scene_;
   const RunOptions& opt_;
@@ -85,6 +93,7 @@ class Endpoints {
   boost::asio::io_context* io_;
   std::vector<std::unique_ptr<Endpoint>> ep_;
   std::unique_ptr<boost::asio::local::stream_protocol::acceptor> acceptor_;
+  std::vector<std::shared_ptr<ModuleLink>> pending_;  // every connection accepted in the handshake
   std::string socket_dir_, socket_path_;
 };
 

@@ -74,21 +74,30 @@ ModuleLink::Receive ModuleLink::receive(int timeout_ms) {
   }
 }
 
+void ModuleLink::finish(const std::string& error) {
+  // the handler may own this link (a shared_ptr in its captures): it is let
+  // go after it ran, so no link keeps itself alive, and nothing here is
+  // touched after it
+  const Handler handler = std::move(handler_);
+  handler_ = nullptr;
+  handler(error);
+}
+
 void ModuleLink::on_prefix(const boost::system::error_code& ec) {
-  if (ec) return handler_(io_error(ec));
+  if (ec) return finish(io_error(ec));
   const char* reason = nullptr;
   if (cs_body_length(rbuf_.data(), &body_len_, &reason) != CS_OK)
-    return handler_(std::string("sent a malformed frame: ") + (reason ? reason : "bad length"));
+    return finish(std::string("sent a malformed frame: ") + (reason ? reason : "bad length"));
   asio::async_read(socket_, asio::buffer(rbuf_.data() + 4, body_len_),
                    [this](const boost::system::error_code& e, size_t) { on_body(e); });
 }
 
 void ModuleLink::on_body(const boost::system::error_code& ec) {
-  if (ec) return handler_(io_error(ec));
+  if (ec) return finish(io_error(ec));
   const char* reason = nullptr;
   if (cs_decode(rbuf_.data() + 4, body_len_, &in_, &reason) != CS_OK)
-    return handler_(std::string("sent a malformed frame: ") + (reason ? reason : "?"));
-  handler_({});
+    return finish(std::string("sent a malformed frame: ") + (reason ? reason : "?"));
+  finish({});
 }
 
 std::string ModuleLink::io_error(const boost::system::error_code& ec) const {

@@ -41,6 +41,8 @@ class ModuleLink {
   bool open() const { return socket_.is_open(); }
 
  private:
+  // runs the handler of async_receive once with error (empty: a message) and lets it go
+  void finish(const std::string& error);
   void on_prefix(const boost::system::error_code& ec);
   void on_body(const boost::system::error_code& ec);
   std::string io_error(const boost::system::error_code& ec) const;

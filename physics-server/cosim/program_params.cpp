@@ -58,17 +58,6 @@ std::string head_of(const std::string& text) {
 
 }  // namespace
 
-std::string program_path(const std::string& program, const std::string& dirs) {
-  if (program.find('/') != std::string::npos) return program;
-  for (size_t b = 0; b < dirs.size();) {
-    const size_t e = std::min(dirs.find(':', b), dirs.size());
-    const std::string p = dirs.substr(b, e - b) + "/" + program;
-    if (e > b && access(p.c_str(), X_OK) == 0) return p;
-    b = e + 1;
-  }
-  return executable_dir() + "/" + program;
-}
-
 ProgramParams parse_params_listing(const std::string& text, const std::string& program) {
   ProgramParams out;
   out.program = program;

@@ -9,15 +9,11 @@
 
 #include <string>
 
+#include "cosim/endpoints.h"  // program_path: where a run finds a program
 #include "scene/scene.h"
 #include "scene/scene_params.h"
 
 namespace chainsim {
-
-// where a run finds a program: a name with a '/' as given; else the first
-// folder of firmware_dir (DIR[:DIR...]) that holds it executable; else next
-// to chainsim
-std::string program_path(const std::string& program, const std::string& firmware_dir);
 
 // the listing's text -> declarations; throws std::runtime_error naming the
 // first line that is not one

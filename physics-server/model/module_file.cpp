@@ -17,6 +17,14 @@ namespace chainsim {
 namespace {
 
 constexpr double kBig = 1e6;  // bound for sizes and positions (m), forces (N), ...
+// bounds of a module type's lists, counted before any entry is read (the
+// shipped types have at most 5 bodies; a chain is at most 64 modules)
+constexpr size_t kMaxBodies = 32;
+constexpr size_t kMaxJoints = 32;
+constexpr size_t kMaxActuators = 16;
+constexpr size_t kMaxSensors = 32;
+constexpr size_t kMaxWheelSets = 8;
+constexpr size_t kMaxPads = 8;
 
 using Keys = std::set<std::string>;
 
@@ -31,6 +39,7 @@ bool is_identifier(const std::string& s) {
 struct Names {
   const char* kind;    // "body", "joint", "actuator"
   const char* plural;  // "bodies", ...
+  size_t limit;        // most entries a module type may have
   std::map<std::string, int> index;
   std::vector<std::string> order;
   std::string list() const {
@@ -65,6 +74,7 @@ class Parser {
     collect(actuators, "actuators", &actuators_);
     if (bodies_.order.empty()) fail(bodies, "'bodies' is empty: a module needs at least one body");
     if (sensors && !sensors.IsSequence()) fail(sensors, "'sensors' must be a list");
+    bounded(sensors, "sensors", kMaxSensors, "sensors");
 
     for (size_t i = 0; i < bodies.size(); ++i)
       d.bodies.push_back(body(bodies[i], "bodies[" + std::to_string(i) + "]"));
@@ -91,6 +101,7 @@ class Parser {
 
     if (const YAML::Node wheels = root["wheels"]) {
       if (!wheels.IsSequence()) fail(wheels, "'wheels' must be a list");
+      bounded(wheels, "wheels", kMaxWheelSets, "wheel sets");
       std::set<std::string> names;
       for (size_t i = 0; i < wheels.size(); ++i) {
         const std::string p = "wheels[" + std::to_string(i) + "]";
@@ -103,6 +114,7 @@ class Parser {
 
     if (const YAML::Node pads = root["pads"]) {
       if (!pads.IsSequence()) fail(pads, "'pads' must be a list");
+      bounded(pads, "pads", kMaxPads, "pads");
       std::set<std::string> names;
       for (const WheelSetDef& w : d.wheels) names.insert(w.name);
       for (size_t i = 0; i < pads.size(); ++i) {
@@ -233,9 +245,17 @@ class Parser {
     return it->second;
   }
 
+  // list (a sequence) has at most limit entries: "'bodies' has 40 bodies, more than the limit of 32"
+  void bounded(const YAML::Node& list, const std::string& path, size_t limit, const char* plural) const {
+    if (list && list.IsSequence() && list.size() > limit)
+      fail(list, "'" + path + "' has " + std::to_string(list.size()) + " " + plural + ", more than the limit of " +
+                     std::to_string(limit));
+  }
+
   void collect(const YAML::Node& list, const std::string& path, Names* names) const {
     if (!list) return;
     if (!list.IsSequence()) fail(list, "'" + path + "' must be a list");
+    bounded(list, path, names->limit, names->plural);
     for (size_t i = 0; i < list.size(); ++i) {
       const std::string p = path + "[" + std::to_string(i) + "]";
       if (!list[i].IsMap()) fail(list[i], "'" + p + "' must be a mapping");
@@ -571,9 +591,9 @@ class Parser {
   }
 
   const StrictYaml& y_;
-  Names bodies_{"body", "bodies", {}, {}};
-  Names joints_{"joint", "joints", {}, {}};
-  Names actuators_{"actuator", "actuators", {}, {}};
+  Names bodies_{"body", "bodies", kMaxBodies, {}, {}};
+  Names joints_{"joint", "joints", kMaxJoints, {}, {}};
+  Names actuators_{"actuator", "actuators", kMaxActuators, {}, {}};
 };
 
 }  // namespace

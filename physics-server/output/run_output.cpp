@@ -18,6 +18,8 @@
 namespace chainsim {
 
 namespace {
+constexpr size_t kTraceBufferBytes = 1 << 16;
+
 FILE* open_or_throw(const std::string& path) {
   FILE* f = std::fopen(path.c_str(), "we");  // close-on-exec: module processes must not inherit it
   if (!f) throw std::runtime_error("cannot write " + path + ": " + std::strerror(errno));
@@ -53,6 +55,9 @@ RunOutput::RunOutput(const std::string& dir, const std::vector<std::string>& end
   std::filesystem::create_directories(dir_ + "/modules", ec);
   if (ec) throw std::runtime_error("cannot create run directory " + dir_ + ": " + ec.message());
   trace_ = open_or_throw(path("trace.csv"));
+  // buffered here, in whole rows (stdio would write out a full buffer mid-row)
+  std::setvbuf(trace_, nullptr, _IONBF, 0);
+  trace_buffer_.reserve(kTraceBufferBytes);
   bus_ = open_or_throw(path("bus.log"));
   events_ = open_or_throw(path("events.jsonl"));
   // every endpoint's log exists from the start, empty until it logs (a
@@ -104,9 +109,23 @@ void RunOutput::failed(FILE* f, const std::string& file) {
 
 void RunOutput::trace(const std::string& bytes) {
   if (!trace_) return;  // a write failed: the file keeps its whole rows, nothing after
-  if (std::fwrite(bytes.data(), 1, bytes.size(), trace_) != bytes.size()) return failed(trace_, path("trace.csv"));
+  // the buffer goes out before a row would overflow it, so the file only ever
+  // receives whole rows: a server killed outright leaves no torn one
+  if (trace_buffer_.size() + bytes.size() > kTraceBufferBytes && !write_trace_buffer()) return;
+  trace_buffer_ += bytes;
   sha_.update(bytes.data(), bytes.size());
   trace_bytes_ += bytes.size();
+}
+
+bool RunOutput::write_trace_buffer() {
+  if (!trace_ || trace_buffer_.empty()) return trace_ != nullptr;
+  // unbuffered: one write of whole rows (a failed one is cut back to them)
+  if (std::fwrite(trace_buffer_.data(), 1, trace_buffer_.size(), trace_) != trace_buffer_.size()) {
+    failed(trace_, path("trace.csv"));
+    return false;
+  }
+  trace_buffer_.clear();
+  return true;
 }
 
 void RunOutput::bus(int64_t t_us, const char* line) {
@@ -128,7 +147,7 @@ void RunOutput::module_log(int endpoint, int64_t t_us, const char* line) {
 }
 
 void RunOutput::flush() {
-  if (trace_ && std::fflush(trace_) != 0) failed(trace_, path("trace.csv"));
+  write_trace_buffer();
   if (bus_ && std::fflush(bus_) != 0) failed(bus_, path("bus.log"));
   if (events_ && std::fflush(events_) != 0) failed(events_, path("events.jsonl"));
   for (size_t i = 0; i < logs_.size(); ++i)

@@ -3,7 +3,9 @@
 // summary.json. Written as the run goes, flushed often, so a run that ends by
 // a fault or Ctrl-C keeps everything produced until then. A write that fails
 // (a full disk, an I/O error) is kept as write_error() for the run loop to
-// stop on at once; the trace is then cut back to its last whole row.
+// stop on at once; the trace is then cut back to its last whole row. The
+// trace reaches its file in whole rows only, so even a server killed outright
+// leaves none torn.
 #pragma once
 
 #include <cstdint>
@@ -63,12 +65,15 @@ class RunOutput {
   std::vector<FILE*> logs_;
   Sha256 sha_;
   size_t trace_bytes_ = 0;
+  std::string trace_buffer_;  // whole rows not yet written to trace_
   std::string sha_hex_;
   std::string write_error_;
 
   // after a failed write or flush of f (at path): keep the first error; the
   // trace is cut back to its last whole row
   void failed(FILE* f, const std::string& path);
+  // trace_buffer_ to the file; false (and failed()) when the write failed
+  bool write_trace_buffer();
 };
 
 }  // namespace chainsim

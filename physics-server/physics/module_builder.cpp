@@ -1,6 +1,8 @@
 // A chain's parts and joints in ODE. See module_builder.h.
 #include "physics/module_builder.h"
 
+#include "physics/world.h"
+
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
@@ -203,7 +205,7 @@ std::vector<ModuleBodies> build_chain_bodies(dWorldID world, dSpaceID space,
     }
     for (const JointDef& jd : def.joints) {
       if (jd.type != JointType::Fixed && mb.bodies[jd.child] == mb.bodies[jd.parent])
-        throw std::invalid_argument("module " + std::to_string(k) + " (" + def.type + "): joint '" +
+        throw WorldSetupError("module " + std::to_string(k) + " (" + def.type + "): joint '" +
                                     jd.name + "' joins two parts that are already rigidly joined");
       mb.joints.push_back(create_joint(world, jd, mb.bodies[jd.child], mb.bodies[jd.parent], frames[k]));
     }

@@ -38,6 +38,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <mutex>
 #include <stdexcept>
 
@@ -96,6 +97,7 @@ struct World::Impl {
     std::string name;
     Eigen::Isometry3d offset = Eigen::Isometry3d::Identity();  // the part's frame in id's frame
     dMass mass{};                                              // the part's own, in its frame
+    dGeomID geom = nullptr;                                    // its collision shape (nullptr: none)
     Eigen::Isometry3d pose() const { return body_isometry(id) * offset; }  // part frame -> world
   };
   struct Module {
@@ -114,6 +116,7 @@ struct World::Impl {
   void build(const WorldConfig& cfg, const std::vector<std::string>& chain);
   void add_module(int index, const ModuleDef& def, const Eigen::Isometry3d& frame,
                   const ModuleBodies& parts, const WorldConfig& cfg);
+  void check_start_clear() const;
   void begin_actuators();
   void end_actuators();
 
@@ -180,6 +183,7 @@ void World::Impl::build(const WorldConfig& cfg, const std::vector<std::string>& 
   const std::vector<ModuleBodies> parts = build_chain_bodies(world, space, defs, frames);
   for (size_t k = 0; k < defs.size(); ++k)
     add_module(static_cast<int>(k), defs[k], frames[k], parts[k], cfg);
+  check_start_clear();
 
   // memory for step(): ODE's stepper keeps what it reserved; the contact
   // group keeps its arenas when emptied, so fill it once and empty it
@@ -200,7 +204,8 @@ void World::Impl::add_module(int index, const ModuleDef& def, const Eigen::Isome
   md.nbody = static_cast<int>(def.bodies.size());
   for (int b = 0; b < md.nbody; ++b) {
     contacts->add_body(parts.geoms[b], index);
-    bodies.push_back({parts.bodies[b], def.bodies[b].name, parts.offsets[b], part_mass(def.bodies[b])});
+    bodies.push_back({parts.bodies[b], def.bodies[b].name, parts.offsets[b], part_mass(def.bodies[b]),
+                      parts.geoms[b]});
   }
 
   // actuators, in definition order (module-local index -> the World's)
@@ -239,6 +244,37 @@ void World::Impl::add_module(int index, const ModuleDef& def, const Eigen::Isome
   md.back_in_body = parts.offsets[def.back.body] *
                     to_isometry(def.bodies[def.back.body].pose).inverse() * to_isometry(def.back.frame);
   modules.push_back(std::move(md));
+}
+
+// a body that starts inside the environment is thrown out of it at the
+// first step, at a speed the divergence check then reports: refuse such a
+// start instead, naming the deepest body (contacts settle within ODE's
+// surface layer, 0.1 mm; 1 mm is far beyond any placement that rests)
+void World::Impl::check_start_clear() const {
+  constexpr double kMaxStartDepth = 1e-3;  // m
+  dContactGeom c[Contacts::kMaxContactsPerPair];
+  double worst = kMaxStartDepth;
+  int worst_body = -1;
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    if (!bodies[b].geom) continue;
+    for (dGeomID e : env->geoms()) {
+      const int n = dCollide(bodies[b].geom, e, Contacts::kMaxContactsPerPair, c, sizeof(dContactGeom));
+      for (int i = 0; i < n; ++i)
+        if (c[i].depth > worst) {
+          worst = c[i].depth;
+          worst_body = static_cast<int>(b);
+        }
+    }
+  }
+  if (worst_body < 0) return;
+  for (size_t m = 0; m < modules.size(); ++m) {
+    const Module& md = modules[m];
+    if (worst_body < md.body0 || worst_body >= md.body0 + md.nbody) continue;
+    char depth[32];
+    std::snprintf(depth, sizeof depth, "%.1f", worst * 1e3);
+    throw WorldSetupError("module " + std::to_string(m) + " (" + md.type + ") body '" + bodies[worst_body].name +
+                          "' starts " + depth + " mm inside the environment: place the chain clear of it");
+  }
 }
 
 void World::Impl::begin_actuators() {

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,13 @@
 #include "physics/sensors/module_sample.h"
 
 namespace chainsim {
+
+// a scene the World cannot be built from as asked: a body that starts inside
+// the environment, a joint between parts already rigidly joined. The message
+// names the module and body; the run refuses the scene (exit 1).
+struct WorldSetupError : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
 
 // how to build a World; read once by its constructor, never changed by it
 struct WorldConfig {
@@ -50,7 +58,8 @@ struct WorldConfig {
 class World {
  public:
   // chain: module type names, head first; throws std::invalid_argument
-  // naming an unknown type or a bad definition
+  // naming an unknown type or a bad definition, WorldSetupError naming a body
+  // that starts more than 1 mm inside the environment
   World(const WorldConfig& config, const std::vector<std::string>& chain);
   ~World();
   World(const World&) = delete;

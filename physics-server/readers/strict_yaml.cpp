@@ -76,13 +76,16 @@ void StrictYaml::unique_keys(const YAML::Node& n, int depth, size_t* budget) con
   } else if (n.IsMap()) {
     std::map<std::string, YAML::Mark> seen;
     for (const auto& kv : n) {
-      if (kv.first.IsScalar()) {
-        const auto [it, fresh] = seen.emplace(kv.first.Scalar(), kv.first.Mark());
-        if (!fresh)
-          fail(kv.first, "duplicate key '" + kv.first.Scalar() + "' (first at line " +
-                             std::to_string(it->second.line + 1) + ", column " +
-                             std::to_string(it->second.column + 1) + ")");
-      }
+      // every loader reads keys as text: a list, a mapping or null as a key is refused here, once
+      if (!kv.first.IsScalar())
+        fail(kv.first.Mark().line >= 0 ? kv.first : n,
+             std::string("a key must be text, not ") +
+                 (kv.first.IsSequence() ? "a list" : kv.first.IsMap() ? "a mapping" : "null"));
+      const auto [it, fresh] = seen.emplace(kv.first.Scalar(), kv.first.Mark());
+      if (!fresh)
+        fail(kv.first, "duplicate key '" + kv.first.Scalar() + "' (first at line " +
+                           std::to_string(it->second.line + 1) + ", column " + std::to_string(it->second.column + 1) +
+                           ")");
       unique_keys(kv.second, depth + 1, budget);
     }
   }

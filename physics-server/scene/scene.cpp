@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -151,6 +152,17 @@ void load_chain(const Ctx& c, const YAML::Node& root, Scene* s) {
   }
 }
 
+// a run is whole ticks: a tick longer than the run would silently stretch it
+void check_tick_within_duration(const Ctx& c, const YAML::Node& root, const Scene& s) {
+  if (s.tick_us <= std::llround(s.duration_s * 1e6)) return;
+  const YAML::Node p = root["physics"];
+  const YAML::Node at = p && p["tick_us"] ? p["tick_us"] : root;  // the default tick fits the shortest run
+  char duration[32];
+  std::snprintf(duration, sizeof duration, "%g", s.duration_s);
+  c.fail(at, "'physics.tick_us' (" + std::to_string(s.tick_us) + " us) is longer than the run ('duration_s' " +
+                 duration + " s)");
+}
+
 }  // namespace
 
 std::vector<std::string> Scene::chain_types() const {
@@ -201,6 +213,7 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
       c.fail(p, "'physics.tick_us' (" + std::to_string(s.tick_us) +
                      ") must be a multiple of 'physics.dt_us' (" + std::to_string(s.world.dt_us) + ")");
   }
+  check_tick_within_duration(c, root, s);
 
   // environment and contacts: scene_environment.cpp; mesh files relative to the scene's directory
   const std::string base_dir =

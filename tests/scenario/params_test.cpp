@@ -59,6 +59,26 @@ TEST(Params, OutOfRangeParameterNamesTheDeclaredRange) {
   EXPECT_FALSE(std::filesystem::exists(dir + "/run"));
 }
 
+// fw-central declares gaits 0 to 9: an unknown one used to start nothing, silently
+TEST(Params, UnknownGaitOfTheShippedCentralControlIsAnError) {
+  const std::string dir = temp_dir("params-gait");
+  const std::string scene =
+      write_file(dir, "s.yaml", "name: gait\nduration_s: 1\nchain: R\ncentral: {params: {gait: 12}}\n");
+  const Outcome o = run({scene, "--check"}, dir);
+  EXPECT_EQ(o.exit_code, 1) << o.stderr_text;
+  EXPECT_NE(o.stderr_text.find(scene + ":4:20: parameter 'gait' of the central control is 12, outside the range 0..9 "
+                                        "that program fw-central declares (0 none, 1 forward, 2 backward, 3 turn left, "
+                                        "4 turn right, 5 roll, 6 rotate in place, 7 lateral shift, 8 inchworm, 9 "
+                                        "helicoidal drive)"),
+            std::string::npos)
+      << o.stderr_text;
+  // another central program is checked against its own declarations (fw-test-misbehave: mode 0..6)
+  const std::string mine = write_file(dir, "s2.yaml",
+                                      "name: gait\nduration_s: 1\nchain: R\ncentral: {program: " FW_MISBEHAVE
+                                      ", params: {mode: 6}}\n");
+  EXPECT_EQ(run({mine, "--check"}, dir).exit_code, 0);
+}
+
 // a value in range reaches the program (through WELCOME): control_ms 1000 makes module 0 step seldom
 TEST(Params, ParameterInRangeReachesTheProgram) {
   const std::string dir = temp_dir("params-ok");

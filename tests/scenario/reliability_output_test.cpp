@@ -17,11 +17,13 @@ using namespace scenario;
 
 namespace {
 
-// a chain started half inside the floor: ODE pushes it out at tens of m/s
-const char* kBuriedChain =
+// a chain dropped from 10 m: in free fall it passes the 10 m/s bound at
+// t = 1.01-1.02 s, long before it lands (a start inside the floor, which used to
+// blow up at tens of m/s, is now refused before the run)
+const char* kFallingChain =
     "chain: RRRR\n"
     "environment: {type: plane}\n"
-    "placement: {position_m: [0, 0, -0.04]}\n";
+    "placement: {position_m: [0, 0, 10]}\n";
 
 // every line of a trace has as many fields as its header, and it ends on a newline
 void expect_whole_rows(const std::string& trace) {
@@ -43,7 +45,7 @@ void expect_whole_rows(const std::string& trace) {
 // used to be exit 0 with the chain at 70-83 m/s
 TEST(ReliabilityOutput, DivergenceStopsTheRunNamingBodyModuleAndTime) {
   const std::string dir = temp_dir("diverge");
-  const std::string scene = write_file(dir, "s.yaml", kBuriedChain);
+  const std::string scene = write_file(dir, "s.yaml", kFallingChain);
   const Outcome o = run({scene, "--duration", "2"}, dir);
   EXPECT_EQ(o.signal, 0);
   EXPECT_EQ(o.exit_code, 4) << o.stderr_text;
@@ -53,21 +55,38 @@ TEST(ReliabilityOutput, DivergenceStopsTheRunNamingBodyModuleAndTime) {
   ASSERT_TRUE(o.summary.is_object());
   EXPECT_EQ(o.summary["exit_code"], 4);
   EXPECT_NE(o.summary["stopped_by"].get<std::string>().find("physics diverged"), std::string::npos);
-  EXPECT_LT(o.summary["sim_time_s"].get<double>(), 2.0);
+  EXPECT_LT(o.summary["sim_time_s"].get<double>(), 1.1);
+  EXPECT_GT(o.summary["sim_time_s"].get<double>(), 1.0);  // free fall: 10 m/s at 1.01-1.02 s
   expect_whole_rows(read_file(o.dir + "/trace.csv"));
   EXPECT_NE(read_file(o.dir + "/bus.log").find("fault physics diverged"), std::string::npos);
 }
 
 TEST(ReliabilityOutput, DivergenceWarnGoesOnAndSaysItOnce) {
   const std::string dir = temp_dir("diverge-warn");
-  const std::string scene = write_file(dir, "s.yaml", kBuriedChain);
-  const Outcome o = run({scene, "--duration", "0.5", "--on-divergence", "warn"}, dir);
+  const std::string scene = write_file(dir, "s.yaml", kFallingChain);
+  const Outcome o = run({scene, "--duration", "1.5", "--on-divergence", "warn"}, dir);
   EXPECT_EQ(o.exit_code, 0) << o.stderr_text;
   const std::string w = "chainsim: warning: physics diverged: module ";
   const size_t at = o.stderr_text.find(w);
   EXPECT_NE(at, std::string::npos) << o.stderr_text;
   EXPECT_EQ(o.stderr_text.find(w, at + 1), std::string::npos) << o.stderr_text;
-  EXPECT_NEAR(o.summary["sim_time_s"].get<double>(), 0.5, 1e-9);
+  EXPECT_NEAR(o.summary["sim_time_s"].get<double>(), 1.5, 1e-9);
+}
+
+// a chain started 4 cm inside the floor is refused before anything runs,
+// naming the deepest body (it used to be thrown out at 20 m/s at the first step)
+TEST(ReliabilityOutput, AStartInsideTheEnvironmentIsRefusedNamingTheBody) {
+  const std::string dir = temp_dir("buried");
+  const std::string scene = write_file(dir, "s.yaml",
+                                       "chain: RRRR\n"
+                                       "environment: {type: plane}\n"
+                                       "placement: {position_m: [0, 0, -0.04]}\n");
+  const Outcome o = run({scene, "--duration", "1"}, dir);
+  EXPECT_EQ(o.signal, 0);
+  EXPECT_EQ(o.exit_code, 1) << o.stderr_text;
+  EXPECT_NE(o.stderr_text.find("(rotation) body '"), std::string::npos) << o.stderr_text;
+  EXPECT_NE(o.stderr_text.find("mm inside the environment"), std::string::npos) << o.stderr_text;
+  EXPECT_FALSE(std::filesystem::exists(o.dir + "/trace.csv")) << "nothing ran";
 }
 
 // a shipped-like scene does not come near the bounds

@@ -72,29 +72,6 @@ TEST(ReliabilityPaths, ReusedOutIsSaid) {
       << second.outcome.stderr_text;
 }
 
-namespace {
-
-// the socket directories in dir (chainsim-sock-*)
-std::vector<std::string> socket_dirs_in(const std::string& dir) {
-  std::vector<std::string> out;
-  for (const auto& de : std::filesystem::directory_iterator(dir))
-    if (de.path().filename().string().rfind("chainsim-sock-", 0) == 0) out.push_back(de.path().string());
-  return out;
-}
-
-// TMPDIR for the chainsim processes this test starts (and restored after)
-struct TmpDirForChildren {
-  std::string old;
-  bool had = false;
-  explicit TmpDirForChildren(const std::string& dir) {
-    if (const char* t = getenv("TMPDIR")) had = true, old = t;
-    setenv("TMPDIR", dir.c_str(), 1);
-  }
-  ~TmpDirForChildren() { had ? setenv("TMPDIR", old.c_str(), 1) : unsetenv("TMPDIR"); }
-};
-
-}  // namespace
-
 // a server killed outright cannot remove its socket directory; the next run
 // removes it (and its own at its end)
 TEST(ReliabilityPaths, SocketDirectoryOfAKilledServerIsRemovedByTheNextRun) {

@@ -1,6 +1,10 @@
 // `chainsim run` end to end: real module processes, the default scene, bad input.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
+#include <filesystem>
+
 #include "scenario_util.h"
 
 using namespace scenario;
@@ -73,4 +77,43 @@ TEST(Run, MissingModuleProgramIsNamed) {
             std::string::npos)
       << o.stderr_text;
   EXPECT_FALSE(o.summary.is_object());
+}
+
+// --check does everything before the first process and nothing after: no
+// program started, no file written, the same errors as a run
+TEST(Run, CheckBuildsTheSceneAndFindsItsProgramsWithoutRunningAnything) {
+  const std::string dir = temp_dir("check");
+  const std::string marker = dir + "/started";
+  const std::string prog = write_file(dir, "central.sh", "#!/bin/sh\ntouch " + marker + "\n");
+  ASSERT_EQ(chmod(prog.c_str(), 0755), 0);
+  const std::string good = write_file(dir, "good.yaml", "chain: RR\ncentral: {program: " + prog + "}\n");
+  const std::string out = dir + "/out";
+  const auto check = [&](const std::vector<std::string>& args) {
+    std::vector<std::string> all{"run"};
+    all.insert(all.end(), args.begin(), args.end());
+    const std::string err = dir + "/stderr.txt";
+    return wait_chainsim(start_chainsim(all, err), out, err);
+  };
+  // its one line goes to stdout, which this harness does not keep: stderr is empty
+  Outcome o = check({good, "--check", "--out", out});
+  EXPECT_EQ(o.exit_code, 0) << o.stderr_text;
+  EXPECT_EQ(o.stderr_text, "");
+  EXPECT_FALSE(std::filesystem::exists(out));
+  EXPECT_FALSE(std::filesystem::exists(marker));
+  // a missing program, a missing mesh, a tick longer than --duration: exit 1, named
+  const std::string no_prog =
+      write_file(dir, "noprog.yaml", "chain:\n  - {type: rotation, firmware: " + dir + "/nope}\n");
+  o = check({no_prog, "--check"});
+  EXPECT_EQ(o.exit_code, 1);
+  EXPECT_EQ(o.stderr_text, "chainsim: program for module 0 (rotation) not found or not executable: " + dir + "/nope\n");
+  const std::string no_mesh =
+      write_file(dir, "nomesh.yaml", "chain: R\nenvironment:\n  type: mesh\n  mesh: {file: none.stl}\n");
+  o = check({no_mesh, "--check"});
+  EXPECT_EQ(o.exit_code, 1);
+  EXPECT_NE(o.stderr_text.find(dir + "/none.stl"), std::string::npos) << o.stderr_text;
+  o = check({good, "--check", "--duration", "0.0005"});
+  EXPECT_EQ(o.exit_code, 1);
+  EXPECT_EQ(o.stderr_text,
+            "chainsim: --duration 0.000500 s is shorter than one tick of the scene (physics.tick_us = 1000 us)\n");
+  EXPECT_FALSE(std::filesystem::exists(marker));
 }

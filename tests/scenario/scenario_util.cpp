@@ -197,4 +197,31 @@ std::string central_log(const Outcome& o, int n) {
   return read_file(o.dir + "/modules/" + (n < 10 ? "0" : "") + std::to_string(n) + "-central.log");
 }
 
+TmpDirForChildren::TmpDirForChildren(const std::string& dir) {
+  if (const char* t = getenv("TMPDIR")) had = true, old = t;
+  setenv("TMPDIR", dir.c_str(), 1);
+}
+
+TmpDirForChildren::~TmpDirForChildren() { had ? setenv("TMPDIR", old.c_str(), 1) : unsetenv("TMPDIR"); }
+
+std::vector<std::string> socket_dirs_in(const std::string& dir) {
+  std::vector<std::string> out;
+  for (const auto& de : std::filesystem::directory_iterator(dir))
+    if (de.path().filename().string().rfind("chainsim-sock-", 0) == 0) out.push_back(de.path().string());
+  return out;
+}
+
+std::vector<pid_t> processes_with_env(const std::string& text) {
+  std::vector<pid_t> found;
+  DIR* d = opendir("/proc");
+  if (!d) return found;
+  while (dirent* e = readdir(d)) {
+    const pid_t p = static_cast<pid_t>(std::atoi(e->d_name));
+    if (p <= 0 || !alive(p)) continue;
+    if (read_file("/proc/" + std::string(e->d_name) + "/environ").find(text) != std::string::npos) found.push_back(p);
+  }
+  closedir(d);
+  return found;
+}
+
 }  // namespace scenario

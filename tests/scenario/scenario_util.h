@@ -55,4 +55,19 @@ Outcome run_scene(const std::string& tag, const std::string& name, double durati
 // the central control's log of a run of n modules (it is endpoint n)
 std::string central_log(const Outcome& o, int n);
 
+// TMPDIR for the chainsim processes a test starts (their socket
+// directories), restored when it goes
+struct TmpDirForChildren {
+  std::string old;
+  bool had = false;
+  explicit TmpDirForChildren(const std::string& dir);
+  ~TmpDirForChildren();
+};
+
+// the socket directories in dir (chainsim-sock-*)
+std::vector<std::string> socket_dirs_in(const std::string& dir);
+
+// the processes whose environment holds `text` (e.g. a run's CHAINSIM_SOCKET)
+std::vector<pid_t> processes_with_env(const std::string& text);
+
 }  // namespace scenario

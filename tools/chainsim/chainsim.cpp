@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <iostream>
@@ -25,6 +26,8 @@
 #include "viewer/live_view.h"
 #include "cosim/lockstep_server.h"
 #include "cosim/program_params.h"
+#include "cosim/scene_check.h"
+#include "output/decimal.h"
 #include "output/run_dir.h"
 #include "scene/scene.h"
 #include "testing/test_runner.h"
@@ -52,6 +55,7 @@ struct RunArgs {
   std::vector<int> attach;
   std::string firmware_dir;
   bool quiet = false;
+  bool check = false;      // --check: load and check, run nothing
   bool live = false;       // --live: serve the live view while running
   int live_port = 0;
   double live_wait = 0;
@@ -68,11 +72,35 @@ int cmd_run(const RunArgs& a) {
   }
   if (a.duration > 0) scene.duration_s = a.duration;
   if (a.seed >= 0) scene.world.seed = static_cast<uint64_t>(a.seed);
+  // a run is whole ticks: a shorter duration would silently become one tick
+  if (a.duration > 0 && std::llround(a.duration * 1e6) < scene.tick_us) {
+    std::fprintf(stderr, "chainsim: --duration %s s is shorter than one tick of the scene (physics.tick_us = %lld us)\n",
+                 fixed_text(a.duration, 6).c_str(), static_cast<long long>(scene.tick_us));
+    return kExitBadInput;
+  }
+  for (int i : a.attach) {
+    if (i < 0 || i > static_cast<int>(scene.modules.size())) {
+      std::fprintf(stderr, "chainsim: --attach %d: the scene has modules 0..%zu and the central control %zu\n", i,
+                   scene.modules.size() - 1, scene.modules.size());
+      return kExitBadInput;
+    }
+  }
   try {
-    check_scene_programs(scene, a.firmware_dir);  // programs found, parameters declared and in range
+    // programs found, the parameters each is given declared and in range
+    // (a program given parameters is run once, with --chainsim-params, for its list)
+    check_scene_programs(scene, a.firmware_dir);
   } catch (const SceneError& e) {
     std::fprintf(stderr, "chainsim: %s\n", e.what());
     return kExitBadInput;
+  }
+  if (a.check) {
+    const SceneCheck c = check_scene(scene, a.firmware_dir);
+    if (c.exit_code != kExitOk) {
+      std::fprintf(stderr, "chainsim: %s\n", c.message.c_str());
+      return c.exit_code;
+    }
+    if (!a.quiet) std::printf("%s\n", c.message.c_str());
+    return kExitOk;
   }
   RunOptions opt;
   opt.out_dir = a.out.empty() ? default_out_dir(scene) : a.out;
@@ -91,20 +119,16 @@ int cmd_run(const RunArgs& a) {
     return kExitBadInput;
   }
   if (dir.had_run) say(opt, "--out '" + opt.out_dir + "' already holds a run: its files are replaced");
-  for (int i : a.attach) {
-    if (i < 0 || i > static_cast<int>(scene.modules.size())) {
-      std::fprintf(stderr, "chainsim: --attach %d: the scene has modules 0..%zu and the central control %zu\n", i,
-                   scene.modules.size() - 1, scene.modules.size());
-      return kExitBadInput;
-    }
-    opt.attach.insert(i);
-  }
+  opt.attach.insert(a.attach.begin(), a.attach.end());
   std::unique_ptr<LiveView> live;
   if (a.live && !(live = start_live_view(scene.name, a.live_port, a.live_wait))) return kExitBadInput;
   opt.observer = live.get();
   RunResult r;
   try {
     r = run_scene(scene, opt);
+  } catch (const WorldSetupError& e) {  // the scene asks for a world that cannot be built
+    std::fprintf(stderr, "chainsim: %s: %s\n", scene.source.c_str(), e.what());
+    return kExitBadInput;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "chainsim: %s\n", e.what());
     return kExitInternal;
@@ -209,6 +233,11 @@ int main(int argc, char** argv) {
   run->add_option("--firmware-dir", ra.firmware_dir,
                   "where to look for programs first (DIR[:DIR...], e.g. your own build), then next to chainsim");
   run->add_flag("--quiet,-q", ra.quiet, "print only errors");
+  run->add_flag("--check", ra.check,
+                "check the scene and run nothing: load it and its module and mesh files, build the world, find "
+                "every program and check the parameters the scene gives it against what it declares (a program "
+                "given parameters is run once to list them); start no module and write no file (exit 0, or 1 "
+                "naming file:line:column or the program)");
   run->footer("Exit codes: 0 finished; 1 bad scene, module file or options (file:line:column, or the --out path; "
               "a parameter the program does not declare or out of its range); "
               "2 a module or the central control faulted (crash, exit, hang, bad frame); 3 internal error; 4 the physics diverged "

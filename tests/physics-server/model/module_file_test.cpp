@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "model/module_def.h"
 #include "physics/units.h"
@@ -207,6 +209,40 @@ TEST(ModuleFile, OtherErrorsArePlaced) {
   } catch (const ModuleFileError& x) {
     EXPECT_NE(std::string(x.what()).find("/nonexistent/m.yaml: cannot open"), std::string::npos);
   }
+}
+
+// a module type of n boxes in a row, each fixed to the one before it
+std::string boxes(int n) {
+  std::string t = "type: long\nbodies:\n";
+  for (int i = 0; i < n; ++i)
+    t += "  - {name: b" + std::to_string(i) + ", shape: box, size_m: [0.01, 0.01, 0.01], mass_kg: 0.01}\n";
+  t += "joints:\n";
+  for (int i = 1; i < n; ++i)
+    t += "  - {name: j" + std::to_string(i) + ", type: fixed, parent: b" + std::to_string(i - 1) + ", child: b" +
+         std::to_string(i) + "}\n";
+  return t + "docking: {front: {body: b0}, back: {body: b0}}\n";
+}
+
+// a list as long as the module's bodies is counted before any entry is read,
+// and refused naming the count and the bound
+TEST(ModuleFile, ListsOverTheirBoundNameTheCountAndTheLimit) {
+  EXPECT_EQ(error_of(boxes(32)), "(no error)");
+  EXPECT_EQ(error_of(boxes(33)), "m.yaml:3:3: 'bodies' has 33 bodies, more than the limit of 32");
+  // the other lists: ten thousand entries are refused at once
+  std::string many;
+  for (int i = 0; i < 10000; ++i) many += "  - {name: x" + std::to_string(i) + "}\n";
+  const std::string two = boxes(2);
+  const std::string bodies = two.substr(0, two.find("joints:"));  // lines 1-4
+  const std::string dock = "docking: {front: {body: b0}, back: {body: b0}}\n";
+  const std::vector<std::pair<std::string, std::string>> lists = {
+      {"joints", "10000 joints, more than the limit of 32"},
+      {"actuators", "10000 actuators, more than the limit of 16"},
+      {"sensors", "10000 sensors, more than the limit of 32"},
+      {"wheels", "10000 wheel sets, more than the limit of 8"},
+      {"pads", "10000 pads, more than the limit of 8"},
+  };
+  for (const auto& [key, why] : lists)
+    EXPECT_EQ(error_of(bodies + key + ":\n" + many + dock), "m.yaml:6:3: '" + key + "' has " + why);
 }
 
 }  // namespace

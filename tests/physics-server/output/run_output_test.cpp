@@ -89,6 +89,23 @@ TEST(RunOutput, TraceHashIsTheHashOfTheFile) {
   EXPECT_EQ(out.trace_sha256(), h);  // asked again: the same
 }
 
+// what is on disk at any moment ends on a whole row, so a server killed
+// outright (no flush of its own) leaves no torn row; rows of 97 bytes do not
+// divide the 64 KiB buffer, which stdio would write out mid-row
+TEST(RunOutput, TraceReachesTheFileInWholeRowsOnly) {
+  TempDir d;
+  RunOutput out(d.path.string(), {"central"});
+  const std::string row = std::string(96, '7') + "\n";
+  size_t seen_growing = 0;
+  for (int k = 0; k < 3000; ++k) {
+    out.trace(row);
+    const auto on_disk = fs::file_size(d.path / "trace.csv");
+    ASSERT_EQ(on_disk % row.size(), 0u) << "after row " << k << ": " << on_disk << " bytes";
+    seen_growing += on_disk > 0;
+  }
+  EXPECT_GT(seen_growing, 0u);  // written as it went, not only at the end
+}
+
 TEST(RunOutput, DestructorFlushesEverything) {
   TempDir d;
   {

@@ -129,6 +129,20 @@ TEST(RigidGroups, AHingeBetweenRigidlyJoinedPartsIsRefusedNamingIt) {
   }
 }
 
+TEST(StartClear, ABodyStartingInsideTheEnvironmentIsRefusedNamingIt) {
+  WorldConfig c;
+  c.head_position = Eigen::Vector3d(0, 0, 0.0126);  // on the floor: accepted
+  EXPECT_NO_THROW(World(c, {"rotation", "rotation"}));
+  c.head_position.z() = 0.008;  // the rings (12.5 mm) 4.5 mm into the floor
+  try {
+    World w(c, {"rotation", "rotation"});
+    FAIL() << "no exception";
+  } catch (const WorldSetupError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("module 0 (rotation) body 'front' starts 4.5 mm inside the environment"), std::string::npos) << m;
+  }
+}
+
 TEST(RigidGroups, PartsOfAChainReportTheirOwnPosesMassesAndVelocities) {
   WorldConfig c;
   c.gravity_m_s2 = 0;

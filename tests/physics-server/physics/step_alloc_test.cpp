@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdlib>
 
+#include "physics/placement.h"
 #include "physics/world.h"
 
 #include "alloc_counter.h"
@@ -72,11 +73,10 @@ TEST(World, StepDoesNotAllocateInPipesAndOnTerrain) {
       c.environment.pipe.segments = {a, b, d};
       c.environment.pipe.inner_diameter_m = 0.04;
       c.environment.pipe.collider = env == 0 ? PipeCollider::Analytic : PipeCollider::Mesh;
-      c.head_position = Eigen::Vector3d(0.18 * std::cos(20 * deg), 0, -0.18 * std::sin(20 * deg));
-      c.head_orientation = Eigen::Quaterniond(Eigen::AngleAxisd(20 * deg, Eigen::Vector3d::UnitY()));
+      place_chain_at_pipe_entry(&c, std::vector<std::string>(3, "rotation"), 0.04);
     } else {
       c.environment.type = EnvironmentType::Terrain;
-      c.head_position = Eigen::Vector3d(0.1, 0, 0.04);
+      c.head_position = Eigen::Vector3d(0.1, 0, 0.054);  // clear of the crests (0.04 m)
     }
     World w(c, std::vector<std::string>(3, "rotation"));
     long total = 0;

@@ -86,6 +86,14 @@ TEST(StrictYaml, DuplicateKeyIsAnErrorAtAnyDepth) {
   EXPECT_EQ(error_of([] { kY.parse("a: {x: 1}\nb: {x: 1}\n"); }), "(no error)");  // same key, two mappings
 }
 
+// a loader reads each key as text: a key that is not used to abort the program
+TEST(StrictYaml, KeyThatIsNotTextIsAnError) {
+  EXPECT_EQ(error_of([] { kY.parse("a: 1\n? [x, y]\n: 2\n"); }), "f.yaml:2:3: a key must be text, not a list");
+  EXPECT_EQ(error_of([] { kY.parse("a: {b: {{c: 1}: 2}}\n"); }), "f.yaml:1:9: a key must be text, not a mapping");
+  EXPECT_EQ(error_of([] { kY.parse("a:\n  ~: 1\n"); }), "f.yaml:2:3: a key must be text, not null");
+  EXPECT_EQ(error_of([] { kY.parse("a:\n  '~': 1\n  \"\": 2\n"); }), "(no error)");  // quoted: text
+}
+
 TEST(StrictYaml, SecondDocumentIsAnError) {
   EXPECT_EQ(error_of([] { kY.parse("a: 1\n---\nb: 2\n"); }).rfind("f.yaml:3:1: a second YAML document", 0), 0u)
       << error_of([] { kY.parse("a: 1\n---\nb: 2\n"); });

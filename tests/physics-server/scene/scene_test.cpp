@@ -133,6 +133,13 @@ TEST(Scene, TickMustBeAMultipleOfThePhysicsStep) {
   EXPECT_EQ(scene_error_of("chain: R\nphysics: {dt_us: 400, tick_us: 1200}\n"), "(no error)");
 }
 
+// a run is whole ticks: a tick longer than the run used to stretch it silently
+TEST(Scene, TickLongerThanTheRunIsAnError) {
+  EXPECT_EQ(scene_error_of("chain: R\nduration_s: 0.5\nphysics: {tick_us: 1000000}\n"),
+            "s.yaml:3:20: 'physics.tick_us' (1000000 us) is longer than the run ('duration_s' 0.5 s)");
+  EXPECT_EQ(scene_error_of("chain: R\nduration_s: 1\nphysics: {tick_us: 1000000}\n"), "(no error)");
+}
+
 TEST(Scene, OutOfRangeValueIsAnError) {
   const std::string e = scene_error_of("chain: R\nenvironment: {material: {bounce: 2}}\n");
   EXPECT_EQ(e.rfind("s.yaml:2:34: 'environment.material.bounce' = 2 ", 0), 0u) << e;

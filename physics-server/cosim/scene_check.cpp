@@ -1,0 +1,45 @@
+// A scene checked without running it. See scene_check.h.
+#include "cosim/scene_check.h"
+
+#include <unistd.h>
+
+#include <exception>
+
+#include "cosim/endpoints.h"
+#include "cosim/run_options.h"
+#include "physics/world.h"
+
+namespace chainsim {
+
+SceneCheck check_scene(const Scene& scene, const std::string& firmware_dir) {
+  SceneCheck r;
+  int bodies = 0;
+  try {
+    const World world(scene.world, scene.chain_types());  // as the run builds it: the same errors
+    for (int m = 0; m < world.module_count(); ++m) bodies += world.body_count(m);
+  } catch (const WorldSetupError& e) {  // as a run says it: the scene asks for a world that cannot be built
+    r.exit_code = kExitBadInput;
+    r.message = scene.source + ": " + e.what();
+    return r;
+  } catch (const std::exception& e) {
+    r.exit_code = kExitInternal;  // what a run would say: the loader let through what the World refused
+    r.message = e.what();
+    return r;
+  }
+  const std::vector<std::string> types = endpoint_types(scene);
+  for (size_t i = 0; i < types.size(); ++i) {
+    const bool central = i + 1 == types.size();
+    const std::string path = program_path(central ? scene.central.firmware : scene.modules[i].firmware, firmware_dir);
+    if (access(path.c_str(), X_OK) == 0) continue;
+    r.exit_code = kExitBadInput;
+    r.message = "program for " + (central ? std::string("central control") : "module " + std::to_string(i)) +
+                " (" + types[i] + ") not found or not executable: " + path;
+    return r;
+  }
+  r.message = scene.source + ": ok: " + std::to_string(scene.modules.size()) + " modules, " +
+              std::to_string(bodies) + " bodies, " + std::to_string(types.size()) +
+              " programs found; nothing was started";
+  return r;
+}
+
+}  // namespace chainsim
