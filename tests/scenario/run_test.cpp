@@ -105,7 +105,7 @@ TEST(Run, CheckBuildsTheSceneAndFindsItsProgramsWithoutRunningAnything) {
       write_file(dir, "noprog.yaml", "chain:\n  - {type: rotation, firmware: " + dir + "/nope}\n");
   o = check({no_prog, "--check"});
   EXPECT_EQ(o.exit_code, 1);
-  EXPECT_EQ(o.stderr_text, "chainsim: program for module 0 (rotation) not found or not executable: " + dir + "/nope\n");
+  EXPECT_EQ(o.stderr_text, "chainsim: " + no_prog + ":2:32: program '" + dir + "/nope' of module 0 (rotation) not found or not executable: " + dir + "/nope\n");
   const std::string no_mesh =
       write_file(dir, "nomesh.yaml", "chain: R\nenvironment:\n  type: mesh\n  mesh: {file: none.stl}\n");
   o = check({no_mesh, "--check"});
