@@ -74,6 +74,11 @@ void hs_die(int code, const char *fmt, ...)
 #endif
     ;
 
+/* after WELCOME: a warning on stderr for each parameter the server sent
+ * that hal_param_table does not declare (hal_param.c; it also makes every
+ * program carry the --chainsim-params listing) */
+void hs_params_check(void);
+
 /* exit(2) with a message unless hal_init() has connected */
 void hs_require_init(const char *caller);
 

@@ -49,6 +49,7 @@ void hal_init(void)
 
     hs_connect(path);
     hs_handshake((uint16_t)index, type);
+    hs_params_check();
 }
 
 /* wake time for a wait of us microseconds (at least one tick, so that every

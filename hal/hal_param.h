@@ -1,5 +1,19 @@
-/* Named integer parameters given to the program by the scene (simulator) or
- * compiled in (board). */
+/* Named integer parameters: declared once by the program, given by the scene
+ * (simulator) or compiled in (board).
+ *
+ * Every program defines its table, the one place a parameter's name, type,
+ * range, default and meaning are written:
+ *
+ *     const hal_param_decl hal_param_table[] = {
+ *         HAL_PARAM("release_ms", HAL_PARAM_U16, 0, 60000, 50, "low this long = released, ms"),
+ *         HAL_PARAM_END
+ *     };
+ *
+ * hal_param() gives the value clamped to the range, or the default. The
+ * simulator reads the table before a run (hal-sim prints it when the program
+ * is started with the argument --chainsim-params), so a scene that sets an
+ * undeclared or out-of-range parameter is an error naming the key, and
+ * `chainsim params PROGRAM` lists it. docs/firmware.md, "Parameters". */
 #ifndef HAL_PARAM_H
 #define HAL_PARAM_H
 
@@ -7,7 +21,46 @@
 
 #define HAL_PARAM_NAME_MAX 15u /* characters of a parameter name (the simulator's limit) */
 
-/* value of parameter name, or default_value when it is not set */
-int32_t hal_param(const char *name, int32_t default_value);
+/* the C type the program keeps the value in; the range must fit it */
+#define HAL_PARAM_U8 1u
+#define HAL_PARAM_I16 2u
+#define HAL_PARAM_U16 3u
+#define HAL_PARAM_I32 4u
+#define HAL_PARAM_U32 5u /* 0..2147483647: values travel as int32 */
+
+/* one parameter. The board's build (HAL_PARAM_NO_TEXT) keeps only what
+ * hal_param needs: the type and the meaning are for the simulator's
+ * listing, and would cost flash. */
+typedef struct {
+    const char *name; /* 1..HAL_PARAM_NAME_MAX letters, digits or '_'; NULL ends the table */
+    int32_t min;
+    int32_t max;
+    int32_t def;
+#ifndef HAL_PARAM_NO_TEXT
+    uint8_t type;        /* HAL_PARAM_* */
+    const char *meaning; /* one line, units included */
+#endif
+} hal_param_decl;
+
+#ifdef HAL_PARAM_NO_TEXT
+#define HAL_PARAM(name, type, min, max, def, meaning) { (name), (min), (max), (def) }
+#define HAL_PARAM_END { 0, 0, 0, 0 }
+#else
+#define HAL_PARAM(name, type, min, max, def, meaning) { (name), (min), (max), (def), (type), (meaning) }
+#define HAL_PARAM_END { 0, 0, 0, 0, 0, 0 }
+#endif
+
+/* the program's parameters, ended by HAL_PARAM_END (the program defines it) */
+extern const hal_param_decl hal_param_table[];
+
+/* Value of the declared parameter name: the scene's (or the build's) value
+ * clamped to its range, else its default. A name the table does not declare
+ * is a mistake in the program: hal-sim stops the program saying so, hal-pic
+ * returns 0. */
+int32_t hal_param(const char *name);
+
+/* 1 when the scene (or the build) gives name a value, else 0: for a default
+ * that depends on other parameters */
+uint8_t hal_param_given(const char *name);
 
 #endif

@@ -29,6 +29,15 @@ extern "C" {
 #define CS_NOTICE_WAIT_SPINS "hal_wait_event_ms(HAL_EV_I2C) returned at once with an I2C frame waiting,"
 #define CS_NOTICE_BACKTRACE "chainsim hal: backtrace of "
 
+/* A program started with the argument CS_PARAMS_ARG prints its parameter
+ * declarations (hal_param.h) on stdout and exits 0, before main: the line
+ * CS_PARAMS_HEADER, then one line per parameter,
+ *     name TAB type TAB min TAB max TAB default TAB meaning
+ * (type: uint8, int16, uint16, int32, uint32). The server reads it before a
+ * run to check the scene's parameters; `chainsim params` shows it. */
+#define CS_PARAMS_ARG "--chainsim-params"
+#define CS_PARAMS_HEADER "chainsim-params 1"
+
 /* hard limits: the decoder rejects frames that exceed any of them */
 #define CS_BODY_MAX 2048u       /* bytes of body after the length prefix */
 #define CS_TYPE_NAME_MAX 16u    /* module type name buffer, NUL included */

@@ -1,49 +1,71 @@
-/* The central control's parameters: see central_params.h. */
+/* The central control's parameters: see central_params.h. The table is the
+ * one place their names, ranges, defaults and meanings are written; the
+ * simulator checks a scene's central.params against it and
+ * docs/firmware.md's table is checked against it (tests/tools/chainsim). */
 #include "central_params.h"
 
 #include "chain_commands.h"
 #include "hal.h"
 
-#define ROLL_SHIFT_MRAD 1571   /* default shift_mrad of the roll (pi/2); 0 for the others */
-#define BIAS_DEFAULT_CDEG 1000 /* default bias_cdeg: yaw offset of the turns */
+#define ROLL_SHIFT_MRAD 1571 /* shift_mrad of the roll when not given (pi/2) */
 
 central_params params;
 
-static int32_t param_clamped(const char *name, int32_t def, int32_t lo, int32_t hi)
-{
-    int32_t v = hal_param(name, def);
-    if (v < lo)
-        return lo;
-    if (v > hi)
-        return hi;
-    return v;
-}
+const hal_param_decl hal_param_table[] = {
+    /* 10 (bend) is the elbow's own gait, never a parameter */
+    HAL_PARAM("gait", HAL_PARAM_U8, GAIT_NONE, GAIT_HELICOIDAL, GAIT_FORWARD,
+              "0 none, 1 forward, 2 backward, 3 turn left, 4 turn right, 5 roll, 6 rotate in place, 7 lateral shift, "
+              "8 inchworm, 9 helicoidal drive"),
+    HAL_PARAM("amplitude_cdeg", HAL_PARAM_I16, 0, HAL_SERVO_CDEG_MAX, 4000, "amplitude A of the wave, cdeg"),
+    HAL_PARAM("omega_mrad_s", HAL_PARAM_I16, -32767, 32767, 6000, "angular velocity w of the wave, mrad/s"),
+    HAL_PARAM("phase_mrad", HAL_PARAM_I16, -32767, 32767, 1000, "phase step phi between consecutive modules, mrad"),
+    HAL_PARAM("axis", HAL_PARAM_U8, CC_AXIS_PITCH, CC_AXIS_YAW, CC_AXIS_PITCH, "axis of the wave of gaits 1-4: 0 pitch, 1 yaw"),
+    HAL_PARAM("posture_cdeg", HAL_PARAM_I16, -CC_QUARTER_TURN_CDEG, CC_QUARTER_TURN_CDEG, 0,
+              "zig-zag posture P of the other axis, cdeg (+P/2 on module 0, -P odd, +P even)"),
+    HAL_PARAM("amplitude2_cdeg", HAL_PARAM_I16, 0, HAL_SERVO_CDEG_MAX, 4000,
+              "amplitude A2 of the yaw wave of roll, rotate, lateral shift, cdeg; not given: amplitude_cdeg"),
+    HAL_PARAM("shift_mrad", HAL_PARAM_I16, -32767, 32767, 0,
+              "phase psi of the yaw wave against the pitch wave (gaits 5-7), mrad; not given: 1571 for the roll, else 0"),
+    HAL_PARAM("bias_cdeg", HAL_PARAM_I16, 0, CC_QUARTER_TURN_CDEG, 1000, "yaw offset B of the turns (gaits 3, 4), cdeg"),
+    HAL_PARAM("start_ms", HAL_PARAM_U32, 0, 0x7FFFFFFFL, 0,
+              "simulated time of START, ms; 0 or a time already passed: right after discovery"),
+    HAL_PARAM("stop_ms", HAL_PARAM_U32, 0, 0x7FFFFFFFL, 0, "simulated time of STOP, ms; 0 = never"),
+    HAL_PARAM("poll_ms", HAL_PARAM_U32, 0, 60000L, 0,
+              "READ_SENSORS to every module every poll_ms, replies logged as 'sensors 0x20: ...'; 0 = never"),
+    HAL_PARAM("drive_permille", HAL_PARAM_I16, -1000, 1000, 1000, "gait 9: the screw command, per mille (+ = forward)"),
+    HAL_PARAM("step_ms", HAL_PARAM_I16, 40, 30000, 1000, "gait 8: duration of one step, ms (a cycle has one step per support)"),
+    HAL_PARAM("grip_cdeg", HAL_PARAM_I16, 0, CC_QUARTER_TURN_CDEG, CC_QUARTER_TURN_CDEG,
+              "gait 8: support arm angle when gripping, cdeg"),
+    HAL_PARAM("stroke_um", HAL_PARAM_I16, 0, 15000, 15000, "gait 8: extension stroke, um"),
+    HAL_PARAM("elbow_dir_deg", HAL_PARAM_I16, -1, 359, -1,
+              "gait 9: way the next elbow turns, deg (0 up, 90 left, 180 down, 270 right); -1 = no steering"),
+    HAL_PARAM("bend_cdeg", HAL_PARAM_I16, 0, CC_QUARTER_TURN_CDEG, 4500,
+              "gait 9: how far each rotation module bends toward the elbow, cdeg"),
+    HAL_PARAM("bend_ms", HAL_PARAM_U16, 0, 30000, 1500, "gait 9: how long the bend is held after the contact, ms"),
+    HAL_PARAM_END
+};
 
 void central_params_read(void)
 {
-    params.gait = (uint8_t)param_clamped("gait", GAIT_FORWARD, 0, 255);
-    params.amp_cdeg = (int16_t)param_clamped("amplitude_cdeg", 4000, 0, HAL_SERVO_CDEG_MAX);
-    params.omega_mrad_s = (int16_t)param_clamped("omega_mrad_s", 6000, -32767, 32767);
-    params.phase_mrad = (int16_t)param_clamped("phase_mrad", 1000, -32767, 32767);
-    params.axis = (uint8_t)param_clamped("axis", CC_AXIS_PITCH, CC_AXIS_PITCH, CC_AXIS_YAW);
-    params.posture_cdeg = (int16_t)param_clamped("posture_cdeg", 0, -CC_QUARTER_TURN_CDEG,
-                                             CC_QUARTER_TURN_CDEG);
-    /* the two-axis gaits and the turns; two defaults depend on other
-     * parameters (amplitude2 on amplitude, shift on the gait) */
-    params.amp2_cdeg = (int16_t)param_clamped("amplitude2_cdeg", params.amp_cdeg, 0, HAL_SERVO_CDEG_MAX);
-    params.shift_mrad = (int16_t)param_clamped("shift_mrad",
-                                           params.gait == GAIT_ROLL ? ROLL_SHIFT_MRAD : 0, -32767,
-                                           32767);
-    params.bias_cdeg = (int16_t)param_clamped("bias_cdeg", BIAS_DEFAULT_CDEG, 0, CC_QUARTER_TURN_CDEG);
-    params.drive_permille = (int16_t)param_clamped("drive_permille", 1000, -1000, 1000);
-    params.step_ms = (int16_t)param_clamped("step_ms", 1000, 40, 30000);
-    params.grip_cdeg = (int16_t)param_clamped("grip_cdeg", CC_QUARTER_TURN_CDEG, 0,
-                                          CC_QUARTER_TURN_CDEG);
-    params.stroke_um = (int16_t)param_clamped("stroke_um", 15000, 0, 15000);
-    params.start_ms = (uint32_t)param_clamped("start_ms", 0, 0, 0x7FFFFFFFL);
-    params.stop_ms = (uint32_t)param_clamped("stop_ms", 0, 0, 0x7FFFFFFFL);
-    params.poll_ms = (uint32_t)param_clamped("poll_ms", 0, 0, 60000L);
-    params.elbow_dir_deg = (int16_t)param_clamped("elbow_dir_deg", -1, -1, 359);
-    params.bend_cdeg = (int16_t)param_clamped("bend_cdeg", 4500, 0, CC_QUARTER_TURN_CDEG);
-    params.bend_ms = (uint16_t)param_clamped("bend_ms", 1500, 0, 30000L);
+    params.gait = (uint8_t)hal_param("gait");
+    params.amp_cdeg = (int16_t)hal_param("amplitude_cdeg");
+    params.omega_mrad_s = (int16_t)hal_param("omega_mrad_s");
+    params.phase_mrad = (int16_t)hal_param("phase_mrad");
+    params.axis = (uint8_t)hal_param("axis");
+    params.posture_cdeg = (int16_t)hal_param("posture_cdeg");
+    /* two defaults depend on other parameters */
+    params.amp2_cdeg = hal_param_given("amplitude2_cdeg") ? (int16_t)hal_param("amplitude2_cdeg") : params.amp_cdeg;
+    params.shift_mrad = hal_param_given("shift_mrad") ? (int16_t)hal_param("shift_mrad")
+                        : params.gait == GAIT_ROLL ? ROLL_SHIFT_MRAD : 0;
+    params.bias_cdeg = (int16_t)hal_param("bias_cdeg");
+    params.drive_permille = (int16_t)hal_param("drive_permille");
+    params.step_ms = (int16_t)hal_param("step_ms");
+    params.grip_cdeg = (int16_t)hal_param("grip_cdeg");
+    params.stroke_um = (int16_t)hal_param("stroke_um");
+    params.start_ms = (uint32_t)hal_param("start_ms");
+    params.stop_ms = (uint32_t)hal_param("stop_ms");
+    params.poll_ms = (uint32_t)hal_param("poll_ms");
+    params.elbow_dir_deg = (int16_t)hal_param("elbow_dir_deg");
+    params.bend_cdeg = (int16_t)hal_param("bend_cdeg");
+    params.bend_ms = (uint16_t)hal_param("bend_ms");
 }

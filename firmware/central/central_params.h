@@ -1,6 +1,7 @@
 /* The central control's parameters (the scene's central.params, hal_param),
- * read once after discovery. Every parameter's name, default and range is
- * in central_params.c and nowhere else; docs/firmware.md lists them. */
+ * read once after discovery. Every parameter's name, range, default and
+ * meaning is in central_params.c's hal_param_table and nowhere else;
+ * `chainsim params fw-central` and docs/firmware.md list them. */
 #ifndef CENTRAL_PARAMS_H
 #define CENTRAL_PARAMS_H
 
@@ -37,7 +38,7 @@ typedef struct {
  * by direct addressing, cheaper than through a pointer) */
 extern central_params params;
 
-/* read every parameter, each clamped to its range */
+/* read every parameter (hal_param clamps each to its declared range) */
 void central_params_read(void);
 
 #endif

@@ -6,7 +6,6 @@
 #include "hal.h"
 
 #define CA_IDLE_SLEEP_MS 60000u
-#define CA_CONTROL_MS_DEFAULT 10
 #define CA_SENSORS_MAX 6u
 
 uint8_t ca_addr;
@@ -15,19 +14,14 @@ uint8_t ca_type;
 uint8_t ca_running;
 uint8_t ca_gait;
 uint8_t ca_flags;
-uint16_t ca_control_ms = CA_CONTROL_MS_DEFAULT;
+uint16_t ca_control_ms;
 
 static uint32_t ca_t0_ms;
 static uint32_t ca_next_ms;
 
-void chain_app_init(uint8_t type, uint16_t control_ms_default)
+void chain_app_init(uint8_t type)
 {
-    int32_t p = hal_param("control_ms", (int32_t)control_ms_default);
-    if (p < 1)
-        p = 1;
-    if (p > 1000)
-        p = 1000;
-    ca_control_ms = (uint16_t)p;
+    ca_control_ms = (uint16_t)hal_param("control_ms"); /* 1..1000: the declaration's range */
     ca_type = type;
     ca_addr = chain_module_discover(type);
     ca_pos = (uint8_t)(ca_addr - CHAIN_FIRST_MODULE_ADDR);

@@ -8,6 +8,8 @@
 
 #include <stdint.h>
 
+#include "hal_param.h"
+
 /* this module, after chain_app_init */
 extern uint8_t ca_addr; /* I2C address, 0x20 + k */
 extern uint8_t ca_pos;  /* k, chain position */
@@ -18,9 +20,15 @@ extern uint8_t ca_gait;    /* gait last set by SET_GAIT */
 extern uint8_t ca_flags;   /* CC_FLAG_*, cleared when STATUS reads them */
 extern uint16_t ca_control_ms; /* parameter control_ms (1..1000) */
 
-/* read control_ms (default control_ms_default), run discovery reporting
- * type, set ca_addr/ca_pos */
-void chain_app_init(uint8_t type, uint16_t control_ms_default);
+/* the declaration of control_ms, the control period every module program
+ * using chain_app has: put it in the program's hal_param_table with the
+ * program's own default */
+#define CHAIN_APP_PARAM_CONTROL_MS(default_ms) \
+    HAL_PARAM("control_ms", HAL_PARAM_U16, 1, 1000, default_ms, "control period, ms")
+
+/* read control_ms (the program declares it: CHAIN_APP_PARAM_CONTROL_MS), run
+ * discovery reporting type, set ca_addr/ca_pos */
+void chain_app_init(uint8_t type);
 
 /* Check one received frame. Returns its command code when the program must
  * act on it (SET_GAIT, START, STOP, READ_SENSORS, all of the right length and

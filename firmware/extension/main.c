@@ -21,6 +21,11 @@
 #define SERVO_PITCH 1u
 #define STROKE_MAX_UM 15000
 
+const hal_param_decl hal_param_table[] = {
+    CHAIN_APP_PARAM_CONTROL_MS(10),
+    HAL_PARAM_END
+};
+
 static int16_t stroke_um = STROKE_MAX_UM;
 static iw_schedule sched = {1000, 0, 2};
 
@@ -39,7 +44,7 @@ int main(void)
     hal_init();
     set_length_um(0);
     chain_app_servo(SERVO_PITCH, 0);
-    chain_app_init(MT_EXTENSION, 10);
+    chain_app_init(MT_EXTENSION);
 
     for (;;) {
         while (hal_i2c_receive(buf, sizeof buf, &len, &to) == HAL_OK) {

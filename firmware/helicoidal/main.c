@@ -16,6 +16,11 @@
 
 #define SERVO_SCREW 0u
 
+const hal_param_decl hal_param_table[] = {
+    CHAIN_APP_PARAM_CONTROL_MS(10),
+    HAL_PARAM_END
+};
+
 static int16_t drive_pm; /* command from SET_GAIT, per mille */
 
 static void set_drive(int16_t pm)
@@ -35,7 +40,7 @@ int main(void)
 
     hal_init();
     set_drive(0);
-    chain_app_init(MT_HELICOIDAL, 10);
+    chain_app_init(MT_HELICOIDAL);
 
     for (;;) {
         while (hal_i2c_receive(buf, sizeof buf, &len, &to) == HAL_OK) {

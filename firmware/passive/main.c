@@ -8,6 +8,11 @@
 #include "chain_app.h"
 #include "chain_commands.h"
 
+const hal_param_decl hal_param_table[] = {
+    CHAIN_APP_PARAM_CONTROL_MS(10),
+    HAL_PARAM_END
+};
+
 int main(void)
 {
     uint8_t buf[HAL_I2C_DATA_MAX];
@@ -15,7 +20,7 @@ int main(void)
     int16_t none[1];
 
     hal_init();
-    chain_app_init(MT_PASSIVE, 10);
+    chain_app_init(MT_PASSIVE);
     for (;;) {
         while (hal_i2c_receive(buf, sizeof buf, &len, &to) == HAL_OK) {
             switch (chain_app_filter(buf, len, to)) {

@@ -20,9 +20,13 @@
 #include "gait.h"
 #include "strbuf.h"
 
-#define CONTROL_MS_DEFAULT 10
 #define SERVO_PITCH 0u
 #define SERVO_YAW 1u
+
+const hal_param_decl hal_param_table[] = {
+    CHAIN_APP_PARAM_CONTROL_MS(10), /* the real modules used about 15 ms */
+    HAL_PARAM_END
+};
 
 /* the gait last set by SET_GAIT (its code is ca_gait; chain_app.h) */
 static int16_t amp_cdeg;
@@ -175,7 +179,7 @@ int main(void)
 
     hal_init();
     hold_straight();
-    chain_app_init(MT_ROTATION, CONTROL_MS_DEFAULT);
+    chain_app_init(MT_ROTATION);
 
     for (;;) {
         while (hal_i2c_receive(buf, sizeof buf, &len, &to) == HAL_OK) {

@@ -18,6 +18,11 @@
 
 #define SERVO_ARM 0u
 
+const hal_param_decl hal_param_table[] = {
+    CHAIN_APP_PARAM_CONTROL_MS(10),
+    HAL_PARAM_END
+};
+
 static int16_t grip_cdeg = CC_QUARTER_TURN_CDEG;
 static iw_schedule sched = {1000, 0, 1};
 
@@ -30,7 +35,7 @@ int main(void)
 
     hal_init();
     chain_app_servo(SERVO_ARM, 0);
-    chain_app_init(MT_SUPPORT, 10);
+    chain_app_init(MT_SUPPORT);
 
     for (;;) {
         while (hal_i2c_receive(buf, sizeof buf, &len, &to) == HAL_OK) {

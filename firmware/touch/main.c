@@ -16,6 +16,12 @@
 
 #define TOUCH_INPUT 0u
 
+const hal_param_decl hal_param_table[] = {
+    CHAIN_APP_PARAM_CONTROL_MS(10),
+    HAL_PARAM("release_ms", HAL_PARAM_U16, 0, 60000, 50, "released once the input was low this long, ms"),
+    HAL_PARAM_END
+};
+
 int main(void)
 {
     uint8_t buf[HAL_I2C_DATA_MAX];
@@ -24,12 +30,10 @@ int main(void)
     uint32_t last_contact_ms = 0;
     uint16_t release_ms;
     int16_t v[4];
-    int32_t p;
 
     hal_init();
-    p = hal_param("release_ms", 50);
-    release_ms = (uint16_t)(p < 0 ? 0 : (p > 60000 ? 60000 : p));
-    chain_app_init(MT_TOUCH, 10);
+    release_ms = (uint16_t)hal_param("release_ms");
+    chain_app_init(MT_TOUCH);
 
     for (;;) {
         while (hal_i2c_receive(buf, sizeof buf, &len, &to) == HAL_OK) {

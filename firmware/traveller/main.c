@@ -17,10 +17,15 @@
 #include "chain_commands.h"
 
 #define WHEELS 3u
-/* default control_ms: at 10 ms the per-step jitter of the wheels, which
- * the max picks up, made the estimate 6 % long; 50 ms halves that */
-#define SAMPLE_MS_DEFAULT 50u
 #define MDEG_PER_RAD 57296 /* 360000 / (2 pi): deg x r_um / this = mm */
+
+const hal_param_decl hal_param_table[] = {
+    /* 50, not 10: at 10 ms the per-step jitter of the wheels, which the max
+     * picks up, made the estimate 6 % long; 50 ms takes it to 0.3 % */
+    CHAIN_APP_PARAM_CONTROL_MS(50),
+    HAL_PARAM("wheel_r_um", HAL_PARAM_I32, 1, 30000, 6000, "wheel radius, um (distance = deg x wheel_r_um / 57296)"),
+    HAL_PARAM_END
+};
 
 static int32_t last[WHEELS];
 static int32_t dist_deg;
@@ -58,12 +63,8 @@ int main(void)
     int16_t v[4];
 
     hal_init();
-    wheel_r_um = hal_param("wheel_r_um", 6000);
-    if (wheel_r_um < 1)
-        wheel_r_um = 1;
-    if (wheel_r_um > 30000)
-        wheel_r_um = 30000;
-    chain_app_init(MT_TRAVELLER, SAMPLE_MS_DEFAULT);
+    wheel_r_um = hal_param("wheel_r_um");
+    chain_app_init(MT_TRAVELLER);
     for (i = 0; i < WHEELS; i++)
         last[i] = hal_counter_read(i);
 

@@ -93,6 +93,7 @@ void Barrier::apply(int64_t t_us, BarrierSink* sink) {
       bus_.set_address(e, te.i2c_address);
       std::snprintf(line, sizeof line, "addr endpoint=%d address=0x%02x", e, te.i2c_address);
       sink->bus_event(t_us, line);
+      sink->address(e, t_us, te.i2c_address);
     }
     for (int i = 0; i < te.n_i2c; ++i) {
       const cs_i2c_frame& f = te.i2c[i];

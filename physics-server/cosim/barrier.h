@@ -23,6 +23,10 @@ class BarrierSink {
   virtual void bus_event(int64_t t_us, const char* line) = 0;
   // a log line of endpoint e
   virtual void module_log(int endpoint, int64_t t_us, const char* line) = 0;
+  // endpoint e took I2C address `address` (0: gave it up), after its bus-log line
+  virtual void address(int endpoint, int64_t t_us, uint8_t address) {
+    (void)endpoint, (void)t_us, (void)address;
+  }
 };
 
 class Barrier {

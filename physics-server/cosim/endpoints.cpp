@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cosim/program_params.h"
 #include "cosim/socket_dir.h"
 #include "output/decimal.h"
 

@@ -18,6 +18,7 @@
 #include "cosim/barrier.h"
 #include "cosim/endpoints.h"
 #include "output/decimal.h"
+#include "output/run_events.h"
 #include "output/run_output.h"
 #include "output/run_summary.h"
 #include "output/scene_json.h"
@@ -59,8 +60,10 @@ class Server : public BarrierSink {
         world_(scene.world, scene.chain_types()),
         n_modules_(world_.module_count()),
         signals_(io_, SIGINT, SIGTERM),
-        trace_(world_, TraceWriter::interval_for(world_, scene.trace_hz)),
-        touch_(n_modules_),
+        columns_(sensor_columns(scene.world, scene.chain_types())),
+        trace_(world_, TraceWriter::interval_for(world_, scene.trace_hz), columns_),
+        touch_(n_modules_, columns_),
+        discovery_us_(std::llround(scene.discovery_s * 1e6)),
         energy_j_(n_modules_, 0.0) {
     std::vector<int> servos;
     for (int m = 0; m < n_modules_; ++m) servos.push_back(world_.servo_count(m));
@@ -84,7 +87,13 @@ class Server : public BarrierSink {
     out_->bus(t_us, line);
     if (opt_.observer) opt_.observer->bus_line(t_us, line);
   }
-  void module_log(int endpoint, int64_t t_us, const char* line) override { out_->module_log(endpoint, t_us, line); }
+  void module_log(int endpoint, int64_t t_us, const char* line) override {
+    out_->module_log(endpoint, t_us, line);
+    if (opt_.observer) opt_.observer->module_log(endpoint, t_us, line);
+  }
+  void address(int endpoint, int64_t t_us, uint8_t address) override {
+    out_->event(address_event(t_us, endpoint, (*endpoints_)[endpoint].type, address));
+  }
 
  private:
   // one tick's exchange, in two halves with the physics step between them:
@@ -104,8 +113,12 @@ class Server : public BarrierSink {
   // a write of the run's files failed (disk full): the run stops at once,
   // naming the file; false if so
   bool check_output();
-  // a fault of e: returns true if the run goes on (limp mode)
-  bool fault(Endpoint& e, const std::string& what);
+  // at discovery_us_: a module without an I2C address that may not stay
+  // silent is a fault (exit kExitSilentModule); false if the run stops
+  bool judge_discovery();
+  // a fault of e: returns true if the run goes on (limp mode); else the run
+  // stops with exit code `code`
+  bool fault(Endpoint& e, const std::string& what, int code = kExitModuleFault);
   RunSummary summary(double wall_s, const Eigen::Vector3d& displacement_m);
 
   const Scene& scene_;
@@ -119,9 +132,13 @@ class Server : public BarrierSink {
   std::unique_ptr<Barrier> barrier_;
   std::unique_ptr<RunOutput> out_;
   std::unique_ptr<Endpoints> endpoints_;
+  std::vector<SensorColumn> columns_;  // the sensors of the chain, as the trace has them
   TraceWriter trace_;
   std::string row_;
   TouchEdges touch_;
+  const int64_t discovery_us_;
+  bool discovery_judged_ = false;
+  std::vector<int> silent_, allowed_silent_;
   std::vector<double> energy_j_;
   int64_t now_us_ = 0;
   std::string stop_message_;
@@ -145,12 +162,14 @@ bool Server::check_divergence() {
   if (opt_.on_divergence == DivergenceMode::Warn && !d->non_finite) {
     if (!divergence_said_) {
       bus_event(now_us_, ("warning " + what).c_str());
+      out_->event(warning_event(now_us_, what));
       std::fprintf(stderr, "chainsim: warning: %s; the run goes on (--on-divergence=warn)\n", what.c_str());
       divergence_said_ = true;
     }
     return true;
   }
   bus_event(now_us_, ("fault " + what).c_str());
+  out_->event(fault_event(now_us_, -1, "", what));
   out_->flush();
   stop_message_ = what;
   stop_code_ = kExitDivergence;
@@ -170,9 +189,35 @@ bool Server::check_ended() {
   return true;
 }
 
-bool Server::fault(Endpoint& e, const std::string& what) {
+bool Server::judge_discovery() {
+  discovery_judged_ = true;
+  std::vector<int> answered;
+  for (int i = 0; i < n_modules_; ++i) {
+    if (barrier_->address(i) != 0) answered.push_back(i);
+    else if (scene_.modules[i].may_stay_silent) allowed_silent_.push_back(i);
+    else silent_.push_back(i);
+  }
+  out_->event(discovery_event(now_us_, answered, allowed_silent_, silent_));
+  for (size_t k = 0; k < silent_.size(); ++k) {
+    Endpoint& e = (*endpoints_)[silent_[k]];
+    if (!e.fault.empty()) continue;  // it crashed or hung: that fault says more
+    std::string what = "did not answer discovery: it has no I2C address (judged at central.discovery_s)";
+    const size_t others = silent_.size() - 1;  // behind the first, the shipped central control stops
+    if (k == 0 && others > 0)
+      what += "; " + std::string(others == 1 ? "module " : "modules ") + std::to_string(silent_[1]) +
+              (others == 2 ? " and " : others > 2 ? " to " : "") +
+              (others >= 2 ? std::to_string(silent_.back()) : "") + " after it " + (others == 1 ? "has" : "have") +
+              " none either";
+    what += "; a module that takes no part in discovery says may_stay_silent: true in the scene";
+    if (!fault(e, what, kExitSilentModule)) return false;
+  }
+  return true;
+}
+
+bool Server::fault(Endpoint& e, const std::string& what, int code) {
   e.fault = endpoints_->describe_end(e, what, now_us_);
   bus_event(now_us_, ("fault " + e.fault).c_str());
+  out_->event(fault_event(now_us_, e.index, e.type, e.fault));
   out_->flush();
   endpoints_->cut_off(e);
   if (opt_.on_fault == FaultMode::Limp) {
@@ -182,7 +227,7 @@ bool Server::fault(Endpoint& e, const std::string& what) {
     return true;
   }
   stop_message_ = e.fault;
-  stop_code_ = kExitModuleFault;
+  stop_code_ = code;
   return false;
 }
 
@@ -318,7 +363,15 @@ RunResult Server::run() {
       ok = false;
       break;
     }
-    touch_.sample(world_, [this](const char* line) { bus_event(now_us_, line); });
+    if (!discovery_judged_ && now_us_ >= discovery_us_ && !judge_discovery()) {
+      ok = false;
+      break;
+    }
+    touch_.sample(
+        world_, [this](const char* line) { bus_event(now_us_, line); },
+        [this](int m, const std::string& sensor, bool contact) {
+          out_->event(touch_event(now_us_, m, sensor, contact));
+        });
     // signals arrive through the io_context; polling it costs a system call
     // (epoll_wait), so it is polled every kSignalPollInterval of wall time
     // rather than every tick (the clock is read without one)
@@ -394,6 +447,10 @@ RunSummary Server::summary(double wall_s, const Eigen::Vector3d& displacement_m)
     s.endpoints.push_back(es);
   }
   s.displacement_m = displacement_m;
+  s.discovery_us = discovery_us_;
+  s.discovery_judged = discovery_judged_;
+  s.silent = silent_;
+  s.allowed_silent = allowed_silent_;
   s.exit_code = stop_code_;
   s.stopped_by = stop_message_;
   return s;

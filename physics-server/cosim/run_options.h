@@ -21,6 +21,7 @@ constexpr int kExitModuleFault = 2;  // a module crashed, hung or broke the prot
 constexpr int kExitInternal = 3;
 constexpr int kExitDivergence = 4;   // the physics diverged (non-finite or beyond the documented bounds)
 constexpr int kExitOutput = 5;       // an output file could not be written (disk full, I/O error)
+constexpr int kExitSilentModule = 6; // a module never answered discovery (Scene::discovery_s)
 constexpr int kExitInterrupted = 130;
 
 // watches a run as it happens (the live view); called from the simulation
@@ -32,6 +33,8 @@ class RunObserver {
   virtual void started(const nlohmann::json& scene, const std::string& trace_header) = 0;
   virtual void trace_row(const std::string& row) = 0;      // one CSV line, newline included
   virtual void bus_line(int64_t t_us, const char* line) = 0;
+  // a log line of endpoint e (modules/NN-TYPE.log)
+  virtual void module_log(int endpoint, int64_t t_us, const char* line) { (void)endpoint, (void)t_us, (void)line; }
   virtual void finished(const nlohmann::json& summary) = 0;
 };
 

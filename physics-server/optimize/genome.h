@@ -32,6 +32,7 @@ struct ParamGene {
   int module = -1;      // Scope::Module: the chain index
   std::string name;     // the parameter's name (hal_param)
   int64_t min = 0, max = 0, step = 1;
+  std::string where;    // "file:line:column" of its entry in the problem file
   int64_t count() const { return (max - min) / step + 1; }
 };
 

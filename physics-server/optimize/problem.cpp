@@ -71,6 +71,7 @@ void load_param_gene(const SceneYaml& y, const YAML::Node& n, const std::string&
   for (const char* k : {"target", "min", "max"})
     if (!n[k]) y.fail(n, "'" + p + "' needs '" + k + "'");
   g->target = y.text(n, "target", "", p);
+  g->where = y.where(n);
   const std::string& t = g->target;
   const size_t dot = t.rfind('.');
   const std::string head = dot == std::string::npos ? "" : t.substr(0, dot);

@@ -59,6 +59,7 @@ RunOutput::RunOutput(const std::string& dir, const std::vector<std::string>& end
   std::setvbuf(trace_, nullptr, _IONBF, 0);
   trace_buffer_.reserve(kTraceBufferBytes);
   bus_ = open_or_throw(path("bus.log"));
+  events_ = open_or_throw(path("events.jsonl"));
   // every endpoint's log exists from the start, empty until it logs (a
   // missing file would look like a lost one); opened again at the first line
   for (size_t i = 0; i < names_.size(); ++i) std::fclose(open_or_throw(module_file(static_cast<int>(i), "log")));
@@ -68,6 +69,7 @@ RunOutput::~RunOutput() {
   flush();
   if (trace_) std::fclose(trace_);
   if (bus_) std::fclose(bus_);
+  if (events_) std::fclose(events_);
   for (FILE* f : logs_)
     if (f) std::fclose(f);
 }
@@ -130,6 +132,10 @@ void RunOutput::bus(int64_t t_us, const char* line) {
   if (bus_ && std::fprintf(bus_, "%" PRId64 " %s\n", t_us, line) < 0) failed(bus_, path("bus.log"));
 }
 
+void RunOutput::event(const std::string& line) {
+  if (events_ && std::fprintf(events_, "%s\n", line.c_str()) < 0) failed(events_, path("events.jsonl"));
+}
+
 void RunOutput::module_log(int endpoint, int64_t t_us, const char* line) {
   FILE*& f = logs_[endpoint];
   if (!f) {
@@ -143,6 +149,7 @@ void RunOutput::module_log(int endpoint, int64_t t_us, const char* line) {
 void RunOutput::flush() {
   write_trace_buffer();
   if (bus_ && std::fflush(bus_) != 0) failed(bus_, path("bus.log"));
+  if (events_ && std::fflush(events_) != 0) failed(events_, path("events.jsonl"));
   for (size_t i = 0; i < logs_.size(); ++i)
     if (logs_[i] && std::fflush(logs_[i]) != 0) failed(logs_[i], module_file(static_cast<int>(i), "log"));
 }

@@ -1,4 +1,4 @@
-// The files of a run directory: trace.csv, bus.log, modules/<i>-<type>.log
+// The files of a run directory: trace.csv, bus.log, events.jsonl, modules/<i>-<type>.log
 // (and the .out files the processes write themselves), scene.json and
 // summary.json. Written as the run goes, flushed often, so a run that ends by
 // a fault or Ctrl-C keeps everything produced until then. A write that fails
@@ -21,7 +21,7 @@ namespace chainsim {
 
 class RunOutput {
  public:
-  // creates dir (and dir/modules) if missing, trace.csv, bus.log and every
+  // creates dir (and dir/modules) if missing, trace.csv, bus.log, events.jsonl and every
   // endpoint's (empty) log; throws
   // std::runtime_error naming the path. endpoint_names[i]: endpoint i's type
   RunOutput(const std::string& dir, const std::vector<std::string>& endpoint_names);
@@ -33,6 +33,7 @@ class RunOutput {
 
   void trace(const std::string& bytes);        // appended and hashed
   void bus(int64_t t_us, const char* line);    // one bus-log line: "<t_us> <line>"
+  void event(const std::string& line);         // one line of events.jsonl (run_events.h)
   // one line of endpoint's log, "<t_s> <line>"
   void module_log(int endpoint, int64_t t_us, const char* line);
   void flush();
@@ -60,6 +61,7 @@ class RunOutput {
   std::vector<std::string> names_;
   FILE* trace_ = nullptr;
   FILE* bus_ = nullptr;
+  FILE* events_ = nullptr;
   std::vector<FILE*> logs_;
   Sha256 sha_;
   size_t trace_bytes_ = 0;

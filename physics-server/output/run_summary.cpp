@@ -19,7 +19,7 @@ nlohmann::json summary_json(const Scene& scene, const RunSummary& run) {
       char hex[8];
       std::snprintf(hex, sizeof hex, "0x%02x", e.i2c_address);
       m["i2c_address"] = hex;
-      m["addressed_at_s"] = e.addressed_us * 1e-6;
+      m["addressed_at_s"] = static_cast<double>(e.addressed_us) / 1e6;  // 0.007, not 0.006999999999999999
     } else {
       m["i2c_address"] = nullptr;  // it never answered discovery (or lost its address)
       m["addressed_at_s"] = nullptr;
@@ -46,6 +46,11 @@ nlohmann::json summary_json(const Scene& scene, const RunSummary& run) {
            {{"displacement_m", {d.x(), d.y(), d.z()}},
             {"distance_m", d.norm()},
             {"speed_m_s", sim_s > 0 ? d.norm() / sim_s : 0.0}}},
+          {"discovery",
+           {{"judged_at_s", static_cast<double>(run.discovery_us) / 1e6},
+            {"judged", run.discovery_judged},
+            {"silent", run.silent},
+            {"allowed_silent", run.allowed_silent}}},
           {"exit_code", run.exit_code},
           {"stopped_by", run.stopped_by.empty() ? nlohmann::json(nullptr) : nlohmann::json(run.stopped_by)}};
 }

@@ -37,6 +37,11 @@ struct RunSummary {
   uint64_t exchanges = 0;
   std::vector<EndpointSummary> endpoints;
   Eigen::Vector3d displacement_m = Eigen::Vector3d::Zero();  // of the chain's centre of mass
+  // discovery, judged at discovery_us when the run got that far: the modules
+  // with no I2C address then, failed (silent) and allowed to (allowed_silent)
+  int64_t discovery_us = 0;
+  bool discovery_judged = false;
+  std::vector<int> silent, allowed_silent;
   int exit_code = 0;
   std::string stopped_by;           // empty: it ran to the end
 };

@@ -1,36 +1,58 @@
-// Bus-log lines for the touch sensors: "touch endpoint=<m> level=<0|1>" each
-// time module m's digital input 0 changes (every module starts at 0), so a
-// run's bus.log shows when the chain's touch module met something.
+// Touch edges, for the bus log and the events file: each time a module's
+// touch input changes. The bus log keeps its line "touch endpoint=<m>
+// level=<0|1>" for digital input 0 of every module (every module starts at
+// 0), so a run's bus.log shows when the chain's touch module met something;
+// the events file gets one event per touch sensor of the module types
+// (SensorColumn::Source::DigitalIn), named after the sensor.
 #pragma once
 
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "output/trace_writer.h"
 #include "physics/world.h"
 
 namespace chainsim {
 
 class TouchEdges {
  public:
-  explicit TouchEdges(int modules) : level_(static_cast<size_t>(modules), 0) {}
+  // columns: the chain's sensor columns (sensor_columns); its digital inputs are watched
+  TouchEdges(int modules, const std::vector<SensorColumn>& columns);
 
-  // the line for each module whose input 0 changed since the last call, in
-  // module order: line(const char*)
-  template <class Line>
-  void sample(const World& world, Line line) {
+  // line(const char*) for each module whose input 0 changed since the last
+  // call, then event(module, sensor, level) for each touch sensor that did,
+  // in module order
+  template <class Line, class Event>
+  void sample(const World& world, Line line, Event event) {
     for (int m = 0; m < static_cast<int>(level_.size()); ++m) {
-      const uint8_t level = world.digital_inputs(m) & 1u;
-      if (level == level_[m]) continue;
-      level_[m] = level;
-      line(touch_line(m, level).c_str());
+      const uint16_t in = world.digital_inputs(m);
+      const uint8_t level = in & 1u;
+      if (level != level_[m]) {
+        level_[m] = level;
+        line(touch_line(m, level).c_str());
+      }
+      for (Watched& w : inputs_) {
+        if (w.module != m) continue;
+        const uint8_t v = (in >> w.bit) & 1u;
+        if (v == w.level) continue;
+        w.level = v;
+        event(m, w.sensor, v);
+      }
     }
   }
 
   static std::string touch_line(int module, unsigned level);
 
  private:
-  std::vector<uint8_t> level_;  // last logged level per module
+  struct Watched {
+    int module = 0;
+    int bit = 0;
+    std::string sensor;
+    uint8_t level = 0;
+  };
+  std::vector<uint8_t> level_;  // last logged level of input 0, per module
+  std::vector<Watched> inputs_;
 };
 
 }  // namespace chainsim

@@ -2,7 +2,9 @@
 #include "output/trace_writer.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <utility>
 
 #include "output/decimal.h"
 #include "physics/units.h"
@@ -10,7 +12,7 @@
 namespace chainsim {
 namespace {
 
-std::string make_header(const World& w) {
+std::string make_header(const World& w, const std::vector<SensorColumn>& sensors, const std::vector<int>& first) {
   std::string out = "t_s";
   static const char* kBodyCols[] = {"x", "y", "z", "qw", "qx", "qy", "qz"};
   for (int m = 0; m < w.module_count(); ++m) {
@@ -32,9 +34,27 @@ std::string make_header(const World& w) {
       const std::string wp = pre + w.wheel_name(m, k) + ".";
       out += "," + wp + "n_N," + wp + "f_N";
     }
+    for (int k = first[m]; k < first[m + 1]; ++k) out += "," + sensors[k].name;
   }
   out += "\n";
   return out;
+}
+
+// where each module's columns start in sensors (sorted by module), and the end
+std::vector<int> first_columns(const std::vector<SensorColumn>& sensors, int modules) {
+  std::vector<int> first(modules + 1, static_cast<int>(sensors.size()));
+  for (int k = static_cast<int>(sensors.size()) - 1; k >= 0; --k)
+    if (sensors[k].module < modules) first[sensors[k].module] = k;
+  for (int m = modules - 1; m >= 0; --m) first[m] = std::min(first[m], first[m + 1]);
+  return first;
+}
+
+// no allocation: a trace row is written in the step loop
+void integer_field(std::string* out, int64_t v) {
+  char buf[24];
+  buf[0] = ',';
+  const auto r = std::to_chars(buf + 1, buf + sizeof buf, v);
+  out->append(buf, static_cast<size_t>(r.ptr - buf));
 }
 
 void field(std::string* out, double value, int decimals) {
@@ -44,8 +64,38 @@ void field(std::string* out, double value, int decimals) {
 
 }  // namespace
 
-TraceWriter::TraceWriter(const World& world, int64_t interval_us)
-    : world_(world), header_(make_header(world)), interval_us_(interval_us) {}
+std::vector<SensorColumn> sensor_columns(const WorldConfig& config, const std::vector<std::string>& chain) {
+  std::vector<SensorColumn> out;
+  for (int m = 0; m < static_cast<int>(chain.size()); ++m) {
+    const std::string pre = "m" + std::to_string(m) + ".";
+    for (const SensorDef& sd : find_module_def(config.module_types, chain[m]).sensors) {
+      const std::string p = pre + sd.name + ".";
+      switch (sd.type) {
+        case SensorType::MotorCurrent:
+          out.push_back({m, SensorColumn::Source::Adc, sd.channel, p + "counts", sd.name});
+          break;
+        case SensorType::Accelerometer:
+          for (int a = 0; a < 3; ++a)
+            out.push_back({m, SensorColumn::Source::Adc, sd.channel + a, p + "xyz"[a] + "_counts", sd.name});
+          break;
+        case SensorType::Touch:
+          out.push_back({m, SensorColumn::Source::DigitalIn, sd.channel, p + "in", sd.name});
+          break;
+        case SensorType::WheelEncoder:
+          out.push_back({m, SensorColumn::Source::Counter, sd.channel, p + "counts", sd.name});
+          break;
+      }
+    }
+  }
+  return out;
+}
+
+TraceWriter::TraceWriter(const World& world, int64_t interval_us, std::vector<SensorColumn> sensors)
+    : world_(world),
+      sensors_(std::move(sensors)),
+      first_sensor_(first_columns(sensors_, world.module_count())),
+      header_(make_header(world, sensors_, first_sensor_)),
+      interval_us_(interval_us) {}
 
 int64_t TraceWriter::interval_for(const World& world, double trace_hz) {
   return std::max<int64_t>(world.dt_us(), std::llround(1e6 / trace_hz));
@@ -94,6 +144,17 @@ void TraceWriter::append_row(std::string* out) const {
       const World::WheelState ws = w.wheel_state(m, k);
       field(out, ws.normal_n, 4);
       field(out, ws.across_n, 4);
+    }
+    if (first_sensor_[m] == first_sensor_[m + 1]) continue;
+    ModuleSample s;  // what the firmware would read now (a pure read of the world)
+    w.sample(m, &s);
+    for (int k = first_sensor_[m]; k < first_sensor_[m + 1]; ++k) {
+      const SensorColumn& c = sensors_[k];
+      switch (c.source) {
+        case SensorColumn::Source::Adc: integer_field(out, c.channel < 8 ? s.adc[c.channel] : 0); break;
+        case SensorColumn::Source::DigitalIn: integer_field(out, (s.digital_in >> c.channel) & 1u); break;
+        case SensorColumn::Source::Counter: integer_field(out, c.channel < 4 ? s.counter[c.channel] : 0); break;
+      }
     }
   }
   out->push_back('\n');

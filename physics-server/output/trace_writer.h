@@ -8,21 +8,43 @@
 // setpoint_deg, angle_deg; linear: setpoint_mm, position_mm; screw drive:
 // command, speed_mm_s; DC motor: command, speed_rad_s; then current_a), the
 // module's supply_a, then each wheel and pad on the wall (<name>.n_N: its
-// normal force, .f_N: its friction across the wheel, a pad's magnitude; N).
+// normal force, .f_N: its friction across the wheel, a pad's magnitude; N),
+// then each sensor of its module type, as its firmware reads it
+// (World::sample): <sensor>.counts (motor current: ADC counts; wheel
+// encoder: its counter), <sensor>.x_counts, .y_counts, .z_counts
+// (accelerometer, ADC counts), <sensor>.in (touch: digital input, 0 or 1).
+// docs/outputs.md lists them all.
 #pragma once
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
+#include "model/module_def.h"
 #include "physics/world.h"
 
 namespace chainsim {
 
+// one sensor column of the trace: what a module's firmware reads on one
+// ADC channel, digital input or counter
+struct SensorColumn {
+  enum class Source { Adc, DigitalIn, Counter };
+  int module = 0;
+  Source source = Source::Adc;
+  int channel = 0;       // ADC channel, input bit or counter index
+  std::string name;      // "m0.accel.x_counts"
+  std::string sensor;    // its sensor's name in the module definition: "accel"
+};
+
+// the sensor columns of chain (module types, head first; the definitions
+// from config.module_types or the built-ins, as the World takes them)
+std::vector<SensorColumn> sensor_columns(const WorldConfig& config, const std::vector<std::string>& chain);
+
 class TraceWriter {
  public:
   // a row every interval_us of simulated time (at least one physics step),
-  // the first at t = 0
-  TraceWriter(const World& world, int64_t interval_us);
+  // the first at t = 0; sensors: the chain's sensor columns (sensor_columns)
+  TraceWriter(const World& world, int64_t interval_us, std::vector<SensorColumn> sensors = {});
   // the interval of trace_hz rows per second on world
   static int64_t interval_for(const World& world, double trace_hz);
 
@@ -34,6 +56,8 @@ class TraceWriter {
 
  private:
   const World& world_;
+  std::vector<SensorColumn> sensors_;
+  std::vector<int> first_sensor_;  // per module: index of its first column in sensors_ (size: modules + 1)
   std::string header_;
   int64_t interval_us_;
   int64_t next_us_ = 0;

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -30,21 +31,21 @@ bool is_param_name(const std::string& s) {
   return true;
 }
 
-std::map<std::string, int32_t> get_params(const Ctx& c, const YAML::Node& map,
-                                          const std::string& path) {
-  std::map<std::string, int32_t> out;
+// map's `params` into *params, and where each key is into *at
+void get_params(const Ctx& c, const YAML::Node& map, const std::string& path,
+                std::map<std::string, int32_t>* params, std::map<std::string, std::string>* at) {
   const YAML::Node n = map["params"];
-  if (!n) return out;
+  if (!n) return;
   if (!n.IsMap()) c.fail(n, "'" + path + ".params' must be a mapping of name: integer");
   for (const auto& kv : n) {
     const std::string name = kv.first.as<std::string>();
     if (!is_param_name(name))
       c.fail(kv.first, "parameter name '" + name + "' must be 1 to 15 letters, digits or '_'");
-    out[name] = static_cast<int32_t>(
+    (*params)[name] = static_cast<int32_t>(
         c.integer(n, name, 0, INT32_MIN, INT32_MAX, path + ".params"));
+    (*at)[name] = c.where(kv.first);
   }
-  if (out.size() > 16) c.fail(n, "'" + path + ".params' has more than 16 parameters");
-  return out;
+  if (params->size() > 16) c.fail(n, "'" + path + ".params' has more than 16 parameters");
 }
 
 // `programs: {all: {firmware, params}, <type>: {firmware, params}}`: the
@@ -53,7 +54,10 @@ std::map<std::string, int32_t> get_params(const Ctx& c, const YAML::Node& map,
 // merge name by name in the same order.
 struct ProgramDefaults {
   std::string firmware;  // empty: not given
+  std::string firmware_at;
+  std::optional<bool> may_stay_silent;
   std::map<std::string, int32_t> params;
+  std::map<std::string, std::string> param_at;
 };
 
 std::map<std::string, ProgramDefaults> load_programs(const Ctx& c, const YAML::Node& n, const Scene& s) {
@@ -67,30 +71,42 @@ std::map<std::string, ProgramDefaults> load_programs(const Ctx& c, const YAML::N
       c.fail(kv.first, "'programs' names module type '" + type + "', which is not known (the built-in types, "
                        "the scene's module_types, or all)");
     if (!kv.second.IsMap()) c.fail(kv.second, "'" + p + "' must be a mapping with firmware and/or params");
-    c.keys(kv.second, p, {"firmware", "params"});
+    c.keys(kv.second, p, {"firmware", "params", "may_stay_silent"});
     ProgramDefaults d;
+    if (kv.second["may_stay_silent"]) d.may_stay_silent = c.flag(kv.second, "may_stay_silent", false, p);
     d.firmware = c.string(kv.second, "firmware", "", p);
-    d.params = get_params(c, kv.second, p);
+    if (kv.second["firmware"]) d.firmware_at = c.where(kv.second["firmware"]);
+    get_params(c, kv.second, p, &d.params, &d.param_at);
     out[type] = d;
   }
   return out;
 }
 
-void apply_programs(const std::map<std::string, ProgramDefaults>& programs, Scene* s) {
+// chain: the scene's chain node (a module's own may_stay_silent wins when given)
+void apply_programs(const std::map<std::string, ProgramDefaults>& programs, const YAML::Node& chain, Scene* s) {
   const auto get = [&](const std::string& key) {
     const auto it = programs.find(key);
     return it == programs.end() ? ProgramDefaults{} : it->second;
   };
   const ProgramDefaults all = get("all");
-  for (SceneModule& m : s->modules) {
+  for (size_t i = 0; i < s->modules.size(); ++i) {
+    SceneModule& m = s->modules[i];
     const ProgramDefaults type = get(m.type);
-    if (m.firmware.empty()) m.firmware = !type.firmware.empty() ? type.firmware
-                                         : !all.firmware.empty() ? all.firmware
-                                                                 : default_firmware(m.type);
+    if (m.firmware.empty()) {
+      const ProgramDefaults& from = !type.firmware.empty() ? type : all;
+      m.firmware = !from.firmware.empty() ? from.firmware : default_firmware(m.type);
+      if (!from.firmware.empty()) m.firmware_at = from.firmware_at;
+    }
     std::map<std::string, int32_t> params = all.params;
+    std::map<std::string, std::string> at = all.param_at;
     for (const auto& [k, v] : type.params) params[k] = v;
+    for (const auto& [k, v] : type.param_at) at[k] = v;
     for (const auto& [k, v] : m.params) params[k] = v;
+    for (const auto& [k, v] : m.param_at) at[k] = v;
     m.params = params;
+    m.param_at = at;
+    if (!(chain.IsSequence() && chain[i]["may_stay_silent"]))
+      m.may_stay_silent = type.may_stay_silent.value_or(all.may_stay_silent.value_or(false));
   }
 }
 
@@ -111,18 +127,23 @@ void load_chain(const Ctx& c, const YAML::Node& root, Scene* s) {
         c.fail(n, std::string("'chain' has unknown module letter '") + l +
                        "' (T touch, R rotation, H helicoidal, S support, E extension, "
                        "W traveller, P passive)");
-      s->modules.push_back({type, "", {}});  // the program: apply_programs
+      SceneModule sm;
+      sm.type = type;  // the program: apply_programs
+      sm.firmware_at = c.where(n);
+      s->modules.push_back(sm);
     }
   } else if (n.IsSequence()) {
     for (size_t i = 0; i < n.size(); ++i) {
       const YAML::Node m = n[i];
       const std::string p = "chain[" + std::to_string(i) + "]";
-      c.keys(m, p, {"type", "firmware", "params"});
+      c.keys(m, p, {"type", "firmware", "params", "may_stay_silent"});
       if (!m["type"]) c.fail(m, "'" + p + "' needs a 'type'");
       SceneModule sm;
       sm.type = c.string(m, "type", "", p);
       sm.firmware = c.string(m, "firmware", "", p);  // empty: apply_programs
-      sm.params = get_params(c, m, p);
+      sm.firmware_at = c.where(m["firmware"] ? m["firmware"] : m);
+      get_params(c, m, p, &sm.params, &sm.param_at);
+      sm.may_stay_silent = c.flag(m, "may_stay_silent", false, p);
       s->modules.push_back(sm);
     }
     if (s->modules.empty()) c.fail(n, "'chain' is empty");
@@ -140,19 +161,6 @@ void check_tick_within_duration(const Ctx& c, const YAML::Node& root, const Scen
   std::snprintf(duration, sizeof duration, "%g", s.duration_s);
   c.fail(at, "'physics.tick_us' (" + std::to_string(s.tick_us) + " us) is longer than the run ('duration_s' " +
                  duration + " s)");
-}
-
-// The shipped central control's gait numbers (docs/firmware.md, "Gait
-// codes"; 10 is the elbow's own bend, never a parameter). Checked here until
-// programs declare their parameters; any other program is not checked.
-void check_central_gait(const Ctx& c, const YAML::Node& params) {
-  if (!params || !params.IsMap() || !params["gait"]) return;
-  const YAML::Node g = params["gait"];
-  const int64_t gait = c.integer_at(g, "central.params.gait", INT32_MIN, INT32_MAX);
-  if (gait < 0 || gait > 9)
-    c.fail(g, "'central.params.gait' = " + std::to_string(gait) +
-                  " is not a gait of fw-central (0 none, 1 forward, 2 backward, 3 turn left, 4 turn right, 5 roll, "
-                  "6 rotate in place, 7 lateral shift, 8 inchworm, 9 helicoidal drive)");
 }
 
 }  // namespace
@@ -215,7 +223,7 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
   load_scene_module_types(name, base_dir, root["module_types"], &s.world);  // scene_modules.cpp
   load_chain(c, root, &s);
   check_scene_chain_types(name, root["chain"], s);
-  apply_programs(load_programs(c, root["programs"], s), &s);
+  apply_programs(load_programs(c, root["programs"], s), root["chain"], &s);
 
   if (const YAML::Node p = root["placement"]) {
     c.keys(p, "placement", {"position_m", "heading_deg", "at", "inset_m"});
@@ -224,12 +232,15 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
     load_scene_placement_at(name, p, s.chain_types(), &s.world);  // at: pipe_entry
   }
 
-  s.central = {"central", "fw-central", {}};
+  s.central.type = "central";
+  s.central.firmware = "fw-central";
+  s.central.firmware_at = c.where(root);
   if (const YAML::Node ce = root["central"]) {
-    c.keys(ce, "central", {"program", "params"});
+    c.keys(ce, "central", {"program", "params", "discovery_s"});
+    s.discovery_s = c.number(ce, "discovery_s", s.discovery_s, 0.001, 86400.0, "central");
     s.central.firmware = c.string(ce, "program", "fw-central", "central");
-    s.central.params = get_params(c, ce, "central");
-    if (s.central.firmware == "fw-central") check_central_gait(c, ce["params"]);
+    s.central.firmware_at = c.where(ce["program"] ? ce["program"] : ce);
+    get_params(c, ce, "central", &s.central.params, &s.central.param_at);
   }
 
   // a program given as a relative path resolves against the scene's directory,

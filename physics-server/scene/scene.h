@@ -24,6 +24,14 @@ struct SceneModule {
   std::string type;      // module type name, e.g. "rotation"
   std::string firmware;  // program name, e.g. "fw-rotation", or a path
   std::map<std::string, int32_t> params;
+  // where the scene file sets each parameter ("file:line:column" of its key)
+  // and names the program (of `firmware`, or of the module or chain): for
+  // the errors of check_scene_params (scene_params.h)
+  std::map<std::string, std::string> param_at;
+  std::string firmware_at;
+  // the module may never answer discovery (its program takes no part in
+  // it): no failure when it has no I2C address at discovery_s
+  bool may_stay_silent = false;
 };
 
 struct Scene {
@@ -38,6 +46,10 @@ struct Scene {
   // modules: the World is built from chain_types().
   std::vector<SceneModule> modules;
   SceneModule central;         // the central control program
+  // by this simulated time every module has answered discovery (taken an
+  // I2C address) unless it may stay silent; a run that lasts this long and
+  // has a module without one stops with kExitSilentModule
+  double discovery_s = 1.0;
   double trace_hz = 100.0;     // trace rows per simulated second
 
   // the module types of the chain, head first (what World's constructor takes)

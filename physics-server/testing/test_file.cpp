@@ -244,7 +244,7 @@ TestFile load_test_text(const std::string& text, const std::string& name) {
 
 TestFile load_test_file(const std::string& path) { return load_test_text(read_text(path, "test file"), path); }
 
-Scene load_test_scene(const TestFile& test, std::optional<uint64_t> seed) {
+Scene load_test_scene(const TestFile& test, std::optional<uint64_t> seed, const SceneCheck& check) {
   const std::string text = read_text(test.scene_file, "scene file (" + test.scene_where + ")");
   std::vector<SceneEdit> edits = test.edits;
   if (seed) edits.push_back({{"seed"}, YAML::Node(std::to_string(*seed)), test.seeds_where.empty() ? "--seeds" : test.seeds_where});
@@ -270,18 +270,23 @@ Scene load_test_scene(const TestFile& test, std::optional<uint64_t> seed) {
     out << root;
     return out.c_str();
   };
+  const auto load = [&](const std::string& scene_text) {
+    Scene s = load_scene_text(scene_text, test.scene_file);
+    if (check) check(s);
+    return s;
+  };
   try {
-    return load_scene_text(edited(edits.size()), test.scene_file);
+    return load(edited(edits.size()));
   } catch (const SceneError& all) {
     try {
-      load_scene_text(text, test.scene_file);
+      load(text);
     } catch (const SceneError& e) {
       throw TestFileError(test.scene_where + ": the scene does not load: " + e.what());
     }
     // the first edit that breaks the scene is the culprit
     for (size_t k = 1; k <= edits.size(); ++k) {
       try {
-        load_scene_text(edited(k), test.scene_file);
+        load(edited(k));
       } catch (const SceneError& e) {
         throw TestFileError(edits[k - 1].where + ": " + without_location(e.what(), test.scene_file));
       }

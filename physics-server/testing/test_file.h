@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -59,8 +60,11 @@ std::vector<uint64_t> parse_seed_range(const std::string& text);
 // the scene a test runs with a seed (nullopt: the scene's own): the scene file
 // with the test's edits applied. A scene file error is reported as the scene
 // loader words it; an edit that makes the scene invalid is reported at the
-// edit's place in the test file. Throws TestFileError.
-Scene load_test_scene(const TestFile& test, std::optional<uint64_t> seed);
+// edit's place in the test file. check, if given, is part of loading: a
+// SceneError it throws (e.g. check_scene_programs: a parameter the program
+// does not declare) is reported the same way. Throws TestFileError.
+using SceneCheck = std::function<void(const Scene&)>;
+Scene load_test_scene(const TestFile& test, std::optional<uint64_t> seed, const SceneCheck& check = {});
 
 // the test files among paths: files as given, folders searched recursively
 // for *.test.yaml (sorted); throws TestFileError for a path that does not exist

@@ -20,6 +20,7 @@
 #include <sstream>
 
 #include "cosim/lockstep_server.h"
+#include "cosim/program_params.h"
 #include "testing/junit.h"
 #include "testing/run_record.h"
 #include "testing/test_file.h"
@@ -112,7 +113,7 @@ void measure(Case& c, int exit_code) {
     r.error = "interrupted";
     return;
   }
-  if (exit_code != kExitOk && exit_code != kExitModuleFault) {
+  if (exit_code != kExitOk && exit_code != kExitModuleFault && exit_code != kExitSilentModule) {
     r.status = TestCaseResult::Status::error;
     r.error = "the run could not start or did not finish (exit " + std::to_string(exit_code) +
               "): " + tail_of(c.dir + "/chainsim.log", 600);
@@ -198,7 +199,8 @@ int run_tests(const TestRunOptions& o, const FailureViewer& viewer, FILE* out) {
       c.result.file = t.file;
       c.result.name = t.name;
       try {
-        c.scene = load_test_scene(t, seed);
+        // programs found, their parameters declared and in range, before any run
+        c.scene = load_test_scene(t, seed, [&](const Scene& s) { check_scene_programs(s, o.firmware_dir); });
         c.result.seed = c.scene->world.seed;
       } catch (const TestFileError& e) {
         c.result.error = e.what();

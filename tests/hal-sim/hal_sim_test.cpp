@@ -15,6 +15,14 @@ extern "C" {
 
 using namespace chainsim_test;
 
+// this test program's parameters
+extern "C" const hal_param_decl hal_param_table[] = {
+    HAL_PARAM("gait", HAL_PARAM_I16, -5, 5, -1, "a parameter the scene gives"),
+    HAL_PARAM("nope", HAL_PARAM_I16, -10, 10, -7, "a parameter the scene does not give"),
+    HAL_PARAM("clamped", HAL_PARAM_U8, 0, 9, 3, "given out of its range by a server that did not check"),
+    HAL_PARAM_END,
+};
+
 namespace {
 
 class HalSim : public HalSimPeer {};
@@ -28,8 +36,9 @@ TEST_F(HalSim, HandshakeSendsHelloAndWaitsForFirstTick)
             hal_init();
             tlog("millis=%" PRIu32, hal_millis());
             tlog("servos=%u", hal_servo_count());
-            tlog("gait=%" PRId32 " missing=%" PRId32, hal_param("gait", -1),
-                 hal_param("nope", -7));
+            tlog("gait=%" PRId32 " missing=%" PRId32 " clamped=%" PRId32 " given=%u%u%u",
+                 hal_param("gait"), hal_param("nope"), hal_param("clamped"), hal_param_given("gait"),
+                 hal_param_given("nope"), hal_param_given("clamped"));
             tlog("sin=%u adc1=%u gpio3=%u cnt0=%" PRId32, hal_sync_read_sin(), hal_adc_read(1),
                  hal_gpio_read(3), hal_counter_read(0));
             tick_forever();
@@ -44,7 +53,7 @@ TEST_F(HalSim, HandshakeSendsHelloAndWaitsForFirstTick)
     EXPECT_EQ(m.u.hello.pid, uint32_t(pid_));
     EXPECT_STREQ(m.u.hello.type, "rotation");
 
-    ASSERT_TRUE(conn_.send(make_welcome(3, 1000, {{"gait", 2}, {"omega_mrad_s", 6000}})));
+    ASSERT_TRUE(conn_.send(make_welcome(3, 1000, {{"gait", 2}, {"clamped", 70}, {"omega_mrad_s", 6000}})));
     // hal_init() must not return (and the firmware must not run) before the first tick
     EXPECT_FALSE(conn_.readable(100));
 
@@ -65,10 +74,28 @@ TEST_F(HalSim, HandshakeSendsHelloAndWaitsForFirstTick)
     EXPECT_EQ(te.u.tick_end.sout_level, 0);
     EXPECT_EQ(te.u.tick_end.i2c_address, 0);
     EXPECT_EQ(logs_of(te), (std::vector<std::string>{"millis=5", "servos=2",
-                                                      "gait=2 missing=-7",
+                                                      "gait=2 missing=-7 clamped=9 given=101",
                                                       "sin=1 adc1=1023 gpio3=1 cnt0=-77"}));
     EXPECT_EQ(shutdown_and_wait(), 0);
-    EXPECT_EQ(child_stderr(), "");
+    // omega_mrad_s is not declared: hal-sim says so (the server never sends one)
+    EXPECT_EQ(child_stderr(), "chainsim hal: warning: the scene sets parameter \"omega_mrad_s\", which this "
+                              "program does not declare\n");
+}
+
+TEST_F(HalSim, ParameterNotDeclaredStopsTheProgramNamingIt)
+{
+    spawn([] {
+        hal_init();
+        tlog("before");
+        (void)hal_param("gaitt");
+        tlog("not reached");
+        tick_forever();
+    });
+    handshake();
+    EXPECT_EQ(child_exit(), 2);
+    EXPECT_NE(child_stderr().find("hal_param(\"gaitt\"): the program's hal_param_table does not declare it"),
+              std::string::npos)
+        << child_stderr();
 }
 
 TEST_F(HalSim, OutputsAreBatchedIntoTheNextTickEnd)

@@ -9,6 +9,12 @@
 
 #include "hal.h"
 
+const hal_param_decl hal_param_table[] = {
+    HAL_PARAM("mode", HAL_PARAM_U8, 0, 6, 0, "0 quiet, 1 hang, 2 SIGSEGV, 3 exit 5, 4 log + crash, 5 log + exit 6, 6 spin"),
+    HAL_PARAM("at_ms", HAL_PARAM_U32, 0, 0x7FFFFFFFL, 100, "when to misbehave, simulated ms"),
+    HAL_PARAM_END
+};
+
 /* a real invalid write, not raise(): the backtrace must show this function */
 #if defined(__GNUC__)
 __attribute__((noinline))
@@ -21,8 +27,8 @@ void crash(void) {
 
 int main(void) {
     hal_init();
-    const int32_t mode = hal_param("mode", 0);
-    const uint32_t at_ms = (uint32_t)hal_param("at_ms", 100);
+    const int32_t mode = hal_param("mode");
+    const uint32_t at_ms = (uint32_t)hal_param("at_ms");
     while (hal_millis() < at_ms) hal_delay_ms(10);
     hal_log_int("misbehaving now, mode ", mode);
     if (mode == 4) {

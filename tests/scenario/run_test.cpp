@@ -71,9 +71,12 @@ TEST(Run, MissingModuleProgramIsNamed) {
       write_file(dir, "s.yaml", "chain:\n  - {type: rotation}\n  - {type: rotation, firmware: /nonexistent/fw}\n");
   const Outcome o = run({scene, "--duration", "0.1"}, dir);
   EXPECT_EQ(o.exit_code, 1);
-  EXPECT_NE(o.stderr_text.find("module 1 (rotation)"), std::string::npos) << o.stderr_text;
-  EXPECT_NE(o.stderr_text.find("/nonexistent/fw"), std::string::npos) << o.stderr_text;
-  EXPECT_TRUE(o.summary.is_object());
+  // named at the key, before any module starts (no run directory)
+  EXPECT_NE(o.stderr_text.find(scene + ":3:32: program '/nonexistent/fw' of module 1 (rotation) not found or not "
+                                        "executable: /nonexistent/fw"),
+            std::string::npos)
+      << o.stderr_text;
+  EXPECT_FALSE(o.summary.is_object());
 }
 
 // --check does everything before the first process and nothing after: no
@@ -102,7 +105,7 @@ TEST(Run, CheckBuildsTheSceneAndFindsItsProgramsWithoutRunningAnything) {
       write_file(dir, "noprog.yaml", "chain:\n  - {type: rotation, firmware: " + dir + "/nope}\n");
   o = check({no_prog, "--check"});
   EXPECT_EQ(o.exit_code, 1);
-  EXPECT_EQ(o.stderr_text, "chainsim: program for module 0 (rotation) not found or not executable: " + dir + "/nope\n");
+  EXPECT_EQ(o.stderr_text, "chainsim: " + no_prog + ":2:32: program '" + dir + "/nope' of module 0 (rotation) not found or not executable: " + dir + "/nope\n");
   const std::string no_mesh =
       write_file(dir, "nomesh.yaml", "chain: R\nenvironment:\n  type: mesh\n  mesh: {file: none.stl}\n");
   o = check({no_mesh, "--check"});

@@ -6,6 +6,7 @@
 //   chainsim test PATH...            run test files (scene + expectations); JUnit XML for CI
 //   chainsim bench-lockstep          price of processes and sockets vs physics only
 //   chainsim optimize PROBLEM.yaml   design search: GA over chains and parameters (local workers or MPI)
+//   chainsim params PROGRAM          the parameters a module program declares
 #include <CLI/CLI.hpp>
 
 #include <unistd.h>
@@ -21,8 +22,10 @@
 #include "chainsim/calibrate_command.h"
 #include "chainsim/test_command.h"
 #include "chainsim/optimize_command.h"
+#include "chainsim/params_command.h"
 #include "viewer/live_view.h"
 #include "cosim/lockstep_server.h"
+#include "cosim/program_params.h"
 #include "cosim/scene_check.h"
 #include "output/decimal.h"
 #include "output/run_dir.h"
@@ -81,6 +84,14 @@ int cmd_run(const RunArgs& a) {
                    scene.modules.size() - 1, scene.modules.size());
       return kExitBadInput;
     }
+  }
+  try {
+    // programs found, the parameters each is given declared and in range
+    // (a program given parameters is run once, with --chainsim-params, for its list)
+    check_scene_programs(scene, a.firmware_dir);
+  } catch (const SceneError& e) {
+    std::fprintf(stderr, "chainsim: %s\n", e.what());
+    return kExitBadInput;
   }
   if (a.check) {
     const SceneCheck c = check_scene(scene, a.firmware_dir);
@@ -156,8 +167,11 @@ int cmd_bench_lockstep(const BenchArgs& a) {
     scene.duration_s = a.duration;
     scene.modules.clear();
     for (int i = 0; i < n; ++i) {
-      scene.modules.push_back({"rotation", default_firmware("rotation"), {}});
-      if (a.control_ms > 0) scene.modules.back().params["control_ms"] = static_cast<int32_t>(a.control_ms);
+      SceneModule m;
+      m.type = "rotation";
+      m.firmware = default_firmware("rotation");
+      if (a.control_ms > 0) m.params["control_ms"] = static_cast<int32_t>(a.control_ms);
+      scene.modules.push_back(m);
     }
     RunOptions opt;
     opt.out_dir = a.out + "/" + std::to_string(n);
@@ -221,11 +235,15 @@ int main(int argc, char** argv) {
   run->add_flag("--quiet,-q", ra.quiet, "print only errors");
   run->add_flag("--check", ra.check,
                 "check the scene and run nothing: load it and its module and mesh files, build the world, find "
-                "every program; start no process and write no file (exit 0, or 1 naming file:line:column or the program)");
-  run->footer("Exit codes: 0 finished; 1 bad scene, module file or options (file:line:column, or the --out path); "
+                "every program and check the parameters the scene gives it against what it declares (a program "
+                "given parameters is run once to list them); start no module and write no file (exit 0, or 1 "
+                "naming file:line:column or the program)");
+  run->footer("Exit codes: 0 finished; 1 bad scene, module file or options (file:line:column, or the --out path; "
+              "a parameter the program does not declare or out of its range); "
               "2 a module or the central control faulted (crash, exit, hang, bad frame); 3 internal error; 4 the physics diverged "
-              "(--on-divergence); 5 an output file could not be written (disk full); 130 interrupted. "
-              "See docs/reliability.md.");
+              "(--on-divergence); 5 an output file could not be written (disk full); 6 a module never answered "
+              "discovery (no I2C address at the scene's central.discovery_s, default 1 s, unless it may_stay_silent); "
+              "130 interrupted. See docs/reliability.md.");
   run->add_flag("--live", ra.live, "show the run as it happens: serve the viewer on 127.0.0.1 (URL printed)");
   run->add_option("--live-port", ra.live_port, "port of the live view (default 0: any free port)")
       ->check(CLI::Range(0, 65535));
@@ -255,7 +273,8 @@ int main(int argc, char** argv) {
   bench->add_option("--duration", ba.duration, "simulated seconds per run")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  bench->add_option("--control-ms", ba.control_ms, "firmware control step of the rotation modules (default: theirs)");
+  bench->add_option("--control-ms", ba.control_ms, "firmware control step of the rotation modules (default: theirs)")
+      ->check(CLI::Range(1, 1000));  // fw-rotation's declared range of control_ms
   bench->add_option("--out", ba.out, "where the bench runs are written")->capture_default_str();
   bench->add_option("--repeat", ba.repeat, "runs per figure; the fastest counts")
       ->check(CLI::PositiveNumber)
@@ -266,6 +285,7 @@ int main(int argc, char** argv) {
   add_calibrate_command(app);
   add_test_command(app);
   add_optimize_command(app);
+  add_params_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -276,6 +296,7 @@ int main(int argc, char** argv) {
   if (const int rc = calibrate_command_exit_code(); rc >= 0) return rc;
   if (const int rc = test_command_exit_code(); rc >= 0) return rc;
   if (const int rc = optimize_command_exit_code(); rc >= 0) return rc;
+  if (const int rc = params_command_exit_code(); rc >= 0) return rc;
   if (*run) return cmd_run(ra);
   if (*view) return cmd_view(va);
   if (*bench) return cmd_bench_lockstep(ba);

@@ -9,6 +9,7 @@
 #include <exception>
 
 #include "cosim/lockstep_server.h"
+#include "cosim/program_params.h"
 #include "scene/scene.h"
 
 using namespace chainsim;
@@ -21,6 +22,7 @@ int main(int argc, char** argv) {
   Scene scene;
   try {
     scene = load_scene_file(argv[1]);
+    check_scene_programs(scene, "");
   } catch (const SceneError& e) {
     std::fprintf(stderr, "chainsim-evaluate: %s\n", e.what());
     return kExitBadInput;

@@ -13,6 +13,7 @@
 #include "cosim/lockstep_server.h"
 #include "optimize/local_pool.h"
 #include "optimize/mpi_pool.h"
+#include "optimize/problem_params.h"
 #include "optimize/report.h"
 #include "optimize/search.h"
 #include "viewer/viewer_page.h"
@@ -114,6 +115,7 @@ int run_optimize(const OptimizeArgs& a) {
   Problem pr;
   try {
     pr = load_problem_file(a.problem);
+    check_problem_params(pr, "");  // the evaluations find the programs next to chainsim
   } catch (const std::exception& e) {
     if (rank == 0) std::fprintf(stderr, "chainsim: %s\n", e.what());
     return leave(kExitBadInput, false);

@@ -351,6 +351,12 @@ void LiveView::bus_line(int64_t t_us, const char* line) {
   impl_->in_bus += '\n';
 }
 
+void LiveView::module_log(int endpoint, int64_t t_us, const char* line) {
+  std::lock_guard<std::mutex> l(impl_->in_mu);
+  if (impl_->in_bus.size() > kInputCap) return;
+  impl_->in_bus += std::to_string(t_us) + " log endpoint=" + std::to_string(endpoint) + " " + line + "\n";
+}
+
 void LiveView::finished(const nlohmann::json& summary) {
   std::string m = nlohmann::json{{"type", "finished"}, {"summary", summary}}.dump();
   std::lock_guard<std::mutex> l(impl_->in_mu);

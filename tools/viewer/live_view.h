@@ -40,6 +40,8 @@ class LiveView : public RunObserver {
   void started(const nlohmann::json& scene, const std::string& trace_header) override;
   void trace_row(const std::string& row) override;
   void bus_line(int64_t t_us, const char* line) override;
+  // sent with the bus lines as "<t_us> log endpoint=E <line>"
+  void module_log(int endpoint, int64_t t_us, const char* line) override;
   void finished(const nlohmann::json& summary) override;
 
   // counters, for tests and the end-of-run message

@@ -1,5 +1,6 @@
 #include "viewer/viewer_page.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdlib>
 #include <filesystem>
@@ -186,6 +187,27 @@ std::string viewer_page(const nlohmann::json& boot, const std::string& title) {
   return page;
 }
 
+// modules/NN-TYPE.log of every endpoint as {endpoint, type, text}, in endpoint order
+nlohmann::json module_logs(const fs::path& dir) {
+  std::vector<std::pair<int, fs::path>> files;
+  std::error_code ec;
+  for (const auto& de : fs::directory_iterator(dir / "modules", ec)) {
+    const std::string name = de.path().filename().string();
+    const size_t dash = name.find('-');
+    if (de.path().extension() != ".log" || dash == 0 || dash == std::string::npos ||
+        name.find_first_not_of("0123456789") != dash)
+      continue;
+    files.emplace_back(std::atoi(name.substr(0, dash).c_str()), de.path());
+  }
+  std::sort(files.begin(), files.end());
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& [endpoint, path] : files) {
+    const std::string stem = path.stem().string();
+    out.push_back({{"endpoint", endpoint}, {"type", stem.substr(stem.find('-') + 1)}, {"text", read_text(path, false)}});
+  }
+  return out;
+}
+
 nlohmann::json replay_boot(const std::string& run_dir, std::vector<std::string>* warnings) {
   const fs::path d = run_dir;
   for (const char* f : {"scene.json", "trace.csv"})
@@ -202,6 +224,7 @@ nlohmann::json replay_boot(const std::string& run_dir, std::vector<std::string>*
   }
   boot["trace"] = read_text(d / "trace.csv");
   boot["bus"] = read_text(d / "bus.log", false);
+  boot["logs"] = module_logs(d);
   boot["mesh_files"] = environment_files(boot["scene"], run_dir, warnings);
   return boot;
 }

@@ -19,6 +19,12 @@
 
 #define QUARTER_MRAD 1571 /* a quarter of the 6283 mrad period */
 
+/* the program's parameters: what a scene may set (docs/firmware.md, "Parameters") */
+const hal_param_decl hal_param_table[] = {
+    CHAIN_APP_PARAM_CONTROL_MS(10),
+    HAL_PARAM_END
+};
+
 static int16_t amp_cdeg;
 static int16_t omega_mrad_s;
 static int16_t phase_mrad;
@@ -98,7 +104,7 @@ int main(void)
     hal_init();
     chain_app_servo(0, 0);
     chain_app_servo(1, 0);
-    chain_app_init(MT_ROTATION, 10);
+    chain_app_init(MT_ROTATION);
 
     for (;;) {
         while (hal_i2c_receive(buf, sizeof buf, &len, &to) == HAL_OK) {

@@ -18,6 +18,12 @@ extern "C" {
 
 using namespace chainsim_test;
 
+// this test program's parameters: control_ms as a module program declares it
+extern "C" const hal_param_decl hal_param_table[] = {
+    CHAIN_APP_PARAM_CONTROL_MS(10),
+    HAL_PARAM_END,
+};
+
 namespace {
 
 using Frame = std::pair<uint8_t, std::vector<uint8_t>>; // to address, bytes
@@ -46,7 +52,7 @@ std::vector<uint8_t> frame_bytes(const cs_i2c_frame &f)
 void filter_program(uint8_t keep_flags)
 {
     hal_init();
-    chain_app_init(MT_SUPPORT, 10);
+    chain_app_init(MT_SUPPORT);
     tlog("addr=%u pos=%u type=%u control_ms=%u", ca_addr, ca_pos, ca_type, ca_control_ms);
     for (;;) {
         uint8_t buf[HAL_I2C_DATA_MAX], len, to;
@@ -158,7 +164,7 @@ TEST_F(ChainApp, DiscoveryTakesTheOfferedAddressOnlyWhileSinIsHigh)
 TEST_F(ChainApp, ControlMsParameterIsKeptWithin1To1000)
 {
     const std::pair<std::vector<std::pair<std::string, int32_t>>, int> cases[] = {
-        {{}, 10}, // the program's default
+        {{}, 10}, // the declared default (the server refuses the others; hal-sim clamps them anyway)
         {{{"control_ms", 25}}, 25},   {{{"control_ms", 1}}, 1},       {{{"control_ms", 0}}, 1},
         {{{"control_ms", -5}}, 1},    {{{"control_ms", 1000}}, 1000}, {{{"control_ms", 1001}}, 1000},
         {{{"control_ms", 70000}}, 1000},
@@ -246,7 +252,7 @@ TEST_F(ChainApp, TakeGaitFlagsOnlyForeignGaits)
 {
     ASSERT_NO_FATAL_FAILURE(start_module([] {
         hal_init();
-        chain_app_init(MT_SUPPORT, 10);
+        chain_app_init(MT_SUPPORT);
         std::string line;
         for (uint8_t g : {0, 8, 1, 9, 10, 255}) {
             std::vector<uint8_t> f = set_gait(g);
@@ -266,7 +272,7 @@ TEST_F(ChainApp, SensorsReplyCarriesAtMostSixValues)
 {
     ASSERT_NO_FATAL_FAILURE(start_module([] {
         hal_init();
-        chain_app_init(MT_SUPPORT, 10);
+        chain_app_init(MT_SUPPORT);
         const int16_t v[8] = {1, -2, 300, -32768, 32767, 5, 6, 7};
         chain_app_sensors(v, 3);
         chain_app_sensors(v, 8);

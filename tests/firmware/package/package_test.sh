@@ -92,6 +92,7 @@ import sys
 text = "".join(chr(ord("a") + i % 26) for i in range(17000))
 open(sys.argv[1], "w").write(
     '#include "hal.h"\n'
+    'const hal_param_decl hal_param_table[] = { HAL_PARAM_END }; /* no parameters */\n'
     '/* 34 KB of text: more than the part\'s 32 KB of flash */\n'
     'static const char a[] = "%s";\nstatic const char b[] = "%s";\n'
     'int main(void)\n{\n    uint16_t i = 0;\n    hal_init();\n    for (;;) {\n'

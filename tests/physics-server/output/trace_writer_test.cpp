@@ -93,6 +93,60 @@ TEST(TraceWriter, RowReadsBackAsTheWorldsStateInTheColumnsUnits) {
   EXPECT_GT(value("m0.supply_a"), 0.0);
 }
 
+// each sensor of a module type under its own name, after the module's other
+// columns, in the unit its firmware reads it in
+TEST(TraceWriter, SensorColumnsAreNamedAfterTheModuleTypesSensors) {
+  WorldConfig c;
+  c.head_position = Eigen::Vector3d(0, 0, 0.5);
+  const std::vector<std::string> chain{"touch", "rotation", "traveller"};
+  World w(c, chain);
+  const TraceWriter t(w, 10000, sensor_columns(c, chain));
+  const std::string& h = t.header();
+  for (const char* col : {",m0.touch.in,m0.accel.x_counts,m0.accel.y_counts,m0.accel.z_counts,m1.",
+                          ",m1.pitch_current.counts,m1.yaw_current.counts,m2.",
+                          ",m2.encoder_top.counts,m2.encoder_right.counts,m2.encoder_left.counts,m2.accel.x_counts,"
+                          "m2.accel.y_counts,m2.accel.z_counts\n"})
+    EXPECT_NE(h.find(col), std::string::npos) << col << " not in " << h;
+  // without sensor columns the trace is as before them
+  EXPECT_EQ(TraceWriter(w, 10000).header().find(".counts"), std::string::npos);
+}
+
+// the sensor columns read what World::sample gives the firmware: a touch
+// module at rest on the floor (tipped onto its cover) reads its cover's
+// contact and +1 g up (683 counts, 170.7 per g above 512)
+TEST(TraceWriter, SensorColumnsReadWhatTheFirmwareReads) {
+  WorldConfig c;
+  const std::vector<std::string> chain{"touch"};
+  World w(c, chain);  // alone it tips forward onto its cover (sensors_test.cpp)
+  for (int k = 0; k < 2000; ++k) w.step();
+  TraceWriter t(w, 500, sensor_columns(c, chain));
+  std::string row;
+  t.append_row(&row);
+  const std::vector<std::string> cols = split(t.header().substr(0, t.header().size() - 1));
+  const std::vector<std::string> vals = split(row.substr(0, row.size() - 1));
+  ASSERT_EQ(cols.size(), vals.size());
+  auto value = [&](const std::string& col) -> std::string {
+    for (size_t i = 0; i < cols.size(); ++i)
+      if (cols[i] == col) return vals[i];
+    ADD_FAILURE() << "no column " << col;
+    return "";
+  };
+  ModuleSample s;
+  w.sample(0, &s);
+  EXPECT_EQ(value("m0.touch.in"), "1");
+  EXPECT_EQ(value("m0.touch.in"), std::to_string(s.digital_in & 1u));
+  EXPECT_EQ(value("m0.accel.x_counts"), std::to_string(s.adc[0]));
+  EXPECT_EQ(value("m0.accel.y_counts"), std::to_string(s.adc[1]));
+  EXPECT_EQ(value("m0.accel.z_counts"), std::to_string(s.adc[2]));
+  // tipped by a few degrees: nearly all of the 1 g on z
+  EXPECT_NEAR(std::stoi(value("m0.accel.z_counts")), 683, 4);
+  EXPECT_NEAR(std::stoi(value("m0.accel.y_counts")), 512, 4);
+  w.set_module_powered(0, false);  // limp mode: sensors read zero
+  row.clear();
+  t.append_row(&row);
+  EXPECT_EQ(row.substr(row.size() - 9), ",0,0,0,0\n");
+}
+
 // a row at t = 0 and then every interval, never more often than the step
 TEST(TraceWriter, RowsComeEveryIntervalOfSimulatedTime) {
   WorldConfig c;

@@ -140,19 +140,6 @@ TEST(Scene, TickLongerThanTheRunIsAnError) {
   EXPECT_EQ(scene_error_of("chain: R\nduration_s: 1\nphysics: {tick_us: 1000000}\n"), "(no error)");
 }
 
-// fw-central knows gaits 0 to 9; an unknown one used to start nothing, silently
-TEST(Scene, UnknownGaitOfTheShippedCentralControlIsAnError) {
-  EXPECT_EQ(scene_error_of("chain: R\ncentral: {params: {gait: 12}}\n"),
-            "s.yaml:2:26: 'central.params.gait' = 12 is not a gait of fw-central (0 none, 1 forward, 2 backward, "
-            "3 turn left, 4 turn right, 5 roll, 6 rotate in place, 7 lateral shift, 8 inchworm, 9 helicoidal drive)");
-  EXPECT_EQ(scene_error_of("chain: R\ncentral: {program: fw-central, params: {gait: -1}}\n").rfind("s.yaml:2:", 0),
-            0u);
-  for (int g = 0; g <= 9; ++g)
-    EXPECT_EQ(scene_error_of("chain: R\ncentral: {params: {gait: " + std::to_string(g) + "}}\n"), "(no error)");
-  // another program's parameters are its own
-  EXPECT_EQ(scene_error_of("chain: R\ncentral: {program: my-central, params: {gait: 12}}\n"), "(no error)");
-}
-
 TEST(Scene, OutOfRangeValueIsAnError) {
   const std::string e = scene_error_of("chain: R\nenvironment: {material: {bounce: 2}}\n");
   EXPECT_EQ(e.rfind("s.yaml:2:34: 'environment.material.bounce' = 2 ", 0), 0u) << e;

@@ -276,6 +276,27 @@ TEST(Optimize, MalformedProblemFilesGiveFileLineColumn) {
             std::string::npos)
       << err;
   EXPECT_FALSE(std::filesystem::exists(d + "/out/history.csv"));
+  // a gene whose range leaves the declared one, and a gene of a parameter the program does not declare:
+  // named at the gene before any evaluation runs
+  const std::string wide = scenario::write_file(d, "wide.yaml",
+                                                "scene: base.yaml\ngenome:\n  params:\n"
+                                                "    - {target: central.amplitude_cdeg, min: 1000, max: 19000, step: 2000}\n"
+                                                "measures: {speed: {kind: speed, of: chain}}\nobjective: {maximize: speed}\n");
+  const std::string err2 = search({CHAINSIM_EXE, "optimize", wide, "--out", d + "/out2"}, d + "/err2.txt", 1);
+  EXPECT_NE(err2.find(wide + ":4:7: 'central.amplitude_cdeg' ranges over 1000..19000, beyond the range 0..18000 that "
+                             "program fw-central of the central control declares (amplitude A of the wave, cdeg)"),
+            std::string::npos)
+      << err2;
+  const std::string typo = scenario::write_file(d, "typo.yaml",
+                                                "scene: base.yaml\ngenome:\n  params:\n"
+                                                "    - {target: central.omega_mrad, min: 1000, max: 9000, step: 2000}\n"
+                                                "measures: {speed: {kind: speed, of: chain}}\nobjective: {maximize: speed}\n");
+  const std::string err3 = search({CHAINSIM_EXE, "optimize", typo, "--out", d + "/out3"}, d + "/err3.txt", 1);
+  EXPECT_NE(err3.find(typo + ":4:7: 'central.omega_mrad': program fw-central of the central control declares no "
+                             "parameter 'omega_mrad' (did you mean 'omega_mrad_s'?"),
+            std::string::npos)
+      << err3;
+  EXPECT_FALSE(std::filesystem::exists(d + "/out2/history.csv"));
 }
 
 TEST(Optimize, ARankKilledUnderMpirunIsNamedAndItsWorkDoneByAnother) {

@@ -185,6 +185,12 @@ TEST(TestCommand, MalformedFilesAreNamedAndExitTwo) {
       {"bad-expectation.test.yaml",
        "5:28: expected final, max, min, mean, at T or a comparison after the column, got 'maximum'"},
       {"bad-override.test.yaml", "4:25: unknown key 'substep' in 'physics' (known: "},
+      // a parameter the program does not declare, named at the test's key before anything runs
+      {"misspelled-param.test.yaml",
+       "5:13: parameter 'gaitt' of the central control: program fw-central declares no such parameter (did you "
+       "mean 'gait'? "},
+      // a program that is nowhere: named at the override that gives it
+      {"cannot-start.test.yaml", "5:3: program 'fw-not-built-anywhere' of module 0 (rotation) not found"},
   };
   for (const Want& w : wants) {
     const Result r = chainsim(dir, std::string("test ") + m + w.file + " --junit j.xml");
@@ -203,11 +209,6 @@ TEST(TestCommand, MalformedFilesAreNamedAndExitTwo) {
   EXPECT_NE(r.out.find("ERROR unknown column seed 1: " + m +
                        "unknown-column.test.yaml:5:6: unknown trace column 'm0.s0.currant_a' (columns of m0: "),
             std::string::npos) << r.out;
-  // a run that cannot start: its program is nowhere
-  r = chainsim(dir, "test " + m + "cannot-start.test.yaml");
-  EXPECT_EQ(r.exit_code, 2) << r.out << r.err;
-  EXPECT_NE(r.out.find("ERROR cannot start seed 1: the run could not start"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("fw-not-built-anywhere"), std::string::npos) << r.out;
   // command-line mistakes are exit 2 too (1 means an expectation failed)
   EXPECT_EQ(chainsim(dir, "test --no-such-option " + m).exit_code, 2);
   r = chainsim(dir, "test /no/such/file.test.yaml");

@@ -1,6 +1,8 @@
 // replay.html of a short run: opens from disk with no console or page errors,
 // has the whole trace, plays, scrubs (the picture changes), jumps to a bus
-// event when it is clicked, and shows a fault and a touch when they happen.
+// event when it is clicked, shows a fault and a touch when they happen (a
+// fault after the trace's last row at the trace's end), and lists the
+// modules' own log lines on the timeline.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { appendFileSync, cpSync, existsSync, readFileSync } from 'node:fs';
@@ -51,6 +53,50 @@ test('replay.html is one self-contained file that loads without errors', async (
   await page.keyboard.press(' ');
   const t = await page.evaluate(() => window.chainsimViewer.view.time);
   assert.ok(t > 0.2, `played to ${t}`);
+  assert.deepEqual(page.problems, []);
+  await page.close();
+});
+
+test("the modules' log lines are on the timeline, each with its endpoint", async () => {
+  const page = await open(run, '#t=0.01');
+  // the central control (endpoint 8 of the 8-module default scene) logs the chain it found
+  const logs = await page.evaluate(() =>
+    window.chainsimViewer.data.events.filter((e) => e.kind === 'log').map((e) => [e.module, e.t, e.text]));
+  const central = readFileSync(join(run, 'modules', '08-central.log'), 'utf8').trim().split('\n');
+  assert.equal(logs.filter((l) => l[0] === 8).length, central.length, 'every line of the central control\'s log');
+  const chain = logs.find((l) => /^chain: RRRRRRRR \(8 modules\)$/.test(l[2]));
+  assert.ok(chain, `no 'chain:' line among ${JSON.stringify(logs.slice(0, 5))}`);
+  assert.equal(chain[0], 8);
+  assert.equal(chain[1], Number(central[0].split(' ')[0]));  // at the time the log file says
+  // listed with the bus lines, in its own lane; clicking it jumps to its time
+  const row = page.locator('.cs-buslist .ev-log', { hasText: 'chain: RRRRRRRR' });
+  assert.equal(await row.count(), 1);
+  assert.match(await row.textContent(), /^\d+\.\d{6} \[8\] chain: RRRRRRRR \(8 modules\)$/);
+  await row.click();
+  assert.equal(await page.evaluate(() => window.chainsimViewer.view.time), chain[1]);
+  const lanes = await page.evaluate(() => window.chainsimViewer.timeline.u.series.map((x) => x.label));
+  assert.ok(lanes.includes('log'), `lanes ${lanes}`);
+  assert.deepEqual(page.problems, []);
+  await page.close();
+});
+
+test("a stopped run's fault, after the trace's last row, shows at the trace's end", async () => {
+  const dir = join(tempDir('fault-end'), 'run');
+  cpSync(run, dir, { recursive: true });
+  // as a run stopped by a fault writes it: the fault a little after the last row
+  appendFileSync(join(dir, 'bus.log'), '2000500 fault module 5 (rotation, pid 4242) ended: signal 11 (Segmentation fault) at t=2.000500 s\n');
+  const page = await open(dir, '#t=1.9');
+  const states = () => page.evaluate(() => window.chainsimViewer.scene3d.modules.map((m) => m.state));
+  const banner = page.locator('.cs-banner');
+  assert.equal(await banner.isVisible(), false, 'no fault before the end');
+  assert.notEqual((await states())[5], 'fault');
+  await page.keyboard.press('End');
+  const end = await page.evaluate(() => [window.chainsimViewer.view.time, window.chainsimViewer.data.duration]);
+  assert.equal(end[0], end[1]);
+  assert.ok(end[1] < 2.0005, `the trace ends at ${end[1]}, before the fault`);
+  assert.equal(await banner.isVisible(), true, 'the fault banner at the end');
+  assert.match(await banner.textContent(), /FAULT at t=2\.001 s: module 5/);
+  assert.equal((await states())[5], 'fault');
   assert.deepEqual(page.problems, []);
   await page.close();
 });

@@ -22,12 +22,19 @@ class Column {
   }
 }
 
-const BUS_KINDS = ['i2c', 'sync', 'addr', 'touch', 'fault'];
+const BUS_KINDS = ['i2c', 'sync', 'addr', 'touch', 'fault', 'log'];
 
-// one bus.log line "<t_us> <kind> ..." as an event
+// one bus.log line "<t_us> <kind> ..." as an event; a module's log line
+// comes as "<t_us> log endpoint=E <text>" (the live view sends them so; a
+// replay makes them from modules/NN-TYPE.log, logLines)
 export function parseBusLine(line) {
   const m = /^(\d+)\s+(\S+)\s*(.*)$/.exec(line.trim());
   if (!m) return null;
+  const log = m[2] === 'log' && /^endpoint=(\d+) ?(.*)$/.exec(m[3]);
+  if (log) {
+    const t = Number(m[1]) / 1e6;
+    return { t, kind: 'log', text: log[2], line: `${t.toFixed(6)} [${log[1]}] ${log[2]}`, module: Number(log[1]), fields: {} };
+  }
   const ev = { t: Number(m[1]) / 1e6, kind: m[2], text: m[3], line: line.trim(), module: -1 };
   const fields = {};
   for (const kv of ev.text.matchAll(/(\w+)=(\S+)/g)) fields[kv[1]] = kv[2];
@@ -43,6 +50,16 @@ export function parseBusLine(line) {
   if (ev.kind === 'touch') ev.level = Number(fields.level ?? 1);
   if (!BUS_KINDS.includes(ev.kind)) ev.kind = 'other';
   return ev;
+}
+
+// a module's log file ("<t_s> <text>" lines) as "<t_us> log endpoint=E <text>" lines
+export function logLines(endpoint, text) {
+  let out = '';
+  for (const line of text.split('\n')) {
+    const m = /^(\d+)\.(\d{6}) (.*)$/.exec(line);
+    if (m) out += `${Number(m[1]) * 1e6 + Number(m[2])} log endpoint=${endpoint} ${m[3]}\n`;
+  }
+  return out;
 }
 
 export class RunData {

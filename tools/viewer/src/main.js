@@ -5,7 +5,7 @@
 // (how pipe and mesh walls are drawn), zoom=X (the camera X times farther).
 import 'uplot/dist/uPlot.min.css';
 import './style.css';
-import { RunData } from './data.js';
+import { RunData, logLines } from './data.js';
 import { Scene3D } from './scene3d.js';
 import { Plots } from './plots.js';
 import { Timeline } from './timeline.js';
@@ -48,15 +48,20 @@ const plots = hideui ? null : new Plots(ui.plots, data, view);
 const timeline = hideui ? null : new Timeline(ui.timelinePlot, ui.timelineList, data, view);
 Object.assign(window.chainsimViewer, { plots, timeline });
 
-// per module: 'fault' after its fault event, 'touch' while its touch input is high
+// per module: 'fault' after its fault event, 'touch' while its touch input is high.
+// A fault that stopped the run comes after the trace's last row (a tick
+// after it, or between two rows): once the run is over it is shown from the
+// trace's end on, so the last frame of a stopped run shows it.
 function moduleStates(t) {
   const states = {};
   let fault = null, lastFaultT = -1, touch = null;
+  const end = data.duration;
+  const at = (e) => (e.kind === 'fault' && state.finished ? Math.min(e.t, end) : e.t);
   for (const e of data.marks) {
-    if (e.t > t) break;
+    if (at(e) > t) break;
     if (e.kind === 'fault') {
       fault = e;
-      lastFaultT = e.t;
+      lastFaultT = at(e);
       if (e.module >= 0) states[e.module] = 'fault';
     } else if (e.kind === 'touch' && e.module >= 0 && states[e.module] !== 'fault') {
       states[e.module] = e.level ? 'touch' : 'ok';
@@ -173,10 +178,11 @@ if (boot.mode === 'replay') {
   data.setScene(boot.scene, nl < 0 ? boot.trace : boot.trace.slice(0, nl));
   data.addRows(nl < 0 ? '' : boot.trace.slice(nl + 1));
   data.addBus(boot.bus ?? '');
+  data.addBus((boot.logs ?? []).map((l) => logLines(l.endpoint, l.text)).join(''));
   if (boot.summary) data.setSummary(boot.summary);
   state.rowsReceived = data.rows;
   state.finished = true;
-  ui.status(`replay: ${data.duration.toFixed(2)} s, ${data.rows} frames, ${data.events.length} bus events`);
+  ui.status(`replay: ${data.duration.toFixed(2)} s, ${data.rows} frames, ${data.events.length} events`);
   onScene(boot.mesh_files);
   onData(true);
   firstPose();

@@ -1,7 +1,8 @@
 // The bus-log timeline: one lane per kind of event (I2C frames, Sin/Sout
-// edges, address assignments, touch, faults) drawn as points by uPlot, and
-// the log lines around the replay time as a list. Clicking an event (a point
-// or a line) jumps the replay to its time.
+// edges, address assignments, touch, faults, the modules' own log lines)
+// drawn as points by uPlot, and the lines around the replay time as a list
+// (a module's log line as "[E] text", E its endpoint). Clicking an event (a
+// point or a line) jumps the replay to its time.
 import uPlot from 'uplot';
 import { onClick } from './plots.js';
 
@@ -11,6 +12,7 @@ export const LANES = [
   { kind: 'addr', label: 'address', color: '#8e5572' },
   { kind: 'touch', label: 'touch', color: '#2ecc40' },
   { kind: 'fault', label: 'fault', color: '#ff1a1a' },
+  { kind: 'log', label: 'log', color: '#6a4c93' },
   { kind: 'other', label: 'other', color: '#888888' },
 ];
 const LIST_ROWS = 60;

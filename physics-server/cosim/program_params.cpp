@@ -1,0 +1,146 @@
+// Programs' parameter listings. See program_params.h.
+#include "cosim/program_params.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <climits>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include "chainsim_protocol.h"
+#include "cosim/child_process.h"
+#include "readers/safe_text.h"
+
+namespace chainsim {
+namespace {
+
+constexpr int kListingTimeoutMs = 10000;  // wall clock: the program only prints a table
+constexpr size_t kListingMaxBytes = 1 << 20;
+
+std::vector<std::string> split_tabs(const std::string& line) {
+  std::vector<std::string> out;
+  size_t b = 0;
+  for (;;) {
+    const size_t e = line.find('\t', b);
+    out.push_back(line.substr(b, e == std::string::npos ? std::string::npos : e - b));
+    if (e == std::string::npos) return out;
+    b = e + 1;
+  }
+}
+
+bool to_int32(const std::string& s, int32_t* v) {
+  if (s.empty()) return false;
+  errno = 0;
+  char* end = nullptr;
+  const long long x = std::strtoll(s.c_str(), &end, 10);
+  if (errno != 0 || *end != '\0' || x < INT32_MIN || x > INT32_MAX) return false;
+  *v = static_cast<int32_t>(x);
+  return true;
+}
+
+// the first lines of a program's output, for a message
+std::string head_of(const std::string& text) {
+  std::string t = text.substr(0, 300);
+  while (!t.empty() && (t.back() == '\n' || t.back() == ' ')) t.pop_back();
+  for (char& c : t)
+    if (c == '\n') c = ' ';
+  return t.empty() ? "nothing" : "\"" + shown_text(t) + "\"";
+}
+
+}  // namespace
+
+ProgramParams parse_params_listing(const std::string& text, const std::string& program) {
+  ProgramParams out;
+  out.program = program;
+  std::istringstream in(text);
+  std::string line;
+  if (!std::getline(in, line) || line != CS_PARAMS_HEADER)
+    throw std::runtime_error("it printed " + head_of(text) + " instead of the line \"" CS_PARAMS_HEADER "\"");
+  for (int n = 2; std::getline(in, line); ++n) {
+    const std::vector<std::string> f = split_tabs(line);
+    ParamDecl d;
+    if (f.size() != 6 || f[0].empty() || !to_int32(f[2], &d.min) || !to_int32(f[3], &d.max) ||
+        !to_int32(f[4], &d.def) || d.min > d.max || d.def < d.min || d.def > d.max)
+      throw std::runtime_error("line " + std::to_string(n) + " of its listing is not name, type, min, max, "
+                               "default and meaning separated by tabs: " + head_of(line));
+    d.name = f[0];
+    d.type = f[1];
+    d.meaning = f[5];
+    if (out.find(d.name)) throw std::runtime_error("it declares '" + shown_text(d.name) + "' twice");
+    out.params.push_back(d);
+  }
+  return out;
+}
+
+ProgramParams read_program_params(const std::string& path, const std::string& program) {
+  if (access(path.c_str(), X_OK) != 0) throw std::runtime_error(path + " is not an executable file");
+  char tmpl[] = "/tmp/chainsim-params-XXXXXX";
+  const int fd = mkstemp(tmpl);
+  if (fd < 0) throw std::runtime_error(std::string("cannot create a temporary file: ") + std::strerror(errno));
+  close(fd);
+  const std::string out_path = tmpl;
+  std::string text;
+  std::optional<ExitStatus> st;
+  {
+    ChildProcess child;
+    ChildSpec spec;
+    spec.program = path;
+    spec.args = {CS_PARAMS_ARG};
+    spec.stdout_path = out_path;
+    child.spawn(spec);
+    st = child.wait_for(kListingTimeoutMs);
+    if (!st) child.terminate(200);
+    std::ifstream in(out_path, std::ios::binary);
+    text.resize(kListingMaxBytes);
+    in.read(text.data(), static_cast<std::streamsize>(text.size()));
+    text.resize(static_cast<size_t>(in.gcount()));
+  }
+  unlink(out_path.c_str());
+  if (!st)
+    throw std::runtime_error("it printed no listing within " + std::to_string(kListingTimeoutMs / 1000) +
+                             " s (wall clock)");
+  if (!st->exited || st->code != 0)
+    throw std::runtime_error("it ended with " + st->text() + " and printed " + head_of(text));
+  return parse_params_listing(text, program);
+}
+
+void check_scene_programs(const Scene& scene, const std::string& firmware_dir) {
+  const int n = static_cast<int>(scene.modules.size());
+  for (int i = 0; i <= n; ++i) {
+    const SceneModule& e = i < n ? scene.modules[i] : scene.central;
+    const std::string path = program_path(e.firmware, firmware_dir);
+    if (access(path.c_str(), X_OK) != 0)
+      throw SceneError(e.firmware_at + ": program '" + e.firmware + "' of " + scene_endpoint_name(scene, i) +
+                       " not found or not executable: " + path +
+                       (e.firmware.find('/') == std::string::npos
+                            ? " (a name is looked for in --firmware-dir, then next to chainsim)"
+                            : ""));
+  }
+  std::map<std::string, ProgramParams> known;  // by path: each program runs once
+  check_scene_params(scene, [&](const SceneModule& e, const std::string& who) -> const ProgramParams& {
+    const std::string path = program_path(e.firmware, firmware_dir);
+    auto it = known.find(path);
+    if (it == known.end()) {
+      try {
+        it = known.emplace(path, read_program_params(path, e.firmware)).first;
+      } catch (const std::runtime_error& ex) {
+        const std::string first = e.param_at.empty() ? e.firmware_at : e.param_at.begin()->second;
+        throw SceneError(first + ": " + who + " is given parameters, but its program " + path +
+                         " did not list the ones it declares when run with " CS_PARAMS_ARG ": " + ex.what() +
+                         " (a program linked with chainsim's hal-sim lists them)");
+      }
+    }
+    return it->second;
+  });
+}
+
+}  // namespace chainsim
