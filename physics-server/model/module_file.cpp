@@ -80,6 +80,7 @@ class Parser {
       d.bodies.push_back(body(bodies[i], "bodies[" + std::to_string(i) + "]"));
     for (size_t i = 0; joints && i < joints.size(); ++i)
       d.joints.push_back(joint(joints[i], "joints[" + std::to_string(i) + "]"));
+    joined(d, bodies);
     for (size_t i = 0; actuators && i < actuators.size(); ++i)
       d.actuators.push_back(
           actuator(actuators[i], "actuators[" + std::to_string(i) + "]", d, static_cast<int>(i)));
@@ -322,6 +323,23 @@ class Parser {
       b.collides = c.as<std::string>() == "true";
     }
     return b;
+  }
+
+  // every body reachable from the first through the joints: a body joined
+  // to nothing would fall away from its module
+  void joined(const ModuleDef& d, const YAML::Node& bodies) const {
+    std::vector<char> reached(d.bodies.size(), 0);
+    reached[0] = 1;
+    for (bool grew = true; grew;) {
+      grew = false;
+      for (const JointDef& j : d.joints)
+        if (reached[j.parent] != reached[j.child]) reached[j.parent] = reached[j.child] = 1, grew = true;
+    }
+    for (size_t b = 0; b < d.bodies.size(); ++b)
+      if (!reached[b])
+        fail(bodies[b], "'bodies[" + std::to_string(b) + "]' ('" + d.bodies[b].name + "') is not joined to '" +
+                            d.bodies[0].name + "' through 'joints': every body of a module must be (a fixed "
+                            "joint where it does not move)");
   }
 
   JointDef joint(const YAML::Node& n, const std::string& p) const {

@@ -34,6 +34,7 @@ void Contacts::warm_up(size_t n) {
 void Contacts::collide(dSpaceID space) {
   std::fill(touched_.begin(), touched_.end(), 0);
   count_ = 0;
+  deepest_ = Deepest{};
   dSpaceCollide(space, this, &Contacts::near_callback);
 }
 
@@ -60,6 +61,7 @@ void Contacts::collide_pair(dGeomID a, dGeomID b) {
   if (ia > 0) touched_[ia - 1] = 1;
   if (ib > 0) touched_[ib - 1] = 1;
   for (int k = 0; k < n; ++k) {
+    if (buf_[k].depth > deepest_.depth_m) deepest_ = {buf_[k].depth, static_cast<int>((ia > 0 ? ia : ib) - 1)};
     dContact c;
     c.geom = buf_[k];
     c.surface.mode = dContactApprox1 | dContactSoftERP | dContactSoftCFM;

@@ -46,6 +46,13 @@ class Contacts {
 
   bool touched(int body) const { return touched_[body] != 0; }  // had a contact in the last step
   int count() const { return count_; }                            // contact joints of the last step
+  // the deepest contact of the last step (depth 0, body -1: none): how far
+  // a body went into the environment or another module
+  struct Deepest {
+    double depth_m = 0;
+    int body = -1;
+  };
+  const Deepest& deepest() const { return deepest_; }
 
  private:
   static void near_callback(void* data, dGeomID a, dGeomID b);
@@ -57,6 +64,7 @@ class Contacts {
   std::vector<int> body_module_;          // body index -> module
   std::vector<unsigned char> touched_;    // body index -> touched in the last step
   int count_ = 0;
+  Deepest deepest_;
   dContactGeom buf_[kMaxContactsPerPair];
 };
 

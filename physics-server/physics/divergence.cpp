@@ -54,6 +54,18 @@ std::optional<Divergence> find_divergence(const World& w, const DivergenceBounds
       if (!d.what.empty()) return d;
     }
   }
+  // checked after the bodies: a blown-up body is named for its speed first
+  const World::Penetration p = w.deepest_contact();
+  if (p.module >= 0 && p.depth_m > bounds.max_penetration_m) {
+    Divergence d;
+    d.module = p.module;
+    d.body = p.body;
+    d.what = "module " + std::to_string(p.module) + " (" + w.module_type(p.module) + ") body '" +
+             w.body_name(p.module, p.body) + "': " + fixed_text(p.depth_m * 1e3, 1) +
+             " mm inside the environment or another module, over the bound of " +
+             fixed_text(bounds.max_penetration_m * 1e3, 0) + " mm";
+    return d;
+  }
   return std::nullopt;
 }
 

@@ -1,5 +1,5 @@
-// Physics divergence: a body whose state is not finite, or moves faster or
-// lies farther than a chained modular robot can (a blow-up of the solver,
+// Physics divergence: a body whose state is not finite, or moves faster,
+// lies farther or sinks deeper into a wall than a chained modular robot can (a blow-up of the solver,
 // e.g. a chain started inside the floor or tiny masses under big torques).
 // Looked for after each tick by the run loop (cosim/lockstep_server.cpp).
 #pragma once
@@ -17,6 +17,7 @@ struct DivergenceBounds {
   double max_speed_m_s = 10.0;           // body centre of mass
   double max_angular_speed_rad_s = 1000.0;
   double max_coordinate_m = 10000.0;     // as the scene's positions
+  double max_penetration_m = 0.010;      // deepest contact into the environment or another module
 };
 
 struct Divergence {

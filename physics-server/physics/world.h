@@ -140,6 +140,14 @@ class World {
   double max_docking_error_m() const;
   // contact joints created in the last step
   int last_contact_count() const;
+  // the deepest contact of the last step, between a module body and the
+  // environment or another module (module -1: no contact)
+  struct Penetration {
+    double depth_m = 0;
+    int module = -1;
+    int body = -1;
+  };
+  Penetration deepest_contact() const;
   // the wheels of module m's wheel sets (model/wheel_def.h), in file order:
   // name (set name + index), and in the last step whether it touched the
   // wall, its reach, normal force and friction across it (N)

@@ -61,6 +61,30 @@ TEST(ReliabilityOutput, DivergenceStopsTheRunNamingBodyModuleAndTime) {
   EXPECT_NE(read_file(o.dir + "/bus.log").find("fault physics diverged"), std::string::npos);
 }
 
+// a body deep inside a wall is a blow-up even while it is slow: a floor so
+// soft that the chain sinks through it used to go on (exit 0)
+TEST(ReliabilityOutput, DivergenceNamesABodySinkingIntoTheFloor) {
+  const std::string dir = temp_dir("diverge-sink");
+  const std::string scene = write_file(dir, "s.yaml",
+                                       "name: sinking\nduration_s: 2\nchain: RRR\nphysics: {gravity_m_s2: 100}\n"
+                                       "environment: {material: {soft_cfm: 1, soft_erp: 0}}\n");
+  const Outcome o = run({scene}, dir);
+  EXPECT_EQ(o.signal, 0);
+  EXPECT_EQ(o.exit_code, 4) << o.stderr_text;
+  EXPECT_NE(o.stderr_text.find("(rotation) body '"), std::string::npos) << o.stderr_text;
+  EXPECT_NE(o.stderr_text.find(" mm inside the environment or another module, over the bound of 10 mm at t="),
+            std::string::npos)
+      << o.stderr_text;
+  ASSERT_TRUE(o.summary.is_object());
+  EXPECT_EQ(o.summary["exit_code"], 4);
+  EXPECT_LT(o.summary["sim_time_s"].get<double>(), 0.2);
+  expect_whole_rows(read_file(o.dir + "/trace.csv"));
+  // the same chain on the default floor in the same gravity does not sink
+  const std::string firm =
+      write_file(dir, "firm.yaml", "name: firm\nduration_s: 0.5\nchain: RRR\nphysics: {gravity_m_s2: 100}\n");
+  EXPECT_EQ(run({firm}, dir).exit_code, 0);
+}
+
 TEST(ReliabilityOutput, DivergenceWarnGoesOnAndSaysItOnce) {
   const std::string dir = temp_dir("diverge-warn");
   const std::string scene = write_file(dir, "s.yaml", kFallingChain);

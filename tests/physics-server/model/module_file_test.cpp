@@ -231,8 +231,8 @@ TEST(ModuleFile, ListsOverTheirBoundNameTheCountAndTheLimit) {
   // the other lists: ten thousand entries are refused at once
   std::string many;
   for (int i = 0; i < 10000; ++i) many += "  - {name: x" + std::to_string(i) + "}\n";
-  const std::string two = boxes(2);
-  const std::string bodies = two.substr(0, two.find("joints:"));  // lines 1-4
+  const std::string one = boxes(1);
+  const std::string bodies = one.substr(0, one.find("joints:"));  // lines 1-3
   const std::string dock = "docking: {front: {body: b0}, back: {body: b0}}\n";
   const std::vector<std::pair<std::string, std::string>> lists = {
       {"joints", "10000 joints, more than the limit of 32"},
@@ -242,7 +242,27 @@ TEST(ModuleFile, ListsOverTheirBoundNameTheCountAndTheLimit) {
       {"pads", "10000 pads, more than the limit of 8"},
   };
   for (const auto& [key, why] : lists)
-    EXPECT_EQ(error_of(bodies + key + ":\n" + many + dock), "m.yaml:6:3: '" + key + "' has " + why);
+    EXPECT_EQ(error_of(bodies + key + ":\n" + many + dock), "m.yaml:5:3: '" + key + "' has " + why);
+}
+
+// a body joined to nothing would fall away from its module: refused at the body
+TEST(ModuleFile, EveryBodyIsJoinedToTheFirst) {
+  const std::string three = boxes(3);
+  const std::string no_joints = three.substr(0, three.find("joints:")) + "docking: {front: {body: b0}, back: {body: b0}}\n";
+  const std::string why = "is not joined to 'b0' through 'joints': every body of a module must be (a fixed joint "
+                          "where it does not move)";
+  EXPECT_EQ(error_of(no_joints), "m.yaml:4:5: 'bodies[1]' ('b1') " + why);
+  // b1 and b2 joined to each other, not to b0
+  const std::string apart = three.substr(0, three.find("joints:")) +
+                            "joints:\n  - {name: j, type: fixed, parent: b1, child: b2}\n"
+                            "docking: {front: {body: b0}, back: {body: b0}}\n";
+  EXPECT_EQ(error_of(apart), "m.yaml:4:5: 'bodies[1]' ('b1') " + why);
+  // joined in any order of the list and of parent and child
+  const std::string reversed = three.substr(0, three.find("joints:")) +
+                               "joints:\n  - {name: j2, type: fixed, parent: b2, child: b1}\n"
+                               "  - {name: j1, type: fixed, parent: b1, child: b0}\n"
+                               "docking: {front: {body: b0}, back: {body: b0}}\n";
+  EXPECT_EQ(error_of(reversed), "(no error)");
 }
 
 }  // namespace
