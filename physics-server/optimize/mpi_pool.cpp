@@ -118,6 +118,7 @@ struct MpiPool::Impl {
   struct Rank {
     int rank = 0;
     bool live = true;
+    bool greeted = false;            // its hello came: pid, host and capacity known
     std::string host;
     pid_t pid = 0;
     int capacity = 1;
@@ -130,6 +131,7 @@ struct MpiPool::Impl {
   bool quiet = false;
   int lost = 0;
   uint64_t batch = 0;
+  Clock::time_point started = Clock::now();
   std::string my_host = host_name();
   Outbox out;
 
@@ -198,7 +200,10 @@ bool MpiPool::evaluate(const std::vector<EvalTask>& tasks, std::vector<EvalResul
     bool busy = false;
     // hand out work
     for (auto& r : I.ranks) {
-      while (r.live && !queue.empty() && static_cast<int>(r.holding.size()) < r.capacity) {
+      // only to a rank that said hello: one that dies holding work is then
+      // known by its pid (a rank killed before its hello left it was once
+      // found only by the silence timeout)
+      while (r.live && r.greeted && !queue.empty() && static_cast<int>(r.holding.size()) < r.capacity) {
         const size_t i = queue.front();
         queue.pop_front();
         const EvalTask& t = tasks[i];
@@ -223,6 +228,7 @@ bool MpiPool::evaluate(const std::vector<EvalTask>& tasks, std::vector<EvalResul
         if (j.is_object()) {
           r->host = j.value("host", "");
           r->pid = j.value("pid", 0);
+          r->greeted = true;
           r->capacity = std::max(1, j.value("workers", 1));
         }
       } else if (tag == kResult) {
@@ -249,6 +255,10 @@ bool MpiPool::evaluate(const std::vector<EvalTask>& tasks, std::vector<EvalResul
       else if (!r.holding.empty() && since(r.last_heard) > I.timeout_s) {
         char b[96];
         std::snprintf(b, sizeof b, "sent nothing for %.0f s while evaluating", I.timeout_s);
+        why = b;
+      } else if (!r.greeted && since(I.started) > I.timeout_s) {
+        char b[96];
+        std::snprintf(b, sizeof b, "sent no hello in the %.0f s since the search started", I.timeout_s);
         why = b;
       }
       if (why.empty()) {

@@ -4,7 +4,7 @@
 // without the current column). Prints the per-case table of
 // docs/calibration.md, the targets, a breakdown by condition and the CPU time
 // of one calibration. Not a ctest (an hour of CPU):
-//   build/bin/calibration_study [--seeds 10] [--first 100] [--cases REGEX] [--jobs 2] [--plain] [--keep DIR] [--check]
+//   build/bin/calibration_study [--seeds 10] [--first 100] [--cases REGEX] [--jobs 1] [--plain] [--keep DIR] [--check]
 #include <atomic>
 #include <cstdio>
 #include <cstring>
@@ -57,6 +57,15 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--plain")) plain = true;
     else if (!std::strcmp(argv[i], "--check")) check = true;
     else if (!std::strcmp(argv[i], "--keep") && more) keep = argv[++i], jobs = 1;
+    else {
+      // --help, a typo or a missing value: say so rather than start an hour of work
+      const bool help = !std::strcmp(argv[i], "--help");
+      if (!help) std::fprintf(stderr, "calibration_study: not understood: %s\n", argv[i]);
+      std::fprintf(help ? stdout : stderr,
+                   "usage: calibration_study [--seeds 10] [--first 100] [--cases REGEX] [--jobs 1] [--plain] "
+                   "[--keep DIR] [--check]\n");
+      return help ? 0 : 2;
+    }
   }
   const auto cases = synth::cases();
   const std::regex re(pattern);
