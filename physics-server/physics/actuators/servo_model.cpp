@@ -28,16 +28,54 @@ void ServoModel::update_constants(double h) {
   ef_ = p_.current_filter_tau_s > 0.0 ? std::exp(-h / p_.current_filter_tau_s) : 0.0;
 }
 
+// the drive voltage the amplifier applies for a set-point (rad) at the
+// output angle theta and rotor rate wr, with the catalogue's drive effects
+double ServoModel::drive_voltage(double setpoint, double theta, double wr) const {
+  double err = setpoint - theta;
+  if (p_.deadband_deg > 0.0) {  // deadband: errors within +-width/2 are ignored
+    const double half = deg_to_rad(0.5 * p_.deadband_deg);
+    err = std::fabs(err) <= half ? 0.0 : err - std::copysign(half, err);
+  }
+  double ea = std::clamp(p_.kp * err, -p_.supply_v, p_.supply_v);
+  if (p_.supply_sag_ohm > 0.0 && p_.supply_v > 0.0)  // supply_sag: duty x (Vs - Rs |i|)
+    ea *= std::max(0.0, 1.0 - p_.supply_sag_ohm * std::fabs(i_) / p_.supply_v);
+  if (p_.supply_sag_linear_ohm > 0.0) {  // supply_sag, linear driver: the limit drops, the gain stays
+    const double lim = std::max(0.0, p_.supply_v - p_.supply_sag_linear_ohm * std::fabs(i_));
+    ea = std::clamp(ea, -lim, lim);
+  }
+  if (p_.current_limit_a > 0.0) {  // current_limit: |ea - Km w| <= R I_lim
+    const double lim = p_.r * p_.current_limit_a;
+    ea = std::clamp(ea, p_.km * wr - lim, p_.km * wr + lim);
+  }
+  return ea;
+}
+
 ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
   if (h != h_) update_constants(h);
   drive_ = enabled_;
   // pwm_frame_delay: the set-point is latched at the pulse frames only, the
   // first at the phase (before it k < 0: the set-point held from before)
+  // the set-point the step starts with, and the one a frame inside the step
+  // latches for the part of the step after it
+  double sp_before = setpoint_, sp_after = setpoint_, after = 1.0;
   if (p_.pwm_frame_s > 0.0) {
+    const double eps = 1e-9 * p_.pwm_frame_s;
     const long long k =
         static_cast<long long>(std::floor((time_s_ - p_.pwm_frame_phase_s) / p_.pwm_frame_s + 1e-9));
     if (k > frame_) {
       frame_ = k;
+      applied_ = setpoint_;
+    }
+    sp_before = sp_after = applied_;
+    // a frame inside the step latches the set-point there: the drive is the
+    // old set-point's before it and the new one's after it, averaged over the
+    // step (latched at the next step instead, a frame came up to one step
+    // late, a jitter a calibration at 0.1 deg of noise took for another effect)
+    const double next = p_.pwm_frame_phase_s + static_cast<double>(frame_ + 1) * p_.pwm_frame_s;
+    if (next > time_s_ + eps && next < time_s_ + h - eps) {
+      after = (time_s_ + h - next) / h;
+      sp_after = setpoint_;
+      ++frame_;
       applied_ = setpoint_;
     }
   } else {
@@ -63,22 +101,8 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
   // step-average current = i0 - ci w' (affine in the end-of-step rate w')
   double i0, ci;
   if (drive_) {
-    double err = applied_ - theta;
-    if (p_.deadband_deg > 0.0) {  // deadband: errors within +-width/2 are ignored
-      const double half = deg_to_rad(0.5 * p_.deadband_deg);
-      err = std::fabs(err) <= half ? 0.0 : err - std::copysign(half, err);
-    }
-    ea_ = std::clamp(p_.kp * err, -p_.supply_v, p_.supply_v);
-    if (p_.supply_sag_ohm > 0.0 && p_.supply_v > 0.0)  // supply_sag: duty x (Vs - Rs |i|)
-      ea_ *= std::max(0.0, 1.0 - p_.supply_sag_ohm * std::fabs(i_) / p_.supply_v);
-    if (p_.supply_sag_linear_ohm > 0.0) {  // supply_sag, linear driver: the limit drops, the gain stays
-      const double lim = std::max(0.0, p_.supply_v - p_.supply_sag_linear_ohm * std::fabs(i_));
-      ea_ = std::clamp(ea_, -lim, lim);
-    }
-    if (p_.current_limit_a > 0.0) {  // current_limit: |ea - Km w| <= R I_lim
-      const double lim = p_.r * p_.current_limit_a;
-      ea_ = std::clamp(ea_, p_.km * wr - lim, p_.km * wr + lim);
-    }
+    ea_ = drive_voltage(sp_after, theta, wr);
+    if (after < 1.0) ea_ = after * ea_ + (1.0 - after) * drive_voltage(sp_before, theta, wr);
     i0 = (1.0 - phi_) * ea_ / p_.r + phi_ * i_;
     ci = p_.km * (1.0 - phi_) / p_.r;
   } else {

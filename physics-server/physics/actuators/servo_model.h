@@ -81,7 +81,8 @@
 //  * pwm_frame_delay  pwm_frame_s: the set-point reaches the servo only at its
 //    pulse frames, every pwm_frame_s seconds (0.02 s: 50 Hz), the first at
 //    pwm_frame_phase_s after reset_state (before it the servo keeps the
-//    set-point it had).
+//    set-point it had). A frame inside a step acts for the part of the step
+//    after it (the step's drive uses the time-weighted mean set-point).
 //  * current_limit  current_limit_a: the driver limits the drive voltage to
 //    Km w +- R I_lim (w at the start of the step), so |i| settles at <= I_lim.
 #pragma once
@@ -166,6 +167,8 @@ class ServoModel {
  private:
   void update_constants(double h);
   double dead_zone(double i) const;
+
+  double drive_voltage(double setpoint, double theta, double wr) const;
 
   ServoParams p_;
   double setpoint_ = 0.0;

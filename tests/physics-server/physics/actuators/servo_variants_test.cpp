@@ -63,6 +63,34 @@ TEST(ServoVariants, FramesStartAtThePhaseAndRepeatEveryPeriod) {
   EXPECT_EQ(st.theta, 0.0);
 }
 
+// a frame inside a step acts for the part of the step after it: half-way
+// through a 100 us step, the move lies half-way between the same frame
+// latched at the step's start and at its end (latched at the next step, as
+// it was, it was the late one: up to a step late, a jitter a calibration at
+// 0.1 deg of noise took for another effect)
+TEST(ServoVariants, AFrameInsideAStepActsForThePartOfTheStepAfterIt) {
+  auto angle_at = [](double phase_s, double h, double t) {
+    ServoParams p;
+    p.pwm_frame_s = 0.02;
+    p.pwm_frame_phase_s = phase_s;
+    Stand st(p);
+    st.h = h;
+    st.s.set_setpoint(0.5);
+    for (long k = std::lround(t / h); k > 0; --k) st.step();
+    return st.theta;
+  };
+  const double t = 0.012;  // 4.95 ms after the frame: the servo is moving fast
+  const double early = angle_at(0.0070, 1e-4, t), late = angle_at(0.0071, 1e-4, t);
+  ASSERT_GT(std::fabs(early - late), 1e-3);
+  const double mid = angle_at(0.00705, 1e-4, t), quarter = angle_at(0.007025, 1e-4, t);
+  EXPECT_LT(std::fabs(mid - 0.5 * (early + late)), 0.05 * std::fabs(early - late)) << mid;
+  EXPECT_LT(std::fabs(quarter - (0.75 * early + 0.25 * late)), 0.05 * std::fabs(early - late)) << quarter;
+  // at 5 us steps the same frames give the same spread: the mean set-point
+  // over a step stands for where the frame falls in it
+  const double fine_early = angle_at(0.0070, 5e-6, t), fine_mid = angle_at(0.00705, 5e-6, t);
+  EXPECT_NEAR(mid - early, fine_mid - fine_early, 0.1 * std::fabs(early - late));
+}
+
 TEST(ServoVariants, LinearDriverSagKeepsTheGainAndLowersTheLimit) {
   // hold the output still against a set-point error e and read the drive
   auto drive = [](const ServoParams& p, double err_rad) {
