@@ -55,6 +55,14 @@ std::string write_problem(const std::string& dir, const std::string& which) {
     std::ofstream(dir + "/gait.yaml") << kGait;
     return dir + "/gait.yaml";
   }
+  if (which == "gait-long") {  // the same search with 3 s runs: an evaluation lasts long enough to be cut
+    std::string base = kBase, gait = kGait;
+    base.replace(base.find("duration_s: 0.4"), 15, "duration_s: 3.0");
+    gait.replace(gait.find("scene: base.yaml"), 16, "scene: base-long.yaml");
+    std::ofstream(dir + "/base-long.yaml") << base;
+    std::ofstream(dir + "/gait-long.yaml") << gait;
+    return dir + "/gait-long.yaml";
+  }
   if (which == "fault") {
     std::ofstream(dir + "/base-fault.yaml")
         << "name: opt-test-fault\nduration_s: 0.4\nchain:\n  - {type: rotation}\n"

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <mutex>
 #include <regex>
@@ -79,6 +80,7 @@ int main(int argc, char** argv) {
         r.cond = plain ? synth::plain_conditions() : synth::conditions(r.seed);
         runs.push_back(r);
       }
+  if (!keep.empty()) std::filesystem::create_directories(keep);  // the files of the last run stay there
   std::atomic<size_t> next{0};
   std::mutex mu;
   auto worker = [&] {
