@@ -53,6 +53,7 @@ class Contacts {
     int body = -1;
   };
   const Deepest& deepest() const { return deepest_; }
+  int module_of(int body) const { return body_module_[body]; }
 
  private:
   static void near_callback(void* data, dGeomID a, dGeomID b);

@@ -15,6 +15,12 @@ bool finite(const V& v) {
   return v.allFinite();
 }
 
+// "module 3 (rotation) body 'shell': "
+std::string body_text(const World& w, int module, int body) {
+  return "module " + std::to_string(module) + " (" + w.module_type(module) + ") body '" + w.body_name(module, body) +
+         "': ";
+}
+
 // a message's number (snprintf: the C locale, as every output of the server)
 std::string fixed_text(double value, int decimals) {
   char buf[64];
@@ -31,8 +37,7 @@ std::optional<Divergence> find_divergence(const World& w, const DivergenceBounds
       Divergence d;
       d.module = m;
       d.body = b;
-      const std::string who =
-          "module " + std::to_string(m) + " (" + w.module_type(m) + ") body '" + w.body_name(m, b) + "': ";
+      const std::string who = body_text(w, m, b);
       if (!finite(s.position) || !finite(s.quaternion_wxyz) || !finite(s.linear_velocity) ||
           !finite(s.angular_velocity)) {
         d.non_finite = true;
@@ -60,8 +65,7 @@ std::optional<Divergence> find_divergence(const World& w, const DivergenceBounds
     Divergence d;
     d.module = p.module;
     d.body = p.body;
-    d.what = "module " + std::to_string(p.module) + " (" + w.module_type(p.module) + ") body '" +
-             w.body_name(p.module, p.body) + "': " + fixed_text(p.depth_m * 1e3, 1) +
+    d.what = body_text(w, p.module, p.body) + fixed_text(p.depth_m * 1e3, 1) +
              " mm inside the environment or another module, over the bound of " +
              fixed_text(bounds.max_penetration_m * 1e3, 0) + " mm";
     return d;

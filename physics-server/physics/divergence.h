@@ -1,6 +1,7 @@
 // Physics divergence: a body whose state is not finite, or moves faster,
-// lies farther or sinks deeper into a wall than a chained modular robot can (a blow-up of the solver,
-// e.g. a chain started inside the floor or tiny masses under big torques).
+// lies farther or sinks deeper into a wall than a chained modular robot can
+// (a blow-up of the solver, e.g. a chain started inside the floor or tiny
+// masses under big torques).
 // Looked for after each tick by the run loop (cosim/lockstep_server.cpp).
 #pragma once
 

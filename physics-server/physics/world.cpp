@@ -495,11 +495,8 @@ double World::max_docking_error_m() const {
 World::Penetration World::deepest_contact() const {
   const Contacts::Deepest& d = impl_->contacts->deepest();
   if (d.body < 0) return {};
-  for (int m = 0; m < static_cast<int>(impl_->modules.size()); ++m) {
-    const Impl::Module& md = impl_->modules[m];
-    if (d.body >= md.body0 && d.body < md.body0 + md.nbody) return {d.depth_m, m, d.body - md.body0};
-  }
-  return {};
+  const int m = impl_->contacts->module_of(d.body);  // its body indices are the World's
+  return {d.depth_m, m, d.body - impl_->modules[m].body0};
 }
 
 int World::last_contact_count() const { return impl_->contacts->count() + impl_->wheels->on_count(); }

@@ -54,9 +54,9 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
   if (h != h_) update_constants(h);
   drive_ = enabled_;
   // pwm_frame_delay: the set-point is latched at the pulse frames only, the
-  // first at the phase (before it k < 0: the set-point held from before)
-  // the set-point the step starts with, and the one a frame inside the step
-  // latches for the part of the step after it
+  // first at the phase (before it k < 0: the set-point held from before).
+  // sp_before drives the step until a frame inside it, sp_after for the
+  // fraction `after` of the step that follows
   double sp_before = setpoint_, sp_after = setpoint_, after = 1.0;
   if (p_.pwm_frame_s > 0.0) {
     const double eps = 1e-9 * p_.pwm_frame_s;
