@@ -19,15 +19,17 @@ FitProblem make_fit_problem(const BenchConfig& datasheet, MeasuredRecord m) {
   p.sa = std::max(stdev(p.m.angle), 1e-3);
   if (p.m.has_current) p.si = std::max(stdev(p.m.current), 1e-5);
   p.split = split_blocks(p.m.t);
+  for (size_t k = 0; k < p.m.t.size(); ++k)
+    if (p.split.in(k, Samples::training)) p.training_rows = k + 1;
   return p;
 }
 
-ModelRun run_model(const FitProblem& p, const BenchConfig& b) {
+ModelRun run_model(const FitProblem& p, const BenchConfig& b, size_t rows) {
   ModelRun run;
-  run.sim = simulate_bench(b, p.m.t, p.m.sp, BenchSolver::closed_form);
+  run.sim = simulate_bench(b, p.m.t, p.m.sp, BenchSolver::closed_form, rows);
   ++p.model_runs;
   Residual& r = run.residual;
-  const size_t n = p.m.t.size();
+  const size_t n = run.sim.size();
   r.has_current = p.m.has_current;
   r.angle.resize(n);
   r.current.assign(n, 0.0);
@@ -41,8 +43,9 @@ ModelRun run_model(const FitProblem& p, const BenchConfig& b) {
 
 namespace {
 
-Residual residual_at(const FitProblem& p, const std::vector<int>& effects, const std::vector<double>& x) {
-  return run_model(p, model_config(p.datasheet, effects, x)).residual;
+Residual residual_at(const FitProblem& p, const std::vector<int>& effects, const std::vector<double>& x,
+                     size_t rows = SIZE_MAX) {
+  return run_model(p, model_config(p.datasheet, effects, x), rows).residual;
 }
 
 double mean_loss(const std::vector<double>& loss, const BlockSplit& s, Samples set) {
@@ -51,6 +54,13 @@ double mean_loss(const std::vector<double>& loss, const BlockSplit& s, Samples s
   for (size_t k = 0; k < loss.size(); ++k)
     if (s.in(k, set)) sum += loss[k], ++n;
   return n ? sum / n : 0.0;
+}
+
+// the mean loss on `set`; for the training blocks the model runs only as far
+// as the last training sample (the held-out end block is not needed)
+double set_loss(const FitProblem& p, const std::vector<int>& effects, const std::vector<double>& x, Samples set) {
+  const Residual r = residual_at(p, effects, x, set == Samples::training ? p.training_rows : SIZE_MAX);
+  return mean_loss(sample_loss(r, p.noise), p.split, set);
 }
 
 // a parameter's bounds and scale in the optimiser
@@ -127,8 +137,7 @@ Fit fit_model(const FitProblem& p, const std::vector<int>& effects, std::vector<
         Ctx& c = *static_cast<Ctx*>(data);
         for (unsigned i = 0; i < nn; ++i) c.x[(*c.free)[i]] = (*c.bounds)[(*c.free)[i]].from_u(uu[i]);
         ++c.evals;
-        const Residual r = residual_at(*c.p, *c.effects, c.x);
-        return mean_loss(sample_loss(r, c.p->noise), c.p->split, c.set);
+        return set_loss(*c.p, *c.effects, c.x, c.set);
       },
       &ctx);
   double fval = 0;
@@ -170,11 +179,11 @@ namespace {
 void scan_phase(const FitProblem& p, const std::vector<int>& eff, std::vector<double>* x, size_t i, double span_ms,
                 double step_ms) {
   const double c = (*x)[i];
-  double best = evaluate_fit(p, eff, *x).train, best_v = c;
+  double best = set_loss(p, eff, *x, Samples::training), best_v = c;
   for (double d = -span_ms; d <= span_ms + 1e-9; d += step_ms) {
     std::vector<double> xt = *x;
     xt[i] = std::max(0.0, c + d);
-    const double l = evaluate_fit(p, eff, xt).train;
+    const double l = set_loss(p, eff, xt, Samples::training);
     if (l < best - 1e-12) best = l, best_v = xt[i];
   }
   (*x)[i] = best_v;
@@ -254,7 +263,7 @@ Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect) {
     for (const std::vector<double>& tail : tails) {
       std::vector<double> xt = base;
       xt.insert(xt.end(), tail.begin(), tail.end());
-      const double m = tails.size() > 1 ? evaluate_fit(p, eff, xt).train : 0.0;
+      const double m = tails.size() > 1 ? set_loss(p, eff, xt, Samples::training) : 0.0;
       if (m < best_start) best_start = m, x = xt;
     }
     Fit f = fit_model(p, eff, x, Samples::training, kMaxEvalJoint);

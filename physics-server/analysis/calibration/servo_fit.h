@@ -25,6 +25,7 @@ struct FitProblem {
   double sa = 1, si = 1;   // normalisation: std of the measured angle / current
   BlockSplit split;
   NoiseScale noise;        // white noise of the normalised residual: the loss's unit
+  size_t training_rows = 0;   // samples up to the last training one (the training loss needs no more)
   mutable int model_runs = 0;   // model evaluations of the fits so far
 };
 
@@ -38,7 +39,8 @@ struct ModelRun {
   std::vector<BenchSample> sim;
   Residual residual;
 };
-ModelRun run_model(const FitProblem& p, const BenchConfig& b);
+// (the first `rows` samples only, when fewer: the same values as the whole run)
+ModelRun run_model(const FitProblem& p, const BenchConfig& b, size_t rows = SIZE_MAX);
 
 struct Fit {
   std::vector<int> effects;    // catalogue indices

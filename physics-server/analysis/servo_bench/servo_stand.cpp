@@ -40,6 +40,7 @@ class Stand {
   Stand(const BenchConfig& b, BenchSolver solver)
       : cfg_(b), model_(b.servo), h_(b.dt_us * 1e-6), solver_(solver) {
     jl_ = std::max(b.load_inertia_kgm2, 1e-12);
+    jh_ = jl_ / h_;
     if (solver_ == BenchSolver::closed_form) return;
     dInitODE2(0);
     dAllocateODEDataForThread(dAllocateMaskAll);
@@ -80,7 +81,7 @@ class Stand {
       // one degree of freedom: (Jl/h + D) w' = Jl w/h + D v + tau_load, then
       // theta += h w' (ODE's semi-implicit position update)
       const ServoModel::StepLaw law = model_.begin_step(theta_, w_, h_);
-      const double jh = jl_ / h_;
+      const double jh = jh_;
       w_ = (jh * w_ + law.damping * law.target_rate + cfg_.load_torque_nm) / (jh + law.damping);
       model_.end_step(w_);
       theta_ += h_ * w_;
@@ -109,6 +110,7 @@ class Stand {
   double h_;
   BenchSolver solver_;
   double jl_ = 0, w_ = 0;   // load inertia; closed form: hinge rate
+  double jh_ = 0;           // closed form: jl_ / h_
   dWorldID world_ = nullptr;
   dBodyID rotor_ = nullptr;
   dJointID hinge_ = nullptr, motor_ = nullptr;
@@ -120,34 +122,45 @@ std::vector<BenchSample> run_stand(const BenchConfig& b, const std::vector<Row>&
   const double deg = kPi / 180.0;
   const double sp0 = rows.front().setpoint_deg;
   const double dt = static_cast<double>(b.dt_us);
-  auto rel_us = [&](size_t k) { return (rows[k].t_s - rows.front().t_s) * 1e6; };
-  auto state = [&] { return BenchSample{sp0 + stand.theta_rad() / deg, stand.filtered_current_a()}; };
+  // the rows' times from the first, us
+  std::vector<double> rel(rows.size());
+  for (size_t k = 0; k < rows.size(); ++k) rel[k] = (rows[k].t_s - rows.front().t_s) * 1e6;
+  // the stand's state after a step, converted to a sample only where one is
+  // written (the calibration's optimiser runs this some thousand times)
+  struct Raw {
+    double theta_rad, current_a;
+  };
+  auto raw = [&] { return Raw{stand.theta_rad(), stand.filtered_current_a()}; };
+  auto sample = [&](const Raw& r) { return BenchSample{sp0 + r.theta_rad / deg, r.current_a}; };
   std::vector<BenchSample> out;
   out.reserve(rows.size());
-  BenchSample prev = state(), cur = prev;
-  out.push_back(cur);
+  Raw prev = raw(), cur = prev;
+  out.push_back(sample(cur));
   int64_t n = 0;        // steps done: the state is that of time n dt
   size_t active = 0;    // the row whose set-point is applied
+  double applied = std::nan("");
   for (size_t k = 1; k < rows.size(); ++k) {
-    const double tk = rel_us(k);
+    const double tk = rel[k];
     while (static_cast<double>(n) * dt < tk - kEpsUs) {
       // set-point of step n: the last row at or before its start
-      while (active + 1 < rows.size() && rel_us(active + 1) <= static_cast<double>(n) * dt + kEpsUs)
-        ++active;
-      stand.set_setpoint_rad((rows[active].setpoint_deg - sp0) * deg);
+      while (active + 1 < rows.size() && rel[active + 1] <= static_cast<double>(n) * dt + kEpsUs) ++active;
+      if (!(rows[active].setpoint_deg == applied)) {
+        applied = rows[active].setpoint_deg;
+        stand.set_setpoint_rad((applied - sp0) * deg);
+      }
       stand.step();
       prev = cur;
-      cur = state();
+      cur = raw();
       ++n;
     }
     // (n-1) dt < tk <= n dt: linear between the two step ends
     const double tn = static_cast<double>(n) * dt;
     if (n == 0 || std::fabs(tn - tk) <= kEpsUs) {
-      out.push_back(cur);
+      out.push_back(sample(cur));
     } else {
       const double f = (tk - (tn - dt)) / dt;
-      out.push_back({prev.angle_deg + f * (cur.angle_deg - prev.angle_deg),
-                     prev.current_a + f * (cur.current_a - prev.current_a)});
+      const BenchSample a = sample(prev), c = sample(cur);
+      out.push_back({a.angle_deg + f * (c.angle_deg - a.angle_deg), a.current_a + f * (c.current_a - a.current_a)});
     }
   }
   return out;
@@ -156,11 +169,12 @@ std::vector<BenchSample> run_stand(const BenchConfig& b, const std::vector<Row>&
 }  // namespace
 
 std::vector<BenchSample> simulate_bench(const BenchConfig& b, const std::vector<double>& t_s,
-                                        const std::vector<double>& setpoint_deg, BenchSolver solver) {
+                                        const std::vector<double>& setpoint_deg, BenchSolver solver,
+                                        size_t count) {
   if (t_s.empty() || t_s.size() != setpoint_deg.size())
     throw std::invalid_argument("simulate_bench: t_s and setpoint_deg must be non-empty, same length");
-  std::vector<Row> rows(t_s.size());
-  for (size_t k = 0; k < t_s.size(); ++k) rows[k] = {t_s[k], setpoint_deg[k]};
+  std::vector<Row> rows(std::clamp<size_t>(count, 1, t_s.size()));
+  for (size_t k = 0; k < rows.size(); ++k) rows[k] = {t_s[k], setpoint_deg[k]};
   return run_stand(b, rows, solver);
 }
 

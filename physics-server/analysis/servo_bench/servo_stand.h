@@ -5,6 +5,7 @@
 // continuous equations.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "analysis/servo_bench/bench_config.h"
@@ -26,9 +27,12 @@ enum class BenchSolver { ode_exact, closed_form };
 // the bench's response at the times t_s (strictly increasing) to the
 // set-points (degrees, each held from its time until the next). The hinge
 // starts at rest at the first set-point; angles are continuous (no wrap).
-// Throws std::invalid_argument for empty or unequal inputs.
+// Throws std::invalid_argument for empty or unequal inputs. With count below
+// the inputs' size only the first count samples are simulated and returned
+// (the same values as the whole run gives for them).
 std::vector<BenchSample> simulate_bench(const BenchConfig& b, const std::vector<double>& t_s,
                                         const std::vector<double>& setpoint_deg,
-                                        BenchSolver solver = BenchSolver::ode_exact);
+                                        BenchSolver solver = BenchSolver::ode_exact,
+                                        size_t count = SIZE_MAX);
 
 }  // namespace chainsim

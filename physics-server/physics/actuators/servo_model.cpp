@@ -26,6 +26,8 @@ void ServoModel::update_constants(double h) {
     phi_ = 0.0;
   }
   ef_ = p_.current_filter_tau_s > 0.0 ? std::exp(-h / p_.current_filter_tau_s) : 0.0;
+  jh_ = p_.j / h;
+  ci_ = p_.km * (1.0 - phi_) / p_.r;
 }
 
 // the drive voltage the amplifier applies for a set-point (rad) at the
@@ -97,14 +99,14 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
   const double w_rotor = impact ? wm_ : w;
   StepLaw law;
   // rotor inertia, implicit on the joint rate: -J (w' - w)/h
-  const double jh = p_.j / h;
+  const double jh = jh_;
   // step-average current = i0 - ci w' (affine in the end-of-step rate w')
   double i0, ci;
   if (drive_) {
     ea_ = drive_voltage(sp_after, theta, wr);
     if (after < 1.0) ea_ = after * ea_ + (1.0 - after) * drive_voltage(sp_before, theta, wr);
     i0 = (1.0 - phi_) * ea_ / p_.r + phi_ * i_;
-    ci = p_.km * (1.0 - phi_) / p_.r;
+    ci = ci_;
   } else {
     ea_ = 0.0;
     i0 = phi_ * i_;   // free-wheeling current, no back-EMF path

@@ -198,6 +198,8 @@ class ServoModel {
   double e_ = 0.0;      // e^(-h/tau_e)
   double phi_ = 0.0;    // (tau_e/h)(1 - e^(-h/tau_e)): weight of i_n in the step average
   double ef_ = 0.0;     // e^(-h/tau_f)
+  double jh_ = 0.0;     // J/h
+  double ci_ = 0.0;     // Km (1 - phi)/R: the step-average current's slope in w' when driven
 };
 
 }  // namespace chainsim

@@ -75,6 +75,28 @@ TEST(ServoStand, StartsAtRestAtTheFirstSetPointAndSamplesAtTheGivenTimes) {
   EXPECT_THROW(simulate_bench(BenchConfig{}, {0, 1}, {0}), std::invalid_argument);
 }
 
+// the calibration's training fits run only as far as their last sample: a
+// run cut at a count gives the whole run's first samples, bit for bit
+TEST(ServoStand, ARunCutShortGivesTheWholeRunsFirstSamples) {
+  std::vector<double> t, sp;
+  moves(&t, &sp);
+  BenchConfig b;
+  b.servo.coulomb_nm = 0.004;
+  b.servo.backlash_deg = 1.5;
+  for (BenchSolver solver : {BenchSolver::closed_form, BenchSolver::ode_exact}) {
+    const auto whole = simulate_bench(b, t, sp, solver);
+    for (size_t count : {size_t{1}, size_t{251}, t.size() - 1}) {
+      const auto part = simulate_bench(b, t, sp, solver, count);
+      ASSERT_EQ(part.size(), count);
+      for (size_t k = 0; k < count; ++k) {
+        ASSERT_EQ(part[k].angle_deg, whole[k].angle_deg) << k;
+        ASSERT_EQ(part[k].current_a, whole[k].current_a) << k;
+      }
+    }
+    EXPECT_EQ(simulate_bench(b, t, sp, solver, t.size() + 5).size(), t.size());
+  }
+}
+
 TEST(ServoStand, BenchFilesSetWhatTheyNameAndNameWhatIsWrong) {
   const BenchConfig b =
       load_bench_text("servo: {Kp: 10, coulomb_nm: 0.01}\nload: {inertia_kgm2: 2e-5}\nsim: {dt_us: 100}\n", "b.yaml");
