@@ -10,7 +10,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
-#include <map>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -113,6 +112,20 @@ ProgramParams read_program_params(const std::string& path, const std::string& pr
   return parse_params_listing(text, program);
 }
 
+const ProgramParams& ProgramParamsCache::get(const std::string& path, const std::string& program,
+                                             const std::function<void(const std::string& why)>& on_error) {
+  auto it = by_path_.find(path);
+  if (it != by_path_.end()) return it->second;
+  std::string why;
+  try {
+    return by_path_.emplace(path, read_program_params(path, program)).first->second;
+  } catch (const std::exception& ex) {
+    why = ex.what();
+  }
+  on_error(why);
+  throw std::runtime_error(why);
+}
+
 void check_scene_programs(const Scene& scene, const std::string& firmware_dir) {
   const int n = static_cast<int>(scene.modules.size());
   for (int i = 0; i <= n; ++i) {
@@ -125,21 +138,15 @@ void check_scene_programs(const Scene& scene, const std::string& firmware_dir) {
                             ? " (a name is looked for in --firmware-dir, then next to chainsim)"
                             : ""));
   }
-  std::map<std::string, ProgramParams> known;  // by path: each program runs once
+  ProgramParamsCache known;
   check_scene_params(scene, [&](const SceneModule& e, const std::string& who) -> const ProgramParams& {
     const std::string path = program_path(e.firmware, firmware_dir);
-    auto it = known.find(path);
-    if (it == known.end()) {
-      try {
-        it = known.emplace(path, read_program_params(path, e.firmware)).first;
-      } catch (const std::runtime_error& ex) {
-        const std::string first = e.param_at.empty() ? e.firmware_at : e.param_at.begin()->second;
-        throw SceneError(first + ": " + who + " is given parameters, but its program " + path +
-                         " did not list the ones it declares when run with " CS_PARAMS_ARG ": " + ex.what() +
-                         " (a program linked with chainsim's hal-sim lists them)");
-      }
-    }
-    return it->second;
+    return known.get(path, e.firmware, [&](const std::string& why) {
+      const std::string first = e.param_at.empty() ? e.firmware_at : e.param_at.begin()->second;
+      throw SceneError(first + ": " + who + " is given parameters, but its program " + path +
+                       " did not list the ones it declares when run with " CS_PARAMS_ARG ": " + why +
+                       " (a program linked with chainsim's hal-sim lists them)");
+    });
   });
 }
 

@@ -7,6 +7,8 @@
 // "Parameters").
 #pragma once
 
+#include <functional>
+#include <map>
 #include <string>
 
 #include "cosim/endpoints.h"  // program_path: where a run finds a program
@@ -23,6 +25,19 @@ ProgramParams parse_params_listing(const std::string& text, const std::string& p
 // it prints; throws std::runtime_error saying why there is no listing
 // (`program` names it in messages)
 ProgramParams read_program_params(const std::string& path, const std::string& program);
+
+// programs' listings by path, each program run once
+class ProgramParamsCache {
+ public:
+  // the listing of the program at path; when there is none, on_error is
+  // called with why and must throw the caller's error (if it returns, the
+  // reason is thrown as std::runtime_error)
+  const ProgramParams& get(const std::string& path, const std::string& program,
+                           const std::function<void(const std::string& why)>& on_error);
+
+ private:
+  std::map<std::string, ProgramParams> by_path_;
+};
 
 // before a run starts anything: every endpoint's program exists and is
 // executable, and every parameter the scene sets is one its program

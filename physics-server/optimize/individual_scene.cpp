@@ -19,10 +19,11 @@ std::string absolute_from(const std::string& file, const std::filesystem::path& 
   return std::filesystem::absolute(base.empty() ? p : base / p).lexically_normal().string();
 }
 
-// a program name stays a name (looked up next to chainsim); a path is made absolute
-void absolute_program(YAML::Node n) {
+// a program name stays a name (looked up next to chainsim); a path is made
+// absolute from the scene's directory, as loading the scene resolves it
+void absolute_program(YAML::Node n, const std::filesystem::path& dir) {
   if (n && n.IsScalar() && n.as<std::string>().find('/') != std::string::npos)
-    n = absolute_from(n.as<std::string>(), {});
+    n = absolute_from(n.as<std::string>(), dir);
 }
 
 }  // namespace
@@ -51,7 +52,10 @@ std::string individual_scene_yaml(const Problem& pr, const Phenotype& p, uint64_
   if (YAML::Node env = root["environment"]; env && env.IsMap())
     if (YAML::Node mesh = env["mesh"]; mesh && mesh.IsMap() && mesh["file"] && mesh["file"].IsScalar())
       mesh["file"] = absolute_from(mesh["file"].as<std::string>(), dir);
-  if (YAML::Node c = root["central"]; c && c.IsMap()) absolute_program(c["program"]);
+  if (YAML::Node c = root["central"]; c && c.IsMap()) absolute_program(c["program"], dir);
+  if (YAML::Node pg = root["programs"]; pg && pg.IsMap())
+    for (auto kv : pg)
+      if (kv.second.IsMap()) absolute_program(kv.second["firmware"], dir);
 
   // the chain: the genome's letters, or the base scene's
   bool module_params = false;
@@ -70,7 +74,7 @@ std::string individual_scene_yaml(const Problem& pr, const Phenotype& p, uint64_
   }
   if (chain.IsSequence())
     for (size_t i = 0; i < chain.size(); ++i)
-      if (chain[i].IsMap()) absolute_program(chain[i]["firmware"]);
+      if (chain[i].IsMap()) absolute_program(chain[i]["firmware"], dir);
 
   for (size_t k = 0; k < pr.genome.params.size() && k < p.values.size(); ++k) {
     const ParamGene& g = pr.genome.params[k];

@@ -1,8 +1,6 @@
 // A problem's parameters against the programs' declarations. See problem_params.h.
 #include "optimize/problem_params.h"
 
-#include <map>
-
 #include "cosim/program_params.h"
 #include "optimize/individual_scene.h"
 #include "scene/scene_params.h"
@@ -15,19 +13,12 @@ void check_problem_params(const Problem& pr, const std::string& firmware_dir) {
   } catch (const SceneError& e) {
     throw ProblemError(std::string(e.what()) + " (the base scene of " + pr.file + ")");
   }
-  std::map<std::string, ProgramParams> known;  // by path: each program runs once
+  ProgramParamsCache known;
   auto decls_of = [&](const ParamGene& g, const SceneModule& e) -> const ProgramParams& {
     const std::string path = program_path(e.firmware, firmware_dir);
-    auto it = known.find(path);
-    if (it == known.end()) {
-      try {
-        it = known.emplace(path, read_program_params(path, e.firmware)).first;
-      } catch (const std::exception& ex) {
-        throw ProblemError(g.where + ": '" + g.target + "': program " + path + " did not list its parameters: " +
-                           ex.what());
-      }
-    }
-    return it->second;
+    return known.get(path, e.firmware, [&](const std::string& why) {
+      throw ProblemError(g.where + ": '" + g.target + "': program " + path + " did not list its parameters: " + why);
+    });
   };
   const std::vector<int64_t> lowest(pr.genome.gene_count(), 0);
   for (const std::vector<int64_t>& genes : {lowest, pr.genome.gene_upper()}) {

@@ -148,6 +148,39 @@ objective: {minimize: out_s, failed_fitness: 100}
   EXPECT_EQ(load_scene_text(text, "individual").modules.size(), 3u);
 }
 
+// the individual's scene is written elsewhere (the search's work folder), so
+// the programs the base scene names by relative path are made absolute from
+// the base scene's folder, as loading the base scene resolves them; names
+// stay names
+TEST(Problem, ProgramPathsInTheIndividualsSceneAreTheBaseScenesOwn) {
+  std::filesystem::create_directories(temp_dir() + "/sub/fw");
+  write("sub/base.yaml", R"(name: rel
+duration_s: 1
+programs:
+  rotation: {firmware: fw/rot}
+chain:
+  - {type: rotation}
+  - {type: rotation, firmware: ./fw/mine}
+  - {type: rotation, firmware: fw-rotation}
+central: {program: ../sub/fw/central, params: {gait: 1}}
+)");
+  const Problem pr = load_problem_file(write("rel.yaml", R"(scene: sub/base.yaml
+genome: {params: [{target: central.amplitude_cdeg, min: 0, max: 10}]}
+measures: {x: {kind: distance}}
+objective: {maximize: x}
+)"));
+  const Scene base = load_scene_text(pr.scene_text, pr.scene_file);
+  const Scene s = load_scene_text(individual_scene_yaml(pr, {"", {5}}, 1), "/elsewhere/individual.yaml");
+  const std::string fw = temp_dir() + "/sub/fw/";
+  EXPECT_EQ(s.modules.at(0).firmware, fw + "rot");
+  EXPECT_EQ(s.modules.at(1).firmware, fw + "mine");
+  EXPECT_EQ(s.modules.at(2).firmware, "fw-rotation");
+  EXPECT_EQ(s.central.firmware, fw + "central");
+  for (size_t i = 0; i < 3; ++i)
+    EXPECT_EQ(std::filesystem::path(base.modules[i].firmware).lexically_normal(),
+              std::filesystem::path(s.modules[i].firmware).lexically_normal());
+}
+
 TEST(Problem, EvaluationSeedsComeFromTheSearchSeedAndTheKeyOnly) {
   EXPECT_EQ(evaluation_seed(1, "THRH"), evaluation_seed(1, "THRH"));
   EXPECT_NE(evaluation_seed(1, "THRH"), evaluation_seed(2, "THRH"));

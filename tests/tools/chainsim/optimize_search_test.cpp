@@ -297,6 +297,22 @@ TEST(Optimize, MalformedProblemFilesGiveFileLineColumn) {
             std::string::npos)
       << err3;
   EXPECT_FALSE(std::filesystem::exists(d + "/out2/history.csv"));
+  // a gene of a program that lists no parameters (not linked with hal-sim): named at the gene
+  const std::string silent = scenario::write_file(d, "silent.sh", "#!/bin/sh\nexit 0\n");
+  std::filesystem::permissions(silent, std::filesystem::perms::owner_all);
+  scenario::write_file(d, "base-silent.yaml",
+                       "name: opt-silent\nduration_s: 0.4\nchain:\n  - {type: rotation}\n"
+                       "  - {type: rotation, firmware: ./silent.sh}\n");
+  const std::string gene = scenario::write_file(d, "silent.yaml",
+                                                "scene: base-silent.yaml\ngenome:\n  params:\n"
+                                                "    - {target: \"chain[1].speed\", min: 1, max: 3, step: 1}\n"
+                                                "measures: {speed: {kind: speed, of: chain}}\nobjective: {maximize: speed}\n");
+  const std::string err4 = search({CHAINSIM_EXE, "optimize", gene, "--out", d + "/out4"}, d + "/err4.txt", 1);
+  EXPECT_NE(err4.find(gene + ":4:7: 'chain[1].speed': program " + silent + " did not list its parameters: it printed "
+                              "nothing instead of the line"),
+            std::string::npos)
+      << err4;
+  EXPECT_FALSE(std::filesystem::exists(d + "/out4/history.csv"));
 }
 
 // runs of 3 s: with the 0.4 s runs of the other tests an evaluation could end,
