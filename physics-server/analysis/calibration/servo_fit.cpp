@@ -74,15 +74,31 @@ struct Bound {
   double from_u(double u) const { return log ? lo * std::pow(hi / lo, u) : lo + u * (hi - lo); }
 };
 
-// the bounds of every parameter and which are free (not held)
-void layout(const std::vector<int>& effects, std::vector<Bound>* bounds, std::vector<size_t>* free) {
+// the bounds of every parameter and which are free (not held). A frame
+// clock found from the delays is held, or (clock_near, the fits) free within
+// a narrow window around its value in x: the frame inside a model step
+// drives that step in proportion (servo_model.cpp), so the loss is
+// continuous in period and phase near the delays' estimate, and the phase
+// and the base's speed, which trade off, are fitted together
+void layout(const std::vector<int>& effects, const std::vector<double>* clock_near, std::vector<Bound>* bounds,
+            std::vector<size_t>* free) {
   bounds->assign(kNumBase, Bound{kBaseFactorLo, kBaseFactorHi, false});
   for (int i = 0; i < kNumBase; ++i) free->push_back(i);
   for (int e : effects) {
     const Effect& ef = effect_catalogue()[e];
-    for (const EffectParam& q : ef.params) {
-      if (ef.fit == EffectFit::smooth) free->push_back(bounds->size());
-      bounds->push_back({q.lo, q.hi, q.log_scale});
+    for (size_t k = 0; k < ef.params.size(); ++k) {
+      const EffectParam& q = ef.params[k];
+      if (ef.fit == EffectFit::smooth) {
+        free->push_back(bounds->size());
+        bounds->push_back({q.lo, q.hi, q.log_scale});
+      } else if (clock_near) {
+        const double v = (*clock_near)[bounds->size()];
+        const double half = k == 0 ? kClockPeriodWindow * v : kClockPhaseWindowMs;
+        free->push_back(bounds->size());
+        bounds->push_back({std::max(q.lo, v - half), std::min(q.hi, v + half), false});
+      } else {
+        bounds->push_back({q.lo, q.hi, q.log_scale});
+      }
     }
   }
 }
@@ -112,7 +128,7 @@ Fit fit_model(const FitProblem& p, const std::vector<int>& effects, std::vector<
               int max_eval) {
   std::vector<Bound> bounds;
   std::vector<size_t> free;
-  layout(effects, &bounds, &free);
+  layout(effects, &x0, &bounds, &free);
   const size_t n = free.size();
   std::vector<double> u(n);
   for (size_t i = 0; i < n; ++i) u[i] = bounds[free[i]].to_u(x0[free[i]]);
@@ -193,8 +209,9 @@ void scan_phase(const FitProblem& p, const std::vector<int>& eff, std::vector<do
 // changes' delays against two models without it (the reference, which may
 // have bent its base to mimic the delay, and the datasheet base), then per
 // clock found: the phase scanned against the model (the delays carry the
-// base's timing error), the base re-fitted with the clock held, the phase
-// scanned again; the better training fit
+// base's timing error; the scan finds the right frame edge, farther than the
+// fit's window), the base fitted together with period and phase within
+// their window (layout), the phase scanned again; the better training fit
 Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect) {
   const Effect& ef = effect_catalogue()[effect];
   std::vector<int> eff = ref.effects;
@@ -211,7 +228,7 @@ Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect) {
     x.push_back(fc.clock.phase_s * 1e3);
     scan_phase(p, eff, &x, ip, 1.5, 0.1);
     // the phase and the base's speed trade off (a later frame looks like a
-    // slower servo): the base and the phase in turn until the phase stays
+    // slower servo): fitted together, then the phase scanned, until it stays
     Fit f;
     for (int turn = 0; turn < 3; ++turn) {
       f = fit_model(p, eff, x, Samples::training, kMaxEvalJoint);
@@ -221,14 +238,17 @@ Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect) {
     }
     f = evaluate_fit(p, eff, x);
     if (!best.valid || f.train < best.train) {
-      // the phase's interval: the delays' least-squares one, widened to
-      // reach the scanned value
-      const double ph = f.x[ip], half = 0.5 * 1e3 * (fc.phase_ci_s.second - fc.phase_ci_s.first);
-      const double w = std::max(half, std::fabs(ph - 1e3 * fc.clock.phase_s));
+      // the intervals: the delays' least-squares ones, widened to reach
+      // the fitted values
+      auto widened = [](double v, std::pair<double, double> ci_s, double est_s) {
+        const double w = std::max(0.5 * 1e3 * (ci_s.second - ci_s.first), std::fabs(v - 1e3 * est_s));
+        return std::make_pair(v - w, v + w);
+      };
+      const double per = f.x[ip - 1], ph = f.x[ip];
       best = std::move(f);
       best.held_ci = ref.held_ci;
-      best.held_ci.push_back({fc.period_ci_s.first * 1e3, fc.period_ci_s.second * 1e3});
-      best.held_ci.push_back({ph - w, ph + w});
+      best.held_ci.push_back(widened(per, fc.period_ci_s, fc.clock.period_s));
+      best.held_ci.push_back(widened(ph, fc.phase_ci_s, fc.clock.phase_s));
     }
   }
   if (best.valid) return best;
@@ -274,10 +294,44 @@ Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect) {
   return best;
 }
 
+Fit refit_frame_clock(const FitProblem& p, const Fit& f) {
+  size_t j = 0;
+  while (j < f.effects.size() && effect_catalogue()[f.effects[j]].fit != EffectFit::frame_clock) ++j;
+  // none, or found last: already fitted on top of all the others
+  if (j + 1 >= f.effects.size()) return f;
+  // the model without the clock, then the clock fitted on top of it again
+  const size_t off = param_offset(f.effects, j), n = effect_catalogue()[f.effects[j]].params.size();
+  Fit without;
+  without.effects = f.effects;
+  without.effects.erase(without.effects.begin() + static_cast<long>(j));
+  without.x = f.x;
+  without.x.erase(without.x.begin() + static_cast<long>(off), without.x.begin() + static_cast<long>(off + n));
+  without.held_ci = f.held_ci;
+  if (without.held_ci.size() >= off + n)
+    without.held_ci.erase(without.held_ci.begin() + static_cast<long>(off),
+                          without.held_ci.begin() + static_cast<long>(off + n));
+  Fit again = fit_with_effect(p, without, f.effects[j]);
+  if (!again.valid || !(again.train < f.train)) return f;
+  // back in the model's order: the clock's parameters where they were
+  Fit out = again;
+  out.effects = f.effects;
+  const size_t last = again.x.size() - n;
+  out.x.assign(again.x.begin(), again.x.begin() + static_cast<long>(off));
+  out.x.insert(out.x.end(), again.x.begin() + static_cast<long>(last), again.x.end());
+  out.x.insert(out.x.end(), again.x.begin() + static_cast<long>(off), again.x.begin() + static_cast<long>(last));
+  out.held_ci.assign(again.held_ci.begin(), again.held_ci.begin() + static_cast<long>(off));
+  out.held_ci.insert(out.held_ci.end(), again.held_ci.begin() + static_cast<long>(last), again.held_ci.end());
+  out.held_ci.insert(out.held_ci.end(), again.held_ci.begin() + static_cast<long>(off),
+                     again.held_ci.begin() + static_cast<long>(last));
+  Fit e = evaluate_fit(p, out.effects, out.x);   // the same model: the order of effects does not matter
+  e.held_ci = out.held_ci;
+  return e;
+}
+
 std::vector<std::pair<double, double>> fit_intervals(const FitProblem& p, const Fit& f) {
   std::vector<Bound> bounds;
   std::vector<size_t> free;
-  layout(f.effects, &bounds, &free);
+  layout(f.effects, nullptr, &bounds, &free);
   const Residual r0 = residual_at(p, f.effects, f.x);
   const size_t m = r0.size();
   const int nch = r0.channels();

@@ -17,6 +17,10 @@ namespace chainsim {
 
 constexpr int kMaxEvalBase = 250;    // evaluations of a refit from one start
 constexpr int kMaxEvalJoint = 300;   // evaluations of a fit with a new effect from one start
+// a fit moves a frame clock found from the delays by at most this much:
+// its period by a fraction (0.2 %: 8 ms of drift over 200 frames), its phase in ms
+constexpr double kClockPeriodWindow = 0.002;
+constexpr double kClockPhaseWindowMs = 0.5;
 
 // a measurement and how it is compared with the model
 struct FitProblem {
@@ -78,6 +82,13 @@ Fit refit_from_starts(const FitProblem& p, const Fit& cur, const std::vector<std
 // parameters from the best of its starts (a frame clock: fitted to the
 // set-point changes' delays, frame_clock.h); the better training fit
 Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect);
+
+// a model with a frame clock: the clock fitted again on top of the rest of
+// the model (its delays measured against a model that now holds the other
+// effects found, which biased them while they were missing), the base
+// re-fitted with it; f itself when that is not better on the training blocks,
+// or when the clock was the last effect found
+Fit refit_frame_clock(const FitProblem& p, const Fit& f);
 
 // 95 % intervals of f.x on all data (finite-difference Jacobian of the free
 // parameters; residual_stats.h confidence_intervals); held ones from f.held_ci

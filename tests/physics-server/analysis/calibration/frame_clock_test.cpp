@@ -7,6 +7,8 @@
 
 #include <random>
 
+#include "analysis/calibration/effect_catalogue.h"
+#include "analysis/calibration/servo_fit.h"
 #include "bench_record.h"
 
 namespace chainsim {
@@ -101,6 +103,38 @@ TEST(FrameClock, FromABenchRecordWithFramesAtAnArbitraryPhase) {
               f.phase_ci_s.first * 1e3, f.phase_ci_s.second * 1e3, f.inliers, f.used);
   EXPECT_NEAR(f.clock.period_s, 0.02, 5e-5);
   EXPECT_NEAR(f.clock.phase_s, 0.007, 5e-4);
+}
+
+// a clock found while another effect was missing carries that effect's
+// timing in its delays; once the other effect is in the model the clock is
+// fitted again on top of it (the search does this in each round's reference)
+TEST(FrameClock, FittedAgainOnTopOfTheOtherEffects) {
+  BenchConfig truth = test_datasheet();
+  truth.servo.pwm_frame_s = 0.02;
+  truth.servo.pwm_frame_phase_s = 0.007;
+  truth.servo.current_limit_a = 0.2;
+  FitProblem p = make_fit_problem(test_datasheet(), bench_record(truth, 5));
+  p.noise.angle = 0.2 / p.sa;
+  p.noise.current = 0.002 / p.si;
+  const int pwm = effect_variants("pwm_frame_delay").at(0), limit = effect_variants("current_limit").at(0);
+  // the clock 0.3 ms long and 2 ms early, found first; the limit found after it
+  const std::vector<double> off = {1, 1, 1, 1, 20.3, 5.0, 0.2};
+  const Fit f = evaluate_fit(p, {pwm, limit}, off);
+  const Fit g = refit_frame_clock(p, f);
+  ASSERT_EQ(g.effects, f.effects);
+  ASSERT_EQ(g.x.size(), off.size());
+  std::printf("clock fitted again: period %.4f ms, phase %.3f ms, limit %.4f A; training loss %.4g -> %.4g\n",
+              g.x[4], g.x[5], g.x[6], f.train, g.train);
+  EXPECT_LT(g.train, 0.5 * f.train);
+  EXPECT_NEAR(g.x[4], 20.0, 0.05);
+  EXPECT_NEAR(g.x[5], 7.0, 0.5);
+  EXPECT_NEAR(g.x[6], 0.2, 0.02);   // the other effect's value stays in its place
+  ASSERT_EQ(g.held_ci.size(), g.x.size());
+  EXPECT_LE(g.held_ci[4].first, g.x[4]);
+  EXPECT_GE(g.held_ci[4].second, g.x[4]);
+  // a clock found last was fitted on top of everything already
+  const Fit h = evaluate_fit(p, {limit, pwm}, {1, 1, 1, 1, 0.2, 20.3, 5.0});
+  EXPECT_EQ(refit_frame_clock(p, h).x, h.x);
 }
 
 }  // namespace
