@@ -64,8 +64,9 @@ struct Fit {
 Fit evaluate_fit(const FitProblem& p, const std::vector<int>& effects, const std::vector<double>& x,
                  Samples set = Samples::training);
 
-// least squares on `set` from x0 within the bounds; the parameters of
-// frame-clock effects are held at their x0 values
+// least squares on `set` from x0 within the bounds; the parameters of a
+// frame-clock effect move only within a narrow window around their x0 values
+// (kClockPeriodWindow, kClockPhaseWindowMs)
 Fit fit_model(const FitProblem& p, const std::vector<int>& effects, std::vector<double> x0, Samples set,
               int max_eval);
 
