@@ -123,7 +123,7 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
     Fit ref = evaluate_fit(p, cur.effects, cur.x);
     ref.held_ci = cur.held_ci;
     ref = refit_from_starts(p, ref, {cur.x, datasheet_start(cur.x)}, kMaxEvalBase);
-    if (ref.effects.size() > 1) {  // a frame clock found before the other effects: fitted again with them
+    {  // a frame clock found before the other effects: fitted again with them
       const double before = ref.train;
       ref = refit_frame_clock(p, ref);
       if (ref.train < before) say("  the frame clock fitted again on top of the other effects: training loss " +

@@ -300,32 +300,23 @@ Fit refit_frame_clock(const FitProblem& p, const Fit& f) {
   // none, or found last: already fitted on top of all the others
   if (j + 1 >= f.effects.size()) return f;
   // the model without the clock, then the clock fitted on top of it again
-  const size_t off = param_offset(f.effects, j), n = effect_catalogue()[f.effects[j]].params.size();
-  Fit without;
-  without.effects = f.effects;
+  // (it comes back last: its parameters are rotated back to their place)
+  const auto off = static_cast<long>(param_offset(f.effects, j));
+  const auto n = static_cast<long>(effect_catalogue()[f.effects[j]].params.size());
+  Fit without = f;
   without.effects.erase(without.effects.begin() + static_cast<long>(j));
-  without.x = f.x;
-  without.x.erase(without.x.begin() + static_cast<long>(off), without.x.begin() + static_cast<long>(off + n));
-  without.held_ci = f.held_ci;
-  if (without.held_ci.size() >= off + n)
-    without.held_ci.erase(without.held_ci.begin() + static_cast<long>(off),
-                          without.held_ci.begin() + static_cast<long>(off + n));
+  without.x.erase(without.x.begin() + off, without.x.begin() + off + n);
+  if (static_cast<long>(without.held_ci.size()) >= off + n)
+    without.held_ci.erase(without.held_ci.begin() + off, without.held_ci.begin() + off + n);
   Fit again = fit_with_effect(p, without, f.effects[j]);
   if (!again.valid || !(again.train < f.train)) return f;
-  // back in the model's order: the clock's parameters where they were
-  Fit out = again;
-  out.effects = f.effects;
-  const size_t last = again.x.size() - n;
-  out.x.assign(again.x.begin(), again.x.begin() + static_cast<long>(off));
-  out.x.insert(out.x.end(), again.x.begin() + static_cast<long>(last), again.x.end());
-  out.x.insert(out.x.end(), again.x.begin() + static_cast<long>(off), again.x.begin() + static_cast<long>(last));
-  out.held_ci.assign(again.held_ci.begin(), again.held_ci.begin() + static_cast<long>(off));
-  out.held_ci.insert(out.held_ci.end(), again.held_ci.begin() + static_cast<long>(last), again.held_ci.end());
-  out.held_ci.insert(out.held_ci.end(), again.held_ci.begin() + static_cast<long>(off),
-                     again.held_ci.begin() + static_cast<long>(last));
-  Fit e = evaluate_fit(p, out.effects, out.x);   // the same model: the order of effects does not matter
-  e.held_ci = out.held_ci;
-  return e;
+  // the same model in f's order (the order of effects does not change it,
+  // so again's statistics stand)
+  again.effects = f.effects;
+  std::rotate(again.x.begin() + off, again.x.end() - n, again.x.end());
+  if (static_cast<long>(again.held_ci.size()) >= off + n)
+    std::rotate(again.held_ci.begin() + off, again.held_ci.end() - n, again.held_ci.end());
+  return again;
 }
 
 std::vector<std::pair<double, double>> fit_intervals(const FitProblem& p, const Fit& f) {

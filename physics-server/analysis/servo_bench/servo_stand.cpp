@@ -138,16 +138,12 @@ std::vector<BenchSample> run_stand(const BenchConfig& b, const std::vector<Row>&
   out.push_back(sample(cur));
   int64_t n = 0;        // steps done: the state is that of time n dt
   size_t active = 0;    // the row whose set-point is applied
-  double applied = std::nan("");
   for (size_t k = 1; k < rows.size(); ++k) {
     const double tk = rel[k];
     while (static_cast<double>(n) * dt < tk - kEpsUs) {
       // set-point of step n: the last row at or before its start
       while (active + 1 < rows.size() && rel[active + 1] <= static_cast<double>(n) * dt + kEpsUs) ++active;
-      if (!(rows[active].setpoint_deg == applied)) {
-        applied = rows[active].setpoint_deg;
-        stand.set_setpoint_rad((applied - sp0) * deg);
-      }
+      stand.set_setpoint_rad((rows[active].setpoint_deg - sp0) * deg);
       stand.step();
       prev = cur;
       cur = raw();
