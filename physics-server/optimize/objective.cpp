@@ -1,5 +1,6 @@
 #include "optimize/objective.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -42,7 +43,12 @@ double measure_value(const MeasureSpec& m, const RunOutcome& r, const PipeProgre
       const auto& tr = track(m, r);
       for (size_t i = 0; i < tr.size(); ++i)
         if (along(m, tr[i], pipe) >= m.reach_m) return r.t_s[i];
-      return kInf;
+      return m.never_s;
+    }
+    case MeasureSpec::Kind::Shortfall: {
+      double furthest = -kInf;
+      for (const auto& p : track(m, r)) furthest = std::max(furthest, along(m, p, pipe));
+      return furthest >= m.reach_m ? 0.0 : m.reach_m - furthest;
     }
     case MeasureSpec::Kind::Energy: return r.energy_j;
     case MeasureSpec::Kind::EnergyPerM: {

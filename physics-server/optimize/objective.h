@@ -1,12 +1,13 @@
 // What a search optimises: named measures of a finished run (distance along
-// an axis or the pipe, mean speed, the time a point is passed, energy, energy
-// per metre, the number of modules), the objective as a weighted sum of them,
+// an axis or the pipe, mean speed, the time a point is passed, how far short
+// of a point the run stayed, energy, energy per metre, the number of modules), the objective as a weighted sum of them,
 // and constraints on them. A run that faults or breaks a constraint gets the
 // problem's failed fitness and the reason.
 #pragma once
 
 #include <Eigen/Core>
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
@@ -18,14 +19,15 @@
 namespace chainsim {
 
 struct MeasureSpec {
-  enum class Kind { Distance, Speed, TimeToReach, Energy, EnergyPerM, Modules };
+  enum class Kind { Distance, Speed, TimeToReach, Shortfall, Energy, EnergyPerM, Modules };
   enum class Of { Head, Tail, Chain };   // Chain: the mass centre from summary.json
   std::string name;                      // history column and the key objective/constraints use
   Kind kind = Kind::Distance;
   Of of = Of::Head;
   bool along_pipe = false;               // along the pipe's axis, else along `axis`
   Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  // unit vector
-  double reach_m = 0;                    // TimeToReach: position along `along` to reach
+  double reach_m = 0;                    // TimeToReach, Shortfall: position along `along` to reach
+  double never_s = std::numeric_limits<double>::infinity();  // TimeToReach: the value if never reached
 };
 
 struct ObjectiveSpec {

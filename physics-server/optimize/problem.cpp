@@ -113,9 +113,10 @@ MeasureSpec load_measure(const SceneYaml& y, const YAML::Node& n, const std::str
   MeasureSpec m;
   m.name = name;
   if (!n.IsMap()) y.fail(n, "'" + p + "' must be a mapping with a 'kind'");
-  if (!n["kind"]) y.fail(n, "'" + p + "' needs a 'kind' (distance, speed, time_to_reach, energy, energy_per_m, modules)");
-  const std::string kind =
-      y.choice(n, "kind", "", {"distance", "speed", "time_to_reach", "energy", "energy_per_m", "modules"}, p);
+  if (!n["kind"])
+    y.fail(n, "'" + p + "' needs a 'kind' (distance, speed, time_to_reach, shortfall, energy, energy_per_m, modules)");
+  const std::string kind = y.choice(
+      n, "kind", "", {"distance", "speed", "time_to_reach", "shortfall", "energy", "energy_per_m", "modules"}, p);
   if (kind == "energy" || kind == "modules") {
     y.keys(n, p, {"kind"});
     m.kind = kind == "energy" ? MeasureSpec::Kind::Energy : MeasureSpec::Kind::Modules;
@@ -124,15 +125,21 @@ MeasureSpec load_measure(const SceneYaml& y, const YAML::Node& n, const std::str
   m.kind = kind == "distance"        ? MeasureSpec::Kind::Distance
            : kind == "speed"         ? MeasureSpec::Kind::Speed
            : kind == "time_to_reach" ? MeasureSpec::Kind::TimeToReach
+           : kind == "shortfall"     ? MeasureSpec::Kind::Shortfall
                                      : MeasureSpec::Kind::EnergyPerM;
-  if (m.kind == MeasureSpec::Kind::TimeToReach) {
+  const bool to_reach = m.kind == MeasureSpec::Kind::TimeToReach || m.kind == MeasureSpec::Kind::Shortfall;
+  if (m.kind == MeasureSpec::Kind::TimeToReach)
+    y.keys(n, p, {"kind", "of", "along", "reach_m", "never_s"});
+  else if (to_reach)
     y.keys(n, p, {"kind", "of", "along", "reach_m"});
+  else
+    y.keys(n, p, {"kind", "of", "along"});
+  if (to_reach) {
     if (!n["reach_m"]) y.fail(n, "'" + p + "' needs 'reach_m' (the position along 'along' to reach, m)");
     m.reach_m = y.number(n, "reach_m", 0, -1e6, 1e6, p);
-  } else {
-    y.keys(n, p, {"kind", "of", "along"});
   }
-  const bool chain_ok = m.kind != MeasureSpec::Kind::TimeToReach;
+  if (n["never_s"]) m.never_s = y.number(n, "never_s", 0, 0, 1e9, p);
+  const bool chain_ok = !to_reach;
   const std::string of = chain_ok ? y.choice(n, "of", "head", {"head", "tail", "chain"}, p)
                                   : y.choice(n, "of", "head", {"head", "tail"}, p);
   m.of = of == "head" ? MeasureSpec::Of::Head : of == "tail" ? MeasureSpec::Of::Tail : MeasureSpec::Of::Chain;

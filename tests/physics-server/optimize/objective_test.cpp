@@ -69,6 +69,20 @@ TEST(Objective, MeasuresAlongAnAxis) {
   EXPECT_EQ(measure_value(t, r, nullptr), 1.0);
   t.reach_m = 0.5;
   EXPECT_TRUE(std::isinf(measure_value(t, r, nullptr)));
+  t.never_s = 25;  // a value for "never" instead of infinity
+  EXPECT_EQ(measure_value(t, r, nullptr), 25.0);
+  // how far short of a point the furthest position stayed: the tail got to 0.3
+  MeasureSpec shortfall = measure(MeasureSpec::Kind::Shortfall, MeasureSpec::Of::Tail);
+  shortfall.reach_m = 0.5;
+  EXPECT_NEAR(measure_value(shortfall, r, nullptr), 0.2, 1e-12);
+  shortfall.reach_m = 0.3;
+  EXPECT_EQ(measure_value(shortfall, r, nullptr), 0.0);
+  shortfall.reach_m = -0.05;  // passed before the run began: nothing short
+  EXPECT_EQ(measure_value(shortfall, r, nullptr), 0.0);
+  RunOutcome back = r;  // the tail slides back from 0.1 to -0.2 at the end: the furthest counts
+  back.tail[2].x() = -0.2;
+  shortfall.reach_m = 0.5;
+  EXPECT_NEAR(measure_value(shortfall, back, nullptr), 0.4, 1e-12);
   EXPECT_NEAR(measure_value(measure(MeasureSpec::Kind::EnergyPerM), r, nullptr), 10.0, 1e-12);
   EXPECT_EQ(measure_value(measure(MeasureSpec::Kind::Modules), r, nullptr), 2);
   MeasureSpec y = measure(MeasureSpec::Kind::Distance, MeasureSpec::Of::Chain);
@@ -112,6 +126,15 @@ TEST(Objective, WeightedSumConstraintsAndFailures) {
   EXPECT_TRUE(s.failed);
   EXPECT_EQ(s.fitness, -99);
   EXPECT_TRUE(std::isinf(s.measures[0]));
+  // ranked by how far short it stayed instead: the time for "never" plus 100 s per metre short
+  t.never_s = 25;
+  MeasureSpec sh = measure(MeasureSpec::Kind::Shortfall);
+  sh.reach_m = 9;
+  sh.name = "short";
+  o.weights = {{0, 1.0}, {1, 100.0}};
+  s = score_run({t, sh}, o, {}, r, nullptr);
+  EXPECT_FALSE(s.failed);
+  EXPECT_NEAR(s.fitness, 25 + 100 * (9 - 0.4), 1e-9);
 }
 
 TEST(PipeProgress, ArcLengthThroughStraightElbowStraight) {

@@ -249,6 +249,19 @@ measures:
 objective: {maximize: s}
 )"),
             f + ":4:30: 'measures.s.along' is pipe but the base scene's environment is not a pipe");
+  // shortfall: reach_m is required, never_s belongs to time_to_reach only, not of the chain
+  EXPECT_EQ(error_of(R"(scene: base.yaml
+genome: {params: [{target: central.x, min: 0, max: 10}]}
+measures: {s: {kind: shortfall, of: tail}}
+objective: {minimize: s, failed_fitness: 9}
+)"),
+            f + ":3:15: 'measures.s' needs 'reach_m' (the position along 'along' to reach, m)");
+  EXPECT_EQ(error_of(R"(scene: base.yaml
+genome: {params: [{target: central.x, min: 0, max: 10}]}
+measures: {s: {kind: shortfall, reach_m: 1, never_s: 3}}
+objective: {minimize: s, failed_fitness: 9}
+)"),
+            f + ":3:45: unknown key 'never_s' in 'measures.s' (known: along, kind, of, reach_m)");
   // minimize without a failed fitness
   EXPECT_EQ(error_of(R"(scene: base.yaml
 genome: {params: [{target: central.x, min: 0, max: 10}]}
