@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -290,4 +291,37 @@ ga: {population: 1}
   EXPECT_EQ(b.rfind(f + ":1:8: 'scene': " + temp_dir() + "/broken.yaml:2:13: ", 0), 0u) << b;
   // YAML that does not parse
   EXPECT_EQ(error_of("scene: [base.yaml\n").rfind(f + ":2:1: ", 0), 0u);
+}
+
+// the problems shipped in scenes/optimize load as they are; the other files
+// there are base scenes of theirs
+TEST(Problem, ShippedProblemsLoad) {
+  const std::filesystem::path dir = std::filesystem::path(CHAINSIM_SOURCE_DIR) / "scenes" / "optimize";
+  const std::vector<std::string> problems = {"elbow-configuration.yaml", "minimal-configuration.yaml",
+                                             "terrain-gait.yaml"};
+  std::vector<std::string> files;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.path().extension() == ".yaml") files.push_back(e.path().filename().string());
+  std::sort(files.begin(), files.end());
+  for (const std::string& f : files) {
+    SCOPED_TRACE(f);
+    if (std::find(problems.begin(), problems.end(), f) == problems.end()) {
+      EXPECT_NO_THROW(load_scene_file((dir / f).string()));
+      continue;
+    }
+    Problem p;
+    ASSERT_NO_THROW(p = load_problem_file((dir / f).string()));
+    EXPECT_FALSE(p.measures.empty());
+    EXPECT_FALSE(p.objective.weights.empty());
+  }
+  for (const std::string& f : problems) EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
+  // the elbow search ranks the chains that do not get through by their
+  // shortfall: "never" scores the run's whole duration, so a chain that gets
+  // through always beats one that does not
+  const Problem e = load_problem_file((dir / "elbow-configuration.yaml").string());
+  ASSERT_EQ(e.measures[0].name, "through_s");
+  EXPECT_EQ(e.measures[0].never_s, e.evaluation.duration_s);
+  EXPECT_EQ(e.measures[1].kind, MeasureSpec::Kind::Shortfall);
+  EXPECT_EQ(e.measures[1].reach_m, e.measures[0].reach_m);
+  EXPECT_TRUE(e.constraints.empty());
 }
