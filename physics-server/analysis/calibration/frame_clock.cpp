@@ -58,6 +58,7 @@ std::vector<ChangeDelay> estimate_delays(const FitProblem& p, const BenchConfig&
     const double tc = ch[c].t;
     const double t_end = std::min(tc + kWindow_s, c + 1 < ch.size() ? ch[c + 1].t : m.t.back() + 1);
     std::vector<double> e(nd + 1, 0.0);
+    double terms = 0;   // residuals summed in each e[i]
     for (int i = 0; i <= nd; ++i) {
       const double delay = i * kGrid_s;
       for (size_t k = ch[c].k; k < m.size() && m.t[k] < t_end; ++k) {
@@ -66,6 +67,7 @@ std::vector<ChangeDelay> estimate_delays(const FitProblem& p, const BenchConfig&
         const double ra = wa * (at(ts, false) - m.angle[k]);
         const double ri = m.has_current ? wi * (at(ts, true) - m.current[k]) : 0.0;
         e[i] += ra * ra + ri * ri;
+        if (i == 0) terms += m.has_current ? 2 : 1;
       }
     }
     const int best = static_cast<int>(std::min_element(e.begin(), e.end()) - e.begin());
@@ -81,6 +83,10 @@ std::vector<ChangeDelay> estimate_delays(const FitProblem& p, const BenchConfig&
       const double rise = e[hi] - e[0];
       if (rise > 0) d.sd = std::max(kGrid_s, hi * kGrid_s / std::sqrt(rise));
     }
+    // the curvature's sd holds where the model fits the change to the noise;
+    // where it does not (an effect the model lacks), the misfit per residual
+    // widens it
+    if (d.sd > 0 && terms > 0) d.sd *= std::sqrt(std::max(1.0, e[best] / terms));
     out.push_back(d);
   }
   return out;

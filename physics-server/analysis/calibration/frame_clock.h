@@ -22,8 +22,12 @@ struct SetpointChange {
 };
 std::vector<SetpointChange> setpoint_changes(const MeasuredRecord& m);
 
-// a change's measured delay and its standard deviation (s); sd < 0: the
-// change does not tell (its response does not depend on the delay)
+// a change's measured delay and its standard deviation (s): from the
+// curvature of the misfit around the best delay, widened by the square root
+// of that misfit per residual where the shifted model does not fit the change
+// to the noise (an effect the model lacks, such as a deadband, then shifts
+// the delay too); sd < 0: the change does not tell (its response does not
+// depend on the delay)
 struct ChangeDelay {
   double t = 0, delay = 0, sd = -1;
 };
