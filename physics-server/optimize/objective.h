@@ -1,7 +1,7 @@
 // What a search optimises: named measures of a finished run (distance along
 // an axis or the pipe, mean speed, the time a point is passed, how far short
-// of a point the run stayed, energy, energy per metre, the number of modules), the objective as a weighted sum of them,
-// and constraints on them. A run that faults or breaks a constraint gets the
+// of a point the run stayed, energy, energy per metre, the number of
+// modules), the objective as a weighted sum of them, and constraints on them. A run that faults or breaks a constraint gets the
 // problem's failed fitness and the reason.
 #pragma once
 
@@ -42,7 +42,7 @@ struct ConstraintSpec {
 };
 
 struct Score {
-  std::vector<double> measures;  // one per MeasureSpec (infinity: never reached)
+  std::vector<double> measures;  // one per MeasureSpec (infinity: never reached, unless never_s)
   double fitness = 0;            // in the objective's sense
   bool failed = false;
   std::string why;               // fault or broken constraint

@@ -128,17 +128,15 @@ MeasureSpec load_measure(const SceneYaml& y, const YAML::Node& n, const std::str
            : kind == "shortfall"     ? MeasureSpec::Kind::Shortfall
                                      : MeasureSpec::Kind::EnergyPerM;
   const bool to_reach = m.kind == MeasureSpec::Kind::TimeToReach || m.kind == MeasureSpec::Kind::Shortfall;
-  if (m.kind == MeasureSpec::Kind::TimeToReach)
-    y.keys(n, p, {"kind", "of", "along", "reach_m", "never_s"});
-  else if (to_reach)
-    y.keys(n, p, {"kind", "of", "along", "reach_m"});
-  else
-    y.keys(n, p, {"kind", "of", "along"});
+  std::set<std::string> keys = {"kind", "of", "along"};
+  if (to_reach) keys.insert("reach_m");
+  if (m.kind == MeasureSpec::Kind::TimeToReach) keys.insert("never_s");
+  y.keys(n, p, keys);
   if (to_reach) {
     if (!n["reach_m"]) y.fail(n, "'" + p + "' needs 'reach_m' (the position along 'along' to reach, m)");
     m.reach_m = y.number(n, "reach_m", 0, -1e6, 1e6, p);
   }
-  if (n["never_s"]) m.never_s = y.number(n, "never_s", 0, 0, 1e9, p);
+  if (m.kind == MeasureSpec::Kind::TimeToReach && n["never_s"]) m.never_s = y.number(n, "never_s", 0, 0, 1e9, p);
   const bool chain_ok = !to_reach;
   const std::string of = chain_ok ? y.choice(n, "of", "head", {"head", "tail", "chain"}, p)
                                   : y.choice(n, "of", "head", {"head", "tail"}, p);

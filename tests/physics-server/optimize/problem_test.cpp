@@ -297,8 +297,8 @@ ga: {population: 1}
 // there are base scenes of theirs
 TEST(Problem, ShippedProblemsLoad) {
   const std::filesystem::path dir = std::filesystem::path(CHAINSIM_SOURCE_DIR) / "scenes" / "optimize";
-  const std::vector<std::string> problems = {"elbow-configuration.yaml", "minimal-configuration.yaml",
-                                             "terrain-gait.yaml"};
+  const std::vector<std::string> problems = {"elbow-configuration-100mm.yaml", "elbow-configuration.yaml",
+                                             "minimal-configuration.yaml", "terrain-gait.yaml"};
   std::vector<std::string> files;
   for (const auto& e : std::filesystem::directory_iterator(dir))
     if (e.path().extension() == ".yaml") files.push_back(e.path().filename().string());
@@ -318,10 +318,36 @@ TEST(Problem, ShippedProblemsLoad) {
   // the elbow search ranks the chains that do not get through by their
   // shortfall: "never" scores the run's whole duration, so a chain that gets
   // through always beats one that does not
-  const Problem e = load_problem_file((dir / "elbow-configuration.yaml").string());
-  ASSERT_EQ(e.measures[0].name, "through_s");
-  EXPECT_EQ(e.measures[0].never_s, e.evaluation.duration_s);
-  EXPECT_EQ(e.measures[1].kind, MeasureSpec::Kind::Shortfall);
-  EXPECT_EQ(e.measures[1].reach_m, e.measures[0].reach_m);
-  EXPECT_TRUE(e.constraints.empty());
+  for (const char* f : {"elbow-configuration.yaml", "elbow-configuration-100mm.yaml"}) {
+    SCOPED_TRACE(f);
+    const Problem e = load_problem_file((dir / f).string());
+    ASSERT_EQ(e.measures[0].name, "through_s");
+    EXPECT_EQ(e.measures[0].never_s, e.evaluation.duration_s);
+    EXPECT_EQ(e.measures[1].kind, MeasureSpec::Kind::Shortfall);
+    EXPECT_EQ(e.measures[1].reach_m, e.measures[0].reach_m);
+    EXPECT_TRUE(e.constraints.empty());
+  }
+}
+
+// the 100 mm elbow search's base scene is the shipped elbow scene with
+// another bend radius and nothing else (problem files cannot override a
+// scene, so it is a copy, and it must not drift from the original)
+TEST(Problem, TheHundredMillimetreElbowIsTheShippedElbowSceneWithAnotherRadius) {
+  const std::string root = CHAINSIM_SOURCE_DIR;
+  auto body = [](const std::string& path) {  // the file without its comment lines
+    std::ifstream in(path);
+    std::string line, out;
+    while (std::getline(in, line))
+      if (line.rfind("#", 0) != 0) out += line + "\n";
+    return out;
+  };
+  std::string copy = body(root + "/scenes/optimize/elbow-100mm.yaml");
+  const std::string original = body(root + "/scenes/elbow-THRHRHRHH.yaml");
+  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+           {"name: elbow-100mm\n", "name: elbow-THRHRHRHH\n"}, {"bend_radius_m: 0.1,", "bend_radius_m: 0.08,"}}) {
+    const size_t at = copy.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    copy.replace(at, from.size(), to);
+  }
+  EXPECT_EQ(copy, original);
 }
