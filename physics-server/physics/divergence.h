@@ -8,9 +8,9 @@
 #include <optional>
 #include <string>
 
-namespace chainsim {
+#include "physics/world.h"
 
-class World;
+namespace chainsim {
 
 // the documented bounds (docs/reliability.md); far above anything a shipped
 // scene reaches, far below what a blown-up solver produces
@@ -27,6 +27,11 @@ struct Divergence {
   bool non_finite = false;  // NaN or infinity: the world cannot go on, whatever the mode
   std::string what;         // "module 3 (rotation) body 'shell': speed 70.2 m/s over the bound of 10 m/s"
 };
+
+// a body moving down (gravity's -z) within 10 degrees of the vertical, as in
+// a free fall off the end of a terrain or out of a pipe, not as a solver's
+// blow-up flings it; a speed over the bound then says so
+bool falling_straight_down(const World::BodyState& s);
 
 // the first body (in module, body order) outside the bounds, if any
 std::optional<Divergence> find_divergence(const World& world, const DivergenceBounds& bounds = {});
