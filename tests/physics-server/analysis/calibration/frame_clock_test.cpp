@@ -29,6 +29,23 @@ std::vector<ChangeDelay> delays_of(const FrameClock& c, double t0, double noise,
   return d;
 }
 
+// the datasheet with pwm frames of the period, starting at the phase
+BenchConfig framed(double period_s, double phase_s) {
+  BenchConfig b = test_datasheet();
+  b.servo.pwm_frame_s = period_s;
+  b.servo.pwm_frame_phase_s = phase_s;
+  return b;
+}
+
+// a bench-model record of truth (0.2 deg, 2 mA of noise) against the
+// datasheet, the loss's unit that noise in normalised units
+FitProblem problem_of(const BenchConfig& truth, unsigned seed) {
+  FitProblem p = make_fit_problem(test_datasheet(), bench_record(truth, seed));
+  p.noise.angle = 0.2 / p.sa;
+  p.noise.current = 0.002 / p.si;
+  return p;
+}
+
 TEST(FrameClock, DelayIsTheTimeToTheNextFrame) {
   const FrameClock c{0.02, 0.007};
   EXPECT_NEAR(frame_delay(c, 1.0, 1.0), 0.007, 1e-12);
@@ -80,13 +97,7 @@ TEST(FrameClock, NeitherHalfNorTwiceThePeriod) {
 }
 
 TEST(FrameClock, FromABenchRecordWithFramesAtAnArbitraryPhase) {
-  BenchConfig truth = test_datasheet();
-  truth.servo.pwm_frame_s = 0.02;
-  truth.servo.pwm_frame_phase_s = 0.007;
-  FitProblem p = make_fit_problem(test_datasheet(), bench_record(truth, 3));
-  // the loss's unit: the record's noise (0.2 deg, 2 mA) in normalised units
-  p.noise.angle = 0.2 / p.sa;
-  p.noise.current = 0.002 / p.si;
+  FitProblem p = problem_of(framed(0.02, 0.007), 3);
   const std::vector<ChangeDelay> d = estimate_delays(p, test_datasheet(), 0.04);
   ASSERT_EQ(d.size(), 14u);
   int told = 0;
@@ -113,13 +124,9 @@ TEST(FrameClock, FromABenchRecordWithFramesAtAnArbitraryPhase) {
 // their sd says so; with the sd from the curvature alone a clock of 15.6 ms
 // matched half of the changes (the truth's is 22.4 ms)
 TEST(FrameClock, FoundThroughADeadbandTheModelLacks) {
-  BenchConfig truth = test_datasheet();
-  truth.servo.pwm_frame_s = 0.0224;
-  truth.servo.pwm_frame_phase_s = 0.016;
+  BenchConfig truth = framed(0.0224, 0.016);
   truth.servo.deadband_deg = 3.0;
-  FitProblem p = make_fit_problem(test_datasheet(), bench_record(truth, 7));
-  p.noise.angle = 0.2 / p.sa;
-  p.noise.current = 0.002 / p.si;
+  FitProblem p = problem_of(truth, 7);
   const std::vector<ChangeDelay> d = estimate_delays(p, test_datasheet(), 0.04);
   int off = 0, off_within_sd = 0;   // changes 0.5 ms or more off the truth; of those, within 2.5 sd
   for (const ChangeDelay& c : d) {
@@ -145,13 +152,9 @@ TEST(FrameClock, FoundThroughADeadbandTheModelLacks) {
 // timing in its delays; once the other effect is in the model the clock is
 // fitted again on top of it (the search does this in each round's reference)
 TEST(FrameClock, FittedAgainOnTopOfTheOtherEffects) {
-  BenchConfig truth = test_datasheet();
-  truth.servo.pwm_frame_s = 0.02;
-  truth.servo.pwm_frame_phase_s = 0.007;
+  BenchConfig truth = framed(0.02, 0.007);
   truth.servo.current_limit_a = 0.2;
-  FitProblem p = make_fit_problem(test_datasheet(), bench_record(truth, 5));
-  p.noise.angle = 0.2 / p.sa;
-  p.noise.current = 0.002 / p.si;
+  FitProblem p = problem_of(truth, 5);
   const int pwm = effect_variants("pwm_frame_delay").at(0), limit = effect_variants("current_limit").at(0);
   // the clock 0.3 ms long and 2 ms early, found first; the limit found after it
   const std::vector<double> off = {1, 1, 1, 1, 20.3, 5.0, 0.2};
