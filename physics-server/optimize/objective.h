@@ -1,8 +1,9 @@
 // What a search optimises: named measures of a finished run (distance along
 // an axis or the pipe, mean speed, the time a point is passed, how far short
 // of a point the run stayed, energy, energy per metre, the number of
-// modules), the objective as a weighted sum of them, and constraints on them. A run that faults or breaks a constraint gets the
-// problem's failed fitness and the reason.
+// modules), the objective as a weighted sum of them, and constraints on them.
+// A run that faults or breaks a constraint gets the problem's failed fitness
+// and the reason.
 #pragma once
 
 #include <Eigen/Core>

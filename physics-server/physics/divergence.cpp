@@ -28,12 +28,11 @@ std::string fixed_text(double value, int decimals) {
   return buf;
 }
 
-
 }  // namespace
 
-bool falling_straight_down(const World::BodyState& s) {
-  const double v = s.linear_velocity.norm();
-  return v > 0 && -s.linear_velocity.z() >= 0.98480775301220806 * v;   // cos 10 deg
+bool falling_straight_down(const Eigen::Vector3d& velocity) {
+  const double v = velocity.norm();
+  return v > 0 && -velocity.z() >= 0.98480775301220806 * v;   // cos 10 deg
 }
 
 std::optional<Divergence> find_divergence(const World& w, const DivergenceBounds& bounds) {
@@ -55,7 +54,7 @@ std::optional<Divergence> find_divergence(const World& w, const DivergenceBounds
       const double x = s.position.cwiseAbs().maxCoeff();
       if (v > bounds.max_speed_m_s)
         d.what = who + "speed " + fixed_text(v, 1) + " m/s over the bound of " + fixed_text(bounds.max_speed_m_s, 0) +
-                 " m/s" + (falling_straight_down(s) ? ", falling straight down (has it left the environment?)" : "");
+                 " m/s" + (falling_straight_down(s.linear_velocity) ? ", falling straight down (has it left the environment?)" : "");
       else if (wv > bounds.max_angular_speed_rad_s)
         d.what = who + "angular speed " + fixed_text(wv, 0) + " rad/s over the bound of " +
                  fixed_text(bounds.max_angular_speed_rad_s, 0) + " rad/s";

@@ -5,12 +5,14 @@
 // Looked for after each tick by the run loop (cosim/lockstep_server.cpp).
 #pragma once
 
+#include <Eigen/Core>
+
 #include <optional>
 #include <string>
 
-#include "physics/world.h"
-
 namespace chainsim {
+
+class World;
 
 // the documented bounds (docs/reliability.md); far above anything a shipped
 // scene reaches, far below what a blown-up solver produces
@@ -28,10 +30,10 @@ struct Divergence {
   std::string what;         // "module 3 (rotation) body 'shell': speed 70.2 m/s over the bound of 10 m/s"
 };
 
-// a body moving down (gravity's -z) within 10 degrees of the vertical, as in
-// a free fall off the end of a terrain or out of a pipe, not as a solver's
-// blow-up flings it; a speed over the bound then says so
-bool falling_straight_down(const World::BodyState& s);
+// a body's velocity pointing down (gravity's -z) within 10 degrees of the
+// vertical, as in a free fall off the end of a terrain or out of a pipe, not
+// as a solver's blow-up flings it; a speed over the bound then says so
+bool falling_straight_down(const Eigen::Vector3d& velocity);
 
 // the first body (in module, body order) outside the bounds, if any
 std::optional<Divergence> find_divergence(const World& world, const DivergenceBounds& bounds = {});
