@@ -96,11 +96,7 @@ int main(void)
     central_params_read();
     elbow_setup();
     gaits_log();
-    /* the elbow line is logged with gait 8 only, as it always was, though
-     * steering works with gait 9 and docs/firmware.md says it is logged
-     * then: a slip left for a change of its own (this split changes no log) */
-    if (params.gait == GAIT_INCHWORM)
-        elbow_log();
+    elbow_log();    /* the steering, when a scene sets elbow_dir_deg */
 
     replies_sleep_until(params.start_ms);
     start();

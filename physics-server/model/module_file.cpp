@@ -418,6 +418,7 @@ class Parser {
         {"pwm_frame_phase_s", &ServoParams::pwm_frame_phase_s, 0},
         {"supply_sag_linear_ohm", &ServoParams::supply_sag_linear_ohm, 0},
         {"backlash_stiffness_nm_rad", &ServoParams::backlash_stiffness_nm_rad, 0},
+        {"supply_rail_f", &ServoParams::supply_rail_f, 0},
     };
     Keys keys;
     for (const Field& f : kFields) keys.insert(f.key);

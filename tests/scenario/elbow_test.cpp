@@ -89,6 +89,9 @@ TEST(Elbow, TRRHPassesTheElbow) {
   const Outcome o = run_scene("elbow", "elbow-TRRH", 30);
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
   const std::string log = central_log(o, 4);
+  // the steering is logged at start (the scene: 90 deg, left, 45 deg bends;
+  // the pitch is 4500 cos 90 deg in the firmware's fixed point: 3 cdeg)
+  EXPECT_NE(log.find("elbow: dir_deg=90 pitch_cdeg=3 yaw_cdeg=-4500 bend_ms=8000"), std::string::npos) << log;
   EXPECT_NE(log.find("touch 0x20: contact"), std::string::npos) << log;
   EXPECT_NE(log.find("elbow: bend at ms"), std::string::npos) << log;
   EXPECT_TRUE(steered_at_elbow(o, log, 0.55)) << log;
@@ -101,6 +104,7 @@ TEST(Elbow, TRRHPassesTheElbow) {
 TEST(Elbow, TRRHWithoutSteeringJams) {
   const Outcome o = run_scene("elbow", "elbow-TRRH", 30, {{"elbow_dir_deg: 90", "elbow_dir_deg: -1"}});
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+  EXPECT_EQ(central_log(o, 4).find("elbow:"), std::string::npos);   // no steering, nothing logged
   const Head h = head(o, 0.55);
   EXPECT_LT(h.t_out, 0) << text(h);
   EXPECT_LT(h.y, 0.08) << text(h);

@@ -41,6 +41,22 @@ const std::vector<Effect>& effect_catalogue() {
        {{"r_ohm", &P::supply_sag_linear_ohm, 1.0, 0.0, 12.0}},
        {{1.0}, {3.0}, {6.0}},
        {"high_current", "slewing"}},
+      // either driver fed from a rail capacitor that the supply charges
+      // through Rs (the sag lags the draw by Rs C; a bridge's braking returns
+      // current to the rail); C from 1 uF (no lag at the 100 us fit step) to
+      // 20 mF, on a log scale; each refines the form without the capacitor
+      {"supply_sag", "pwm_bridge_rail", "PWM bridge on a rail capacitor: drive = duty x V, C dV/dt = (Vs - V)/Rs - duty i",
+       {{"r_ohm", &P::supply_sag_ohm, 1.0, 0.0, 12.0}, {"rail_uf", &P::supply_rail_f, 1e-6, 1.0, 20000.0, true}},
+       {{3.0, 100.0}, {3.0, 1000.0}},
+       {"high_current", "slewing"},
+       EffectFit::smooth,
+       "pwm_bridge"},
+      {"supply_sag", "linear_driver_rail", "linear driver on a rail capacitor: limit V, C dV/dt = (Vs - V)/Rs - |i|",
+       {{"r_ohm", &P::supply_sag_linear_ohm, 1.0, 0.0, 12.0}, {"rail_uf", &P::supply_rail_f, 1e-6, 1.0, 20000.0, true}},
+       {{3.0, 100.0}, {3.0, 1000.0}},
+       {"high_current", "slewing"},
+       EffectFit::smooth,
+       "linear_driver"},
       // period and phase come from the delays of the set-point changes
       {"pwm_frame_delay", "", "set-point latched at frames: phase + n x period",
        {{"frame_ms", &P::pwm_frame_s, 1e-3, 2.5, 40.0}, {"phase_ms", &P::pwm_frame_phase_s, 1e-3, 0.0, 40.0}},

@@ -40,6 +40,10 @@ struct Effect {
   std::vector<std::vector<double>> starts;    // parameter vectors tried as starts
   std::vector<std::string> regimes;           // where it acts (regimes.h)
   EffectFit fit = EffectFit::smooth;
+  // the simpler form of the same effect that this one refines (one more
+  // parameter); "" for none. A refining form is fitted only in a round where
+  // its simpler form shows the effect (effect_search.h)
+  const char* refines = "";
 };
 
 const std::vector<Effect>& effect_catalogue();

@@ -52,37 +52,72 @@ void test_candidates(const FitProblem& p, const Fit& ref, std::vector<Candidate>
   });
 }
 
-// of the passing candidate `best` and the other variants of its effect, the
-// form to name: a variant with more parameters must beat a simpler one that
-// passes by the same tests; between equals the held-out gain decides
-size_t choose_variant(const FitProblem& p, std::vector<Candidate>& cands, size_t best, VariantChoice* vc) {
-  for (size_t s = 0; s < cands.size(); ++s) {
-    if (s == best || std::string(effect_catalogue()[cands[s].effect].name) != effect_catalogue()[cands[best].effect].name ||
-        !cands[s].fit.valid)
-      continue;
-    const Candidate& b = cands[best];
-    const Candidate& o = cands[s];
-    const int extra = dof_of(b.effect) - dof_of(o.effect);
-    const HeldOutTest ho =
-        held_out_test(o.fit.loss, b.fit.loss, b.fit.rho_held, p.split, channels(p), 1, std::max(1, extra));
-    const ProfileTest pt =
-        profile_test(o.fit.sse_train, b.fit.sse_train, training_terms(p), b.fit.rho_train, std::max(1, extra));
-    vc->effect = effect_catalogue()[b.effect].name;
-    if (extra > 0 && !(ho.significant && pt.excludes_null) && passes(o)) {
-      // the richer form does not earn its parameters: the simpler one
-      const HeldOutTest back = held_out_test(b.fit.loss, o.fit.loss, o.fit.rho_held, p.split, channels(p), 1, 1);
-      *vc = {vc->effect, effect_catalogue()[o.effect].variant, effect_catalogue()[b.effect].variant, back.stat, false,
-             std::string(effect_catalogue()[b.effect].variant) + " does not beat it (held-out LR " + fmt_g(ho.stat, 4) +
-                 ", LR " + fmt_g(pt.stat) + " for " + std::to_string(extra) + " more parameter)"};
-      return s;
-    }
-    vc->chosen = effect_catalogue()[b.effect].variant;
-    vc->other = effect_catalogue()[o.effect].variant;
-    vc->t = ho.stat;
-    vc->distinguished = ho.significant;
-    vc->why = std::string(ho.significant ? "fits better than " : "not distinguished from ") + vc->other +
-              " on held-out data (LR " + fmt_g(ho.stat, 4) + " against " + fmt_g(ho.crit, 3) + ")";
+// whether the form that `ef` refines, fitted this round, shows the effect:
+// its profile interval excludes the null
+bool shows_effect(const FitProblem& p, const Fit& ref, const std::vector<Candidate>& cands, const Effect& ef) {
+  for (const Candidate& c : cands) {
+    const Effect& s = effect_catalogue()[c.effect];
+    if (std::string(s.name) == ef.name && std::string(s.variant) == ef.refines)
+      return c.fit.valid &&
+             profile_test(ref.sse_train, c.fit.sse_train, training_terms(p), c.fit.rho_train, dof_of(c.effect))
+                 .excludes_null;
   }
+  return false;
+}
+
+// of the passing candidate `best` and the other variants of its effect, the
+// form to name: a variant with more parameters must beat each simpler one
+// that passes by the same tests; where it does not, the simpler one (the best
+// held-out gain first) is judged the same way in its place. The report
+// compares the form named with the best of the other forms
+size_t choose_variant(const FitProblem& p, std::vector<Candidate>& cands, size_t best, VariantChoice* vc) {
+  const std::string name = effect_catalogue()[cands[best].effect].name;
+  // the other valid forms of the effect, best held-out gain first (the candidates' order)
+  auto others = [&](size_t b) {
+    std::vector<size_t> o;
+    for (size_t s = 0; s < cands.size(); ++s)
+      if (s != b && cands[s].fit.valid && name == effect_catalogue()[cands[s].effect].name) o.push_back(s);
+    return o;
+  };
+  vc->effect = name;
+  std::string richer, why;  // a richer form passed over, and why
+  double back = 0;
+  for (bool moved = true; moved;) {
+    moved = false;
+    for (size_t s : others(best)) {
+      const Candidate& b = cands[best];
+      const Candidate& o = cands[s];
+      const int extra = dof_of(b.effect) - dof_of(o.effect);
+      if (extra <= 0 || !passes(o)) continue;
+      const HeldOutTest ho = held_out_test(o.fit.loss, b.fit.loss, b.fit.rho_held, p.split, channels(p), 1, extra);
+      const ProfileTest pt = profile_test(o.fit.sse_train, b.fit.sse_train, training_terms(p), b.fit.rho_train, extra);
+      if (ho.significant && pt.excludes_null) continue;
+      // the richer form does not earn its parameters: the simpler one
+      richer = effect_catalogue()[b.effect].variant;
+      why = richer + " does not beat it (held-out LR " + fmt_g(ho.stat, 4) + ", LR " + fmt_g(pt.stat) + " for " +
+            std::to_string(extra) + " more parameter" + (extra > 1 ? "s" : "") + ")";
+      back = held_out_test(b.fit.loss, o.fit.loss, o.fit.rho_held, p.split, channels(p), 1, 1).stat;
+      best = s;
+      moved = true;
+      break;
+    }
+  }
+  vc->chosen = effect_catalogue()[cands[best].effect].variant;
+  if (!richer.empty()) {
+    *vc = {name, vc->chosen, richer, back, false, why};
+    return best;
+  }
+  const std::vector<size_t> o = others(best);
+  if (o.empty()) return best;
+  const Candidate& b = cands[best];
+  const Candidate& c = cands[o.front()];
+  const HeldOutTest ho = held_out_test(c.fit.loss, b.fit.loss, b.fit.rho_held, p.split, channels(p), 1,
+                                       std::max(1, dof_of(b.effect) - dof_of(c.effect)));
+  vc->other = effect_catalogue()[c.effect].variant;
+  vc->t = ho.stat;
+  vc->distinguished = ho.significant;
+  vc->why = std::string(ho.significant ? "fits better than " : "not distinguished from ") + vc->other +
+            " on held-out data (LR " + fmt_g(ho.stat, 4) + " against " + fmt_g(ho.crit, 3) + ")";
   return best;
 }
 
@@ -136,6 +171,10 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
     for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e) {
       const Effect& ef = effect_catalogue()[e];
       if (used.count(ef.name)) continue;
+      if (*ef.refines && !shows_effect(p, ref, cands, ef)) {
+        say("  candidate " + effect_label(e) + " not fitted: " + ef.refines + " shows no effect this round");
+        continue;
+      }
       Candidate c;
       c.effect = e;
       c.fit = fit_with_effect(p, ref, e);

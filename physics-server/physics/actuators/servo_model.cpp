@@ -11,6 +11,9 @@ namespace chainsim {
 ServoModel::ServoModel(const ServoParams& params) : p_(params) {
   engaged_ = !(p_.backlash_deg > 0.0);  // backlash: start in the middle of the play
   applied_ = setpoint_;
+  if (p_.supply_rail_f > 0.0 && p_.supply_v > 0.0)
+    rail_rs_ = p_.supply_sag_ohm > 0.0 ? p_.supply_sag_ohm : std::max(0.0, p_.supply_sag_linear_ohm);
+  rail_v_ = p_.supply_v;
 }
 
 void ServoModel::update_constants(double h) {
@@ -28,6 +31,7 @@ void ServoModel::update_constants(double h) {
   ef_ = p_.current_filter_tau_s > 0.0 ? std::exp(-h / p_.current_filter_tau_s) : 0.0;
   jh_ = p_.j / h;
   ci_ = p_.km * (1.0 - phi_) / p_.r;
+  er_ = rail_rs_ > 0.0 ? std::exp(-h / (rail_rs_ * p_.supply_rail_f)) : 0.0;
 }
 
 // the drive voltage the amplifier applies for a set-point (rad) at the
@@ -39,10 +43,15 @@ double ServoModel::drive_voltage(double setpoint, double theta, double wr) const
     err = std::fabs(err) <= half ? 0.0 : err - std::copysign(half, err);
   }
   double ea = std::clamp(p_.kp * err, -p_.supply_v, p_.supply_v);
-  if (p_.supply_sag_ohm > 0.0 && p_.supply_v > 0.0)  // supply_sag: duty x (Vs - Rs |i|)
-    ea *= std::max(0.0, 1.0 - p_.supply_sag_ohm * std::fabs(i_) / p_.supply_v);
+  if (p_.supply_sag_ohm > 0.0 && p_.supply_v > 0.0) {  // supply_sag: duty x (Vs - Rs |i|), or duty x V
+    if (rail_rs_ > 0.0)
+      ea *= std::max(0.0, rail_v_) / p_.supply_v;
+    else
+      ea *= std::max(0.0, 1.0 - p_.supply_sag_ohm * std::fabs(i_) / p_.supply_v);
+  }
   if (p_.supply_sag_linear_ohm > 0.0) {  // supply_sag, linear driver: the limit drops, the gain stays
-    const double lim = std::max(0.0, p_.supply_v - p_.supply_sag_linear_ohm * std::fabs(i_));
+    const double lim = rail_rs_ > 0.0 ? std::max(0.0, rail_v_)
+                                      : std::max(0.0, p_.supply_v - p_.supply_sag_linear_ohm * std::fabs(i_));
     ea = std::clamp(ea, -lim, lim);
   }
   if (p_.current_limit_a > 0.0) {  // current_limit: |ea - Km w| <= R I_lim
@@ -203,6 +212,12 @@ void ServoModel::end_step(double w_next) {
   i_ = i_inf + (i_ - i_inf) * e_;
   // RC filter of |i|, exact for the step-average |i| held over the step
   i_f_ = std::fabs(i_mean_) + (i_f_ - std::fabs(i_mean_)) * ef_;
+  if (rail_rs_ > 0.0) {  // supply_sag, rail variant: the rail recharges through Rs, the driver draws
+    double draw = 0.0;
+    if (drive_) draw = p_.supply_sag_ohm > 0.0 ? (rail_v_ > 0.0 ? ea_ / rail_v_ : 0.0) * i_mean_ : std::fabs(i_mean_);
+    const double v_inf = p_.supply_v - rail_rs_ * draw;
+    rail_v_ = v_inf + (rail_v_ - v_inf) * er_;
+  }
 }
 
 double ServoModel::dead_zone(double i) const {
@@ -224,6 +239,7 @@ void ServoModel::reset_state() {
   i_f_ = 0.0;
   i_mean_ = 0.0;
   ea_ = 0.0;
+  rail_v_ = p_.supply_v;
   time_s_ = 0.0;
   frame_ = -1;
   delta_ = 0.0;

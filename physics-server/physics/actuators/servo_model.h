@@ -78,6 +78,13 @@
 //    duty cycle is applied to Vs - Rs |i| (i at the start of the step): a PWM
 //    bridge. Linear-driver variant, supply_sag_linear_ohm: the drive keeps its
 //    small-signal gain Kp and only its limit drops, |ea| <= Vs - Rs |i|.
+//    Rail variant of either form, supply_rail_f = C > 0: the driver draws
+//    from a rail capacitor C that the supply charges through Rs,
+//      C dV/dt = (Vs - V)/Rs - i_s,
+//    i_s = duty x i for the PWM bridge (signed: braking returns current to the
+//    rail), |i| for the linear driver; the bridge applies duty x V, the linear
+//    driver's limit is V. V is held over a step (its start value) and then
+//    advanced exactly with the step-average draw. C = 0: the forms above.
 //  * pwm_frame_delay  pwm_frame_s: the set-point reaches the servo only at its
 //    pulse frames, every pwm_frame_s seconds (0.02 s: 50 Hz), the first at
 //    pwm_frame_phase_s after reset_state (before it the servo keeps the
@@ -117,6 +124,7 @@ struct ServoParams {
   double pwm_frame_phase_s = 0.0;          // pwm_frame_delay: time of the first frame after reset, s
   double supply_sag_linear_ohm = 0.0;      // supply_sag, linear driver: Rs, ohm (limit Vs - Rs |i|)
   double backlash_stiffness_nm_rad = 0.0;  // backlash, compliant mesh: N m/rad (0 = rigid, plastic closing)
+  double supply_rail_f = 0.0;              // supply_sag, rail variant: the rail capacitor, F (0 = none)
   // Current sense chain (our assumption, the paper gives no figures): a 1 ohm
   // shunt, an amplifier of gain 10 and a 10-bit ADC with a 5 V reference:
   // 1023 counts = 0.5 A (0.489 mA per count). The stall current is
@@ -181,6 +189,7 @@ class ServoModel {
   double time_s_ = 0.0;      // since reset_state (pwm frames)
   long long frame_ = -1;     // the last pwm frame latched
   double applied_ = 0.0;     // set-point latched at the last frame
+  double rail_v_ = 0.0;      // supply_sag, rail variant: the rail voltage, V
   double delta_ = 0.0;       // backlash: motor side - output, rad
   double wm_ = 0.0;          // backlash: motor-side rate, rad/s
   bool engaged_ = true;      // backlash: gap closed
@@ -200,6 +209,8 @@ class ServoModel {
   double ef_ = 0.0;     // e^(-h/tau_f)
   double jh_ = 0.0;     // J/h
   double ci_ = 0.0;     // Km (1 - phi)/R: the step-average current's slope in w' when driven
+  double rail_rs_ = 0.0;  // supply_sag's Rs when the rail variant is on, else 0
+  double er_ = 0.0;       // e^(-h/(Rs C))
 };
 
 }  // namespace chainsim

@@ -84,14 +84,14 @@ inline std::vector<Case> cases() {
   c.push_back({"B: backlash (rigid, restitution 0.2)", {"backlash"}, "explained", 'B', {{"backlash", "rigid"}},
                [](Truth& t, std::mt19937_64& r) { t.backlash_deg = 3 * spread(r); }});
   c.push_back({"B: supply_sag (PWM bridge, rail capacitor)", {"supply_sag"}, "explained", 'B',
-               {{"supply_sag", "pwm_bridge"}}, [](Truth& t, std::mt19937_64& r) { t.sag_ohm = 4 * spread(r); }});
+               {{"supply_sag", "pwm_bridge_rail"}}, [](Truth& t, std::mt19937_64& r) { t.sag_ohm = 4 * spread(r); }});
   c.push_back({"B: supply_sag (linear driver, rail capacitor)", {"supply_sag"}, "explained", 'B',
-               {{"supply_sag", "linear_driver"}}, [](Truth& t, std::mt19937_64& r) {
+               {{"supply_sag", "linear_driver_rail"}}, [](Truth& t, std::mt19937_64& r) {
                  t.sag_ohm = 4 * spread(r);
                  t.linear_driver = true;
                }});
   c.push_back({"B: backlash+supply_sag", {"backlash", "supply_sag"}, "explained", 'B',
-               {{"backlash", "rigid"}, {"supply_sag", "pwm_bridge"}}, [](Truth& t, std::mt19937_64& r) {
+               {{"backlash", "rigid"}, {"supply_sag", "pwm_bridge_rail"}}, [](Truth& t, std::mt19937_64& r) {
                  t.backlash_deg = 3 * spread(r);
                  t.sag_ohm = 4 * spread(r);
                }});

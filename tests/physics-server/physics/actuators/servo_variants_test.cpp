@@ -1,5 +1,6 @@
 // The servo model's catalogue variants (servo_model.h): the pwm frame phase,
-// the linear-driver supply sag and the compliant backlash mesh, each on a
+// the linear-driver supply sag, the supply's rail capacitor and the compliant
+// backlash mesh, each on a
 // one-hinge stand stepped in closed form ((Jl/h + D) w' = Jl w / h + D v + tau).
 #include <gtest/gtest.h>
 
@@ -120,6 +121,72 @@ TEST(ServoVariants, LinearDriverSagKeepsTheGainAndLowersTheLimit) {
   EXPECT_NEAR(ip2, 5.0 / 16.0, 1e-6);
   EXPECT_NEAR(vl2, 5.0 - 4.0 * il2, 1e-6);
   EXPECT_NEAR(vp2, vl2, 1e-6);
+}
+
+// a servo stalled at a large error (output held), its drive voltage every
+// 1 ms for 40 ms
+std::vector<double> stalled_drive(const ServoParams& p) {
+  ServoModel s(p);
+  s.set_setpoint(1.0);
+  std::vector<double> v;
+  for (int k = 1; k <= 400; ++k) {
+    s.begin_step(0.0, 0.0, 1e-4);
+    s.end_step(0.0);
+    if (k % 10 == 0) v.push_back(s.drive_voltage_v());
+  }
+  return v;
+}
+
+TEST(ServoVariants, ARailCapacitorDelaysTheSagByRsC) {
+  // Rs 4 ohm, C 1000 uF: the rail sags with a time constant of 4 ms; at
+  // stall both forms end at Vs - Rs i, i = Vs / (R + Rs), as without it
+  for (const bool linear : {false, true}) {
+    SCOPED_TRACE(linear ? "linear driver" : "PWM bridge");
+    ServoParams p;
+    (linear ? p.supply_sag_linear_ohm : p.supply_sag_ohm) = 4.0;
+    const std::vector<double> plain = stalled_drive(p);
+    p.supply_rail_f = 1000e-6;
+    const std::vector<double> rail = stalled_drive(p);
+    const double v_end = 5.0 - 4.0 * 5.0 / 16.0;
+    EXPECT_NEAR(plain.back(), v_end, 1e-6);
+    EXPECT_NEAR(rail.back(), v_end, 1e-3);
+    // at 1 ms the sag without the capacitor is mostly there, with it mostly not
+    EXPECT_LT(plain[0], 5.0 - 0.6 * (5.0 - v_end));
+    EXPECT_GT(rail[0], 5.0 - 0.3 * (5.0 - v_end));
+    // at 4 ms (one Rs C) the rail has made about 1 - 1/e of its way
+    const double made = (5.0 - rail[3]) / (5.0 - v_end);
+    EXPECT_GT(made, 0.45);
+    EXPECT_LT(made, 0.7);
+  }
+}
+
+TEST(ServoVariants, ABridgeBrakingChargesItsRailALinearDriverDrainsIt) {
+  // the output driven backwards through the motor (back-EMF 2.8 V against a
+  // small positive drive): the current flows against the duty, so a bridge
+  // returns it to the rail (its drive rises above duty x Vs) while a linear
+  // driver still draws |i| (its limit falls, its small drive is kept)
+  const double err = 5 * kDeg;  // Kp e = 1.05 V, duty 0.21
+  const double duty = ServoParams{}.kp * err / 5.0;
+  for (const bool linear : {false, true}) {
+    SCOPED_TRACE(linear ? "linear driver" : "PWM bridge");
+    ServoParams p;
+    (linear ? p.supply_sag_linear_ohm : p.supply_sag_ohm) = 4.0;
+    p.supply_rail_f = 1000e-6;
+    ServoModel s(p);
+    double theta = 0;
+    for (int k = 0; k < 300; ++k) {
+      s.set_setpoint(theta + err);
+      s.begin_step(theta, 20.0, 1e-4);
+      s.end_step(20.0);
+      theta += 20.0 * 1e-4;
+    }
+    EXPECT_LT(s.current_a(), -0.1);
+    if (linear)
+      EXPECT_NEAR(s.drive_voltage_v(), ServoParams{}.kp * err, 1e-9);
+    else  // settled (30 ms, 7 x Rs C): duty x V with V = Vs - Rs duty i > Vs
+      EXPECT_NEAR(s.drive_voltage_v(), duty * (5.0 - 4.0 * duty * s.current_a()), 1e-4);
+    EXPECT_EQ(s.drive_voltage_v() > 1.01 * ServoParams{}.kp * err, !linear);
+  }
 }
 
 TEST(ServoVariants, CompliantMeshDeflectsUnderLoadByTorqueOverStiffness) {
