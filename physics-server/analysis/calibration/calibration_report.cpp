@@ -243,10 +243,11 @@ std::string calibration_report_md(const ServoCalibration& c, const nlohmann::ord
        << fmt_g(rs[i]["error_after"].get<double>(), 3) << " |\n";
   md << "\n## Candidates\n\nEach round re-fits the current model from two starts (the reference), fits each "
         "effect on top (a form that refines another, a supply on a rail capacitor, only where the simpler form's "
-        "profile interval excludes the null), and accepts the best held-out gain that passes both tests: the likelihood ratio against "
-        "the reference (its 95 % profile interval excludes the effect's null) and the same ratio on the held-out "
-        "blocks, against the chi-square point at 5 % / the number of candidates. Signature = share of the reference's residual in the "
-        "regimes where the effect acts, over their share of time.\n\n| round | effect | values | held-out "
+        "profile interval excludes the null and it passes the held-out test uncorrected), and accepts the best "
+        "held-out gain that passes both tests: the likelihood ratio against the reference (its 95 % profile "
+        "interval excludes the effect's null) and the same ratio on the held-out blocks, against the chi-square "
+        "point at 5 % / the number of candidates. Signature = share of the reference's residual in the regimes "
+        "where the effect acts, over their share of time.\n\n| round | effect | values | held-out "
         "NRMSE | signature | decision |\n|---|---|---|---|---|---|\n";
   const auto& jc = j["candidates"];
   for (const auto& cd : jc) {

@@ -45,7 +45,8 @@ const std::vector<Effect>& effect_catalogue() {
       // through Rs (the sag lags the draw by Rs C; a bridge's braking returns
       // current to the rail); C from 1 uF (no lag at the 100 us fit step) to
       // 20 mF, on a log scale; each refines the form without the capacitor
-      {"supply_sag", "pwm_bridge_rail", "PWM bridge on a rail capacitor: drive = duty x V, C dV/dt = (Vs - V)/Rs - duty i",
+      {"supply_sag", "pwm_bridge_rail",
+       "PWM bridge on a rail capacitor: drive = duty x V, C dV/dt = (Vs - V)/Rs - duty i",
        {{"r_ohm", &P::supply_sag_ohm, 1.0, 0.0, 12.0}, {"rail_uf", &P::supply_rail_f, 1e-6, 1.0, 20000.0, true}},
        {{3.0, 100.0}, {3.0, 1000.0}},
        {"high_current", "slewing"},

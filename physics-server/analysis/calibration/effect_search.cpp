@@ -53,14 +53,17 @@ void test_candidates(const FitProblem& p, const Fit& ref, std::vector<Candidate>
 }
 
 // whether the form that `ef` refines, fitted this round, shows the effect:
-// its profile interval excludes the null
+// its profile interval excludes the null and it predicts the held-out blocks
+// better by the held-out test at the plain 5 % level (a screen: no
+// correction for the number of candidates, which acceptance applies)
 bool shows_effect(const FitProblem& p, const Fit& ref, const std::vector<Candidate>& cands, const Effect& ef) {
   for (const Candidate& c : cands) {
     const Effect& s = effect_catalogue()[c.effect];
-    if (std::string(s.name) == ef.name && std::string(s.variant) == ef.refines)
-      return c.fit.valid &&
-             profile_test(ref.sse_train, c.fit.sse_train, training_terms(p), c.fit.rho_train, dof_of(c.effect))
-                 .excludes_null;
+    if (std::string(s.name) != ef.name || std::string(s.variant) != ef.refines) continue;
+    const int dof = dof_of(c.effect);
+    return c.fit.valid &&
+           profile_test(ref.sse_train, c.fit.sse_train, training_terms(p), c.fit.rho_train, dof).excludes_null &&
+           held_out_test(ref.loss, c.fit.loss, c.fit.rho_held, p.split, channels(p), 1, dof).significant;
   }
   return false;
 }

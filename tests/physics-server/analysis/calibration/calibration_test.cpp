@@ -23,6 +23,7 @@ const Pick kPicks[] = {
     {"deadband", 103, false},
     {"backlash+supply_sag", 1, true},
     {"B: supply_sag (linear driver, rail capacitor)", 101, false},
+    {"B: supply_sag (PWM bridge, rail capacitor)", 100, false},
     {"cogging (outside the catalogue)", 1, true},
 };
 
