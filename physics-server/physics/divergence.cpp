@@ -54,7 +54,9 @@ std::optional<Divergence> find_divergence(const World& w, const DivergenceBounds
       const double x = s.position.cwiseAbs().maxCoeff();
       if (v > bounds.max_speed_m_s)
         d.what = who + "speed " + fixed_text(v, 1) + " m/s over the bound of " + fixed_text(bounds.max_speed_m_s, 0) +
-                 " m/s" + (falling_straight_down(s.linear_velocity) ? ", falling straight down (has it left the environment?)" : "");
+                 " m/s" +
+                 (falling_straight_down(s.linear_velocity) ? ", falling straight down (has it left the environment?)"
+                                                            : "");
       else if (wv > bounds.max_angular_speed_rad_s)
         d.what = who + "angular speed " + fixed_text(wv, 0) + " rad/s over the bound of " +
                  fixed_text(bounds.max_angular_speed_rad_s, 0) + " rad/s";

@@ -52,7 +52,8 @@ TEST(ReliabilityOutput, DivergenceStopsTheRunNamingBodyModuleAndTime) {
   EXPECT_NE(o.stderr_text.find("physics diverged: module "), std::string::npos) << o.stderr_text;
   EXPECT_NE(o.stderr_text.find("(rotation) body '"), std::string::npos) << o.stderr_text;
   // a free fall, which is what a chain off the end of a terrain does: said so
-  EXPECT_NE(o.stderr_text.find("m/s over the bound of 10 m/s, falling straight down (has it left the environment?) at t="),
+  EXPECT_NE(o.stderr_text.find("m/s over the bound of 10 m/s, "
+                               "falling straight down (has it left the environment?) at t="),
             std::string::npos)
       << o.stderr_text;
   ASSERT_TRUE(o.summary.is_object());

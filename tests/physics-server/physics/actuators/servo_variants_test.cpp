@@ -1,7 +1,7 @@
 // The servo model's catalogue variants (servo_model.h): the pwm frame phase,
-// the linear-driver supply sag, the supply's rail capacitor and the compliant
-// backlash mesh, each on a
-// one-hinge stand stepped in closed form ((Jl/h + D) w' = Jl w / h + D v + tau).
+// the linear-driver supply sag and the compliant backlash mesh, each on a
+// one-hinge stand stepped in closed form ((Jl/h + D) w' = Jl w / h + D v + tau);
+// the supply's rail capacitor on the model alone, its output held or driven.
 #include <gtest/gtest.h>
 
 #include <cmath>
