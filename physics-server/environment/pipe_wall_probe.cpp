@@ -50,6 +50,26 @@ double WallProbe::bore_gap(const Eigen::Vector3d& x, int lo, int hi, int* piece,
   return best;
 }
 
+double WallProbe::pipe_wall_gap(const Eigen::Vector3d& x, int* hint, WallHit* hit) const {
+  if (!layout_ || layout_->pieces.empty()) return -kInf;
+  const int n = static_cast<int>(layout_->pieces.size());
+  int lo = 0, hi = n - 1, k = -1;
+  if (n > kAllPieces && *hint >= 0) {
+    lo = std::max(0, *hint - kWindow);
+    hi = std::min(n - 1, *hint + kWindow);
+  }
+  Eigen::Vector3d out;
+  double g = bore_gap(x, lo, hi, &k, &out);
+  if (g == -kInf && (lo > 0 || hi < n - 1)) g = bore_gap(x, 0, n - 1, &k, &out);
+  if (g == -kInf) return g;
+  *hint = k;
+  hit->t = g;
+  hit->normal = -out;
+  hit->point = x - g * out;
+  hit->pipe = true;
+  return g;
+}
+
 bool WallProbe::cast_pipe(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double max_t,
                           int* hint, WallHit* hit) const {
   if (!layout_ || layout_->pieces.empty() || !(max_t > 0)) return false;
@@ -127,6 +147,7 @@ bool WallProbe::cast_pipe(const Eigen::Vector3d& o, const Eigen::Vector3d& d, do
   hit->t = t;
   hit->point = o + t * d;
   hit->normal = -dir;
+  hit->pipe = true;
   *hint = k;
   return true;
 }
@@ -146,6 +167,7 @@ bool WallProbe::cast(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double 
     hit->t = c.depth;
     hit->point = Eigen::Vector3d(c.pos[0], c.pos[1], c.pos[2]);
     hit->normal = nrm.normalized();
+    hit->pipe = false;
     found = true;
     dGeomRaySetLength(ray_, c.depth);
   }

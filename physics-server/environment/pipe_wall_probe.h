@@ -33,6 +33,7 @@ struct WallHit {
   // unit normal of the wall at the point, pointing away from the wall into
   // the free space (for a pipe: towards its axis)
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  bool pipe = false;   // the wall is the analytic pipe's (else an ODE geom's)
 };
 
 class WallProbe {
@@ -51,6 +52,15 @@ class WallProbe {
   // pieces near it are tried first and it is updated.
   bool cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double max_t,
             int* piece_hint, WallHit* hit) const;
+
+  // A point x against the analytic pipe's wall: the gap (min over the
+  // pieces that own x of its distance from their axis - the inner radius;
+  // > 0: x is in the wall, < 0: in the bore), and in *hit the wall point
+  // nearest to x (t = the gap, the normal into the free space, pipe = true).
+  // -infinity (hit untouched) where no piece owns x (past an open end, or
+  // no analytic pipe). *piece_hint as for cast.
+  bool has_pipe() const { return layout_ && !layout_->pieces.empty(); }
+  double pipe_wall_gap(const Eigen::Vector3d& x, int* piece_hint, WallHit* hit) const;
 
   // the analytic part alone (tests): false if no layout or no wall within max_t
   bool cast_pipe(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double max_t,

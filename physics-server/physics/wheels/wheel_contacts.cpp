@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 
 #include "physics/units.h"
@@ -94,6 +95,50 @@ void WheelContacts::add_module(int module, const std::vector<WheelSetDef>& sets,
   module_first_.push_back(static_cast<int>(wheels_.size()));
 }
 
+// A pad's face is the end of its line, p + reach u. Cast from p, the wall
+// within reach; the depth is the face's distance beyond it along the normal.
+// Against the analytic pipe, three cases the cast alone does not see right:
+//  * the face past an open end (no piece owns it) touches nothing, wherever
+//    the line met the wall before the end: a pad hanging out of the pipe
+//    pressed on the wall from there, the contact acting near the pad's
+//    origin while the depth was the face's, and the arm, pushed at the
+//    wrong point, opened further;
+//  * a face that has been past an open end touches nothing until it is
+//    back in the bore: come back into the pipe's length beyond the bore's
+//    radius, it is outside the pipe (the pipe's end face, which is not
+//    modelled, would stop it there), not suddenly deep in the wall. Both
+//    made a support sliding out of a vertical pipe diverge;
+//  * the origin in the wall (an arm's hinge beyond the bore while its
+//    module lies on the wall: arms have no collision shape): no cast from
+//    there; the face, if it is in the wall too, presses from the wall point
+//    nearest to it. Before, such a pad let go until its origin came back
+//    into the bore and then pressed at once from as deep as its face had
+//    gone.
+bool WheelContacts::pad_on_wall(Wheel& w, const Eigen::Vector3d& p, const Eigen::Vector3d& u, WallHit* hit,
+                                double* depth) const {
+  const Eigen::Vector3d face = p + w.reach_max * u;
+  WallHit at_face;
+  int piece = w.hint;   // the cast's hint stays its own
+  const double face_gap = probe_->pipe_wall_gap(face, &piece, &at_face);
+  const bool past_end = face_gap == -std::numeric_limits<double>::infinity();
+  if (past_end) {
+    w.face_outside = probe_->has_pipe();
+  } else if (face_gap < 0) {
+    w.face_outside = false;
+  }
+  if (probe_->cast(p, u, w.reach_max, &w.hint, hit)) {
+    if (hit->pipe && w.face_outside) return false;
+    *depth = (w.reach_max - hit->t) * std::max(0.05, -u.dot(hit->normal));
+    return true;
+  }
+  WallHit at_origin;
+  if (w.face_outside || !(face_gap > 0) || !(probe_->pipe_wall_gap(p, &w.hint, &at_origin) > 0)) return false;
+  *hit = at_face;
+  *depth = face_gap;
+  hit->t = 0;
+  return true;
+}
+
 int WheelContacts::begin_step() {
   int made = 0;
   for (Wheel& w : wheels_) {
@@ -102,7 +147,13 @@ int WheelContacts::begin_step() {
     const Eigen::Vector3d p = body_isometry(w.body) * w.pivot_b;
     const Eigen::Vector3d u = to_world(w.body, w.radial_b);
     WallHit hit;
-    if (!probe_ || !probe_->cast(p, u, w.reach_max, &w.hint, &hit)) continue;
+    if (!probe_) continue;
+    double pad_depth = 0;   // a pad's: how far its face lies beyond the wall
+    if (w.pad) {
+      if (!pad_on_wall(w, p, u, &hit, &pad_depth)) continue;
+    } else if (!probe_->cast(p, u, w.reach_max, &w.hint, &hit)) {
+      continue;
+    }
     const Eigen::Vector3d& n = hit.normal;
     Eigen::Vector3d across;
     if (w.pad) {  // along the sliding velocity (any direction when at rest)
@@ -127,7 +178,7 @@ int WheelContacts::begin_step() {
       c.geom.normal[i] = n[i];  // into the free space: moving the body along it separates
     }
     // ODE subtracts the surface layer from the depth; the force at rest is k * depth
-    c.geom.depth = w.pad ? (w.reach_max - hit.t) * std::max(0.05, -u.dot(n)) + layer_
+    c.geom.depth = w.pad ? pad_depth + layer_
                          : (w.reach_max - hit.t) + w.preload / w.k + layer_;
     c.surface.mode = dContactSoftERP | dContactSoftCFM | dContactMu2;
     c.surface.soft_erp = w.erp;

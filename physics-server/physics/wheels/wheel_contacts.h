@@ -21,7 +21,9 @@
 // within reach, one soft contact on the pad's body whose normal force is
 // whatever presses the pad, and Coulomb friction in any direction along the
 // wall bounded by mu times that normal force (low-passed over 5 ms); across_n
-// is then the friction's magnitude.
+// is then the friction's magnitude. Against an analytic pipe, a pad's face
+// past an open end touches nothing, and a pad whose origin is in the wall
+// presses from the wall point nearest to its face (pad_on_wall).
 // Wheel contacts are not collisions: they set no touch sensor.
 // No allocation in a step (the feedback records are made at assembly).
 #pragma once
@@ -91,11 +93,16 @@ class WheelContacts {
     bool st_prev_on = false;  // on the wall in the step before
     double n_filtered = 0;    // pad: normal force, low-passed
     int hint = -1;            // pipe piece of the last hit
+    bool face_outside = false;  // pad: its face has been past an open end and not back in the bore since
     State st;
     Eigen::Vector3d normal = Eigen::Vector3d::Zero(), across = Eigen::Vector3d::Zero();
     dJointFeedback fb{};
   };
   const Wheel* first(int module, int* n) const;
+  // a pad (origin p, direction u, world) against the wall: the wall point,
+  // normal and the face's depth beyond it; false: off the wall (.cpp)
+  bool pad_on_wall(Wheel& w, const Eigen::Vector3d& p, const Eigen::Vector3d& u, WallHit* hit,
+                   double* depth) const;
 
   dWorldID world_ = nullptr;
   dJointGroupID group_ = nullptr;

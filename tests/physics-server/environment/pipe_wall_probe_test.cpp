@@ -6,6 +6,7 @@
 #include <ode/ode.h>
 
 #include <cmath>
+#include <limits>
 
 #include "environment/environment_geoms.h"
 #include "environment/pipe_path.h"
@@ -111,6 +112,32 @@ TEST(WallProbe, NothingPastAnOpenEnd) {
   EXPECT_FALSE(probe.cast(Eigen::Vector3d(0.095, 0, 0), unit(1, 0, 1), 0.05, &hint, &hit));
   // a pivot beyond the exit: free space
   EXPECT_FALSE(probe.cast(Eigen::Vector3d(0.12, 0, 0), unit(0, 0, 1), 0.03, &hint, &hit));
+}
+
+// how far a point lies in the wall, and the wall point nearest to it
+TEST(WallProbe, PipeWallGapOfAPoint) {
+  const PipeLayout l = layout_pipe(elbow_pipe(PipeCollider::Analytic));
+  WallProbe probe(&l, {});
+  int hint = -1;
+  WallHit hit;
+  // in the first straight's wall, 5 mm beyond the bore
+  EXPECT_NEAR(probe.pipe_wall_gap(Eigen::Vector3d(0.1, 0, -0.025), &hint, &hit), 0.005, 1e-12);
+  EXPECT_TRUE(hit.pipe);
+  EXPECT_NEAR((hit.point - Eigen::Vector3d(0.1, 0, -0.02)).norm(), 0, 1e-12);
+  EXPECT_NEAR((hit.normal - Eigen::Vector3d(0, 0, 1)).norm(), 0, 1e-12);
+  // in the bore: negative
+  EXPECT_NEAR(probe.pipe_wall_gap(Eigen::Vector3d(0.1, 0.01, 0), &hint, &hit), -0.01, 1e-12);
+  // in the elbow's outer wall (centre of the bend at (0.3, 0.08, 0)), 45
+  // degrees round: 0.08 + 0.02 + 0.003 from the centre
+  const Eigen::Vector3d c(0.3, 0.08, 0), radial = unit(1, -1, 0);
+  EXPECT_NEAR(probe.pipe_wall_gap(c + 0.103 * radial, &hint, &hit), 0.003, 1e-9);
+  EXPECT_NEAR((hit.normal + radial).norm(), 0, 1e-9);
+  // past the open entry: no piece owns it
+  EXPECT_EQ(probe.pipe_wall_gap(Eigen::Vector3d(-0.01, 0, -0.025), &hint, &hit),
+            -std::numeric_limits<double>::infinity());
+  // no analytic pipe
+  WallProbe none(nullptr, {});
+  EXPECT_EQ(none.pipe_wall_gap(Eigen::Vector3d(0.1, 0, -0.025), &hint, &hit), -std::numeric_limits<double>::infinity());
 }
 
 TEST(WallProbe, MeshPipeAndPlaneThroughOdeRays) {

@@ -270,6 +270,86 @@ double support_slide(double pull_n, double wall_mu, double pad_mu) {
   return w.body_state(0, 0).position.x() - x0;
 }
 
+// a 10 g block (no collision shape) in a level pipe of 40 mm bore along
+// +x from 0 to 0.4 m, no gravity, with one pad: the line from `origin` along
+// `dir` (block frame = world at the start), reach 10 mm
+World padded_block(const Eigen::Vector3d& at, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) {
+  ModuleDef d;
+  d.type = "padded_block";
+  BodyDef b;
+  b.name = "block";
+  b.shape = Shape::Box;
+  b.box_m = Eigen::Vector3d(0.01, 0.01, 0.01);
+  b.mass_kg = 0.01;
+  b.collides = false;
+  d.bodies = {b};
+  PadDef p;
+  p.name = "pad";
+  p.body = 0;
+  p.position_m = origin;
+  p.direction = dir.normalized();
+  p.reach_m = 0.010;
+  p.stiffness_n_m = 5000;
+  p.damping_n_s_m = 2;
+  p.mu = 0.5;
+  d.pads = {p};
+  d.front.body = d.back.body = 0;
+  WorldConfig c;
+  c.module_types = {d};
+  c.gravity_m_s2 = 0;
+  c.environment.type = EnvironmentType::Pipe;
+  c.environment.pipe.inner_diameter_m = 0.04;
+  PipeSegment seg;
+  seg.length_m = 0.4;
+  c.environment.pipe.segments = {seg};
+  c.head_position = at;
+  return World(c, {"padded_block"});
+}
+
+// a pad whose origin has gone into the wall (an arm's hinge while its module
+// lies on the wall) still presses with its face, from the depth the face is
+// at: it pushes the block back into the bore, gently (before, it let go
+// until its origin came back and then pressed at once from the full depth)
+TEST(Pads, OriginInTheWallStillPressesWithItsFace) {
+  // origin 0.2 mm beyond the bore's 20 mm, the line at 30 degrees to the
+  // axis: the face 5.2 mm beyond
+  World w = padded_block(Eigen::Vector3d(0.2, 0, 0), Eigen::Vector3d(0, 0, 0.0202),
+                         Eigen::Vector3d(std::cos(kPi / 6), 0, std::sin(kPi / 6)));
+  w.step();
+  ASSERT_TRUE(w.wheel_state(0, 0).on);
+  EXPECT_GT(w.wheel_state(0, 0).normal_n, 1.0);
+  double fastest = 0;
+  for (int k = 0; k < 200; ++k) {
+    w.step();
+    fastest = std::max(fastest, w.body_state(0, 0).linear_velocity.norm());
+  }
+  // pushed down (towards the axis), away from the wall (no gravity: it
+  // floats on), no faster than the pad's spring energy allows: 1/2 k d^2 =
+  // 1/2 m v^2 gives 3.7 m/s for the 5.2 mm (before, starting from an origin
+  // back in the bore, the pad pressed from its whole depth at ERP 0.83 per
+  // step)
+  const double z = w.body_state(0, 0).position.z();
+  std::printf("pad with its origin in the wall: block moved %.4f m, fastest %.3f m/s\n", z, fastest);
+  EXPECT_LT(z, -0.004);
+  EXPECT_LT(fastest, 3.7);
+}
+
+// a pad whose face hangs past the pipe's open end touches nothing, though
+// its line meets the wall before the end
+TEST(Pads, FacePastAnOpenEndTouchesNothing) {
+  const Eigen::Vector3d out(std::cos(kPi / 4), 0, std::sin(kPi / 4));
+  // line from 16 mm off the axis at 45 degrees: meets the bore 5.7 mm along,
+  // at x = 0.3985; the face (10 mm along) at x = 0.4016, past the exit at 0.4
+  World past = padded_block(Eigen::Vector3d(0.3975, 0, 0), Eigen::Vector3d(-0.003, 0, 0.016), out);
+  past.step();
+  EXPECT_FALSE(past.wheel_state(0, 0).on);
+  // 3 mm further in, the face inside the pipe's length: it presses
+  World inside = padded_block(Eigen::Vector3d(0.3945, 0, 0), Eigen::Vector3d(-0.003, 0, 0.016), out);
+  inside.step();
+  EXPECT_TRUE(inside.wheel_state(0, 0).on);
+  EXPECT_GT(inside.wheel_state(0, 0).normal_n, 1.0);
+}
+
 TEST(Pads, SupportGripHasAFrictionLimit) {
   // the inchworm's chain weighs 0.29 N: pulled forwards by that it holds
   // (backwards it creeps 2 mm in 0.5 s; unloaded 0.8 mm: docs/firmware.md)
