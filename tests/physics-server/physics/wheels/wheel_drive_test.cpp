@@ -178,18 +178,25 @@ TEST(WheelDrive, ThrustIsLimitedByMuTimesEachWheelsNormalForce) {
 namespace chainsim {
 namespace {
 
+// a module type of one box body with no collision shape (pads touch for it)
+ModuleDef box_module(const std::string& type, const Eigen::Vector3d& size_m, double mass_kg) {
+  ModuleDef d;
+  d.type = type;
+  BodyDef b;
+  b.name = "box";
+  b.shape = Shape::Box;
+  b.box_m = size_m;
+  b.mass_kg = mass_kg;
+  b.collides = false;
+  d.bodies = {b};
+  d.front.body = d.back.body = 0;
+  return d;
+}
+
 // a 50 g plate (40 x 40 x 4 mm) standing on four friction pads at its
 // corners (no collision shape of its own) on the floor
 ModuleDef padded_plate(double mu) {
-  ModuleDef d;
-  d.type = "padded_plate";
-  BodyDef b;
-  b.name = "plate";
-  b.shape = Shape::Box;
-  b.box_m = Eigen::Vector3d(0.04, 0.04, 0.004);
-  b.mass_kg = 0.05;
-  b.collides = false;
-  d.bodies = {b};
+  ModuleDef d = box_module("padded_plate", Eigen::Vector3d(0.04, 0.04, 0.004), 0.05);
   for (int k = 0; k < 4; ++k) {
     PadDef p;
     p.name = "pad" + std::to_string(k);
@@ -202,7 +209,6 @@ ModuleDef padded_plate(double mu) {
     p.mu = mu;
     d.pads.push_back(p);
   }
-  d.front.body = d.back.body = 0;
   return d;
 }
 
@@ -274,15 +280,7 @@ double support_slide(double pull_n, double wall_mu, double pad_mu) {
 // +x from 0 to 0.4 m, no gravity, with one pad: the line from `origin` along
 // `dir` (block frame = world at the start), reach 10 mm
 World padded_block(const Eigen::Vector3d& at, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir) {
-  ModuleDef d;
-  d.type = "padded_block";
-  BodyDef b;
-  b.name = "block";
-  b.shape = Shape::Box;
-  b.box_m = Eigen::Vector3d(0.01, 0.01, 0.01);
-  b.mass_kg = 0.01;
-  b.collides = false;
-  d.bodies = {b};
+  ModuleDef d = box_module("padded_block", Eigen::Vector3d(0.01, 0.01, 0.01), 0.01);
   PadDef p;
   p.name = "pad";
   p.body = 0;
@@ -293,7 +291,6 @@ World padded_block(const Eigen::Vector3d& at, const Eigen::Vector3d& origin, con
   p.damping_n_s_m = 2;
   p.mu = 0.5;
   d.pads = {p};
-  d.front.body = d.back.body = 0;
   WorldConfig c;
   c.module_types = {d};
   c.gravity_m_s2 = 0;
