@@ -53,13 +53,15 @@ class WallProbe {
   bool cast(const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double max_t,
             int* piece_hint, WallHit* hit) const;
 
+  // there is an analytic pipe
+  bool has_pipe() const { return layout_ && !layout_->pieces.empty(); }
+
   // A point x against the analytic pipe's wall: the gap (min over the
   // pieces that own x of its distance from their axis - the inner radius;
   // > 0: x is in the wall, < 0: in the bore), and in *hit the wall point
   // nearest to x (t = the gap, the normal into the free space, pipe = true).
   // -infinity (hit untouched) where no piece owns x (past an open end, or
   // no analytic pipe). *piece_hint as for cast.
-  bool has_pipe() const { return layout_ && !layout_->pieces.empty(); }
   double pipe_wall_gap(const Eigen::Vector3d& x, int* piece_hint, WallHit* hit) const;
 
   // the analytic part alone (tests): false if no layout or no wall within max_t

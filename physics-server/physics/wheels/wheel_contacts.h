@@ -22,8 +22,9 @@
 // whatever presses the pad, and Coulomb friction in any direction along the
 // wall bounded by mu times that normal force (low-passed over 5 ms); across_n
 // is then the friction's magnitude. Against an analytic pipe, a pad's face
-// past an open end touches nothing, and a pad whose origin is in the wall
-// presses from the wall point nearest to its face (pad_on_wall).
+// past an open end touches nothing (nor after, until it is back in the
+// bore), and a pad whose origin is in the wall presses from the wall point
+// nearest to its face (pad_on_wall).
 // Wheel contacts are not collisions: they set no touch sensor.
 // No allocation in a step (the feedback records are made at assembly).
 #pragma once
