@@ -74,7 +74,7 @@ std::vector<ChangeDelay> estimate_delays(const FitProblem& p, const BenchConfig&
     // curvature over +-1 ms: e ~ e_min + (delay - d)^2 / sd^2
     const int s = std::max(1, static_cast<int>(std::lround(1e-3 / kGrid_s)));
     const int lo = std::max(0, best - s), hi = std::min(nd, best + s);
-    ChangeDelay d{tc, best * kGrid_s, -1};
+    ChangeDelay d{tc, best * kGrid_s, -1, m.sp[ch[c].k] - m.sp[ch[c].k - 1]};
     if (hi > lo && best > 0 && best < nd) {
       const double hl = (best - lo) * kGrid_s, hh = (hi - best) * kGrid_s;
       const double c2 = 2 * ((e[lo] - e[best]) / hl + (e[hi] - e[best]) / hh) / (hl + hh);
@@ -97,12 +97,13 @@ double frame_delay(const FrameClock& c, double t0, double t) {
   return x < 0 ? x + c.period_s : x;
 }
 
-FrameClockFit fit_frame_clock(const std::vector<ChangeDelay>& all, double t0, double period_lo, double period_hi) {
+FrameClockFit fit_frame_clock(const std::vector<ChangeDelay>& all, double t0, double period_lo, double period_hi,
+                              double min_step_deg) {
   FrameClockFit out;
-  // the changes that tell their delay within 2 ms
+  // the changes (of min_step_deg or more) that tell their delay within 2 ms
   std::vector<ChangeDelay> d;
   for (const ChangeDelay& c : all)
-    if (c.sd > 0 && c.sd < 2e-3) d.push_back(c);
+    if (c.sd > 0 && c.sd < 2e-3 && std::fabs(c.step_deg) >= min_step_deg) d.push_back(c);
   out.used = static_cast<int>(d.size());
   if (d.size() < 4) return out;
   std::vector<double> tol(d.size());
@@ -184,12 +185,34 @@ FrameClockFit fit_frame_clock(const std::vector<ChangeDelay>& all, double t0, do
   return out;
 }
 
-FrameClockFit frame_clock_for(const FitProblem& p, const BenchConfig& b) {
-  const std::vector<Effect>& cat = effect_catalogue();
+namespace {
+
+// the catalogue's period range, s
+std::pair<double, double> period_range() {
   double lo = 2.5e-3, hi = 40e-3;
-  for (const Effect& e : cat)
+  for (const Effect& e : effect_catalogue())
     if (e.fit == EffectFit::frame_clock) lo = e.params[0].lo * e.params[0].to_model, hi = e.params[0].hi * e.params[0].to_model;
+  return {lo, hi};
+}
+
+}  // namespace
+
+FrameClockFit frame_clock_for(const FitProblem& p, const BenchConfig& b) {
+  const auto [lo, hi] = period_range();
   return fit_frame_clock(estimate_delays(p, b, hi), p.m.t.front(), lo, hi);
+}
+
+std::vector<FrameClockFit> frame_clocks_for(const FitProblem& p, const BenchConfig& b) {
+  const auto [lo, hi] = period_range();
+  const std::vector<ChangeDelay> d = estimate_delays(p, b, hi);
+  std::vector<FrameClockFit> out;
+  const FrameClockFit all = fit_frame_clock(d, p.m.t.front(), lo, hi);
+  if (all.found) out.push_back(all);
+  const FrameClockFit large = fit_frame_clock(d, p.m.t.front(), lo, hi, kClockMinStepDeg);
+  if (large.found && !(all.found && std::fabs(large.clock.period_s - all.clock.period_s) < 1e-6 &&
+                       std::fabs(large.clock.phase_s - all.clock.phase_s) < 1e-6))
+    out.push_back(large);
+  return out;
 }
 
 }  // namespace chainsim

@@ -30,7 +30,17 @@ std::vector<SetpointChange> setpoint_changes(const MeasuredRecord& m);
 // depend on the delay)
 struct ChangeDelay {
   double t = 0, delay = 0, sd = -1;
+  double step_deg = 0;   // the set-point's change
 };
+
+// A second clock from the large set-point steps alone: a small step's
+// response depends on effects the model may not have yet (a deadband of a
+// few degrees changes a 3-5 degree step's response by half, and the delay
+// that fits it best is then off by milliseconds with a narrow curvature),
+// while a large step's start is the frame's; but with backlash a large
+// step's start also waits for the gap to close, and the small steps help
+// there. So both clocks are tried (frame_clocks_for).
+constexpr double kClockMinStepDeg = 8.0;
 
 // per change, the delay in [0, max_delay_s] at which the model b's response
 // (one run on a 100 us grid, shifted) fits the measurement best in noise units
@@ -51,10 +61,16 @@ struct FrameClockFit {
 };
 
 // the clock (period in [period_lo, period_hi]) whose delays match d: found
-// when at least 4 changes, and half of those that tell, agree with it
-FrameClockFit fit_frame_clock(const std::vector<ChangeDelay>& d, double t0, double period_lo, double period_hi);
+// when at least 4 changes, and half of those that tell, agree with it; only
+// the changes of at least min_step_deg count
+FrameClockFit fit_frame_clock(const std::vector<ChangeDelay>& d, double t0, double period_lo, double period_hi,
+                              double min_step_deg = 0);
 
-// delays against the model b, then the clock (2.5..40 ms)
+// delays against the model b, then the clock (2.5..40 ms) from every change
 FrameClockFit frame_clock_for(const FitProblem& p, const BenchConfig& b);
+
+// the same delays, the clocks found: from every change, and from the steps
+// of kClockMinStepDeg or more alone where that differs (none, one or two)
+std::vector<FrameClockFit> frame_clocks_for(const FitProblem& p, const BenchConfig& b);
 
 }  // namespace chainsim

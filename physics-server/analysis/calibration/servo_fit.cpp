@@ -207,7 +207,8 @@ void scan_phase(const FitProblem& p, const std::vector<int>& eff, std::vector<do
 
 // a frame clock on top of ref: its period and phase from the set-point
 // changes' delays against two models without it (the reference, which may
-// have bent its base to mimic the delay, and the datasheet base), then per
+// have bent its base to mimic the delay, and the datasheet base), from every
+// change and from the large steps alone (frame_clocks_for), then per
 // clock found: the phase scanned against the model (the delays carry the
 // base's timing error; the scan finds the right frame edge, farther than the
 // fit's window), the base fitted together with period and phase within
@@ -221,34 +222,34 @@ Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect) {
   best.valid = false;
   for (int start = 0; start < 2; ++start) {
     const std::vector<double> base = start == 0 ? ref.x : datasheet_start(ref.x);
-    const FrameClockFit fc = frame_clock_for(p, model_config(p.datasheet, ref.effects, base));
-    if (!fc.found) continue;
-    std::vector<double> x = base;
-    x.push_back(fc.clock.period_s * 1e3);
-    x.push_back(fc.clock.phase_s * 1e3);
-    scan_phase(p, eff, &x, ip, 1.5, 0.1);
-    // the phase and the base's speed trade off (a later frame looks like a
-    // slower servo): fitted together, then the phase scanned, until it stays
-    Fit f;
-    for (int turn = 0; turn < 3; ++turn) {
-      f = fit_model(p, eff, x, Samples::training, kMaxEvalJoint);
-      x = f.x;
-      scan_phase(p, eff, &x, ip, 0.5, 0.05);
-      if (std::fabs(x[ip] - f.x[ip]) < 0.01) break;
-    }
-    f = evaluate_fit(p, eff, x);
-    if (!best.valid || f.train < best.train) {
-      // the intervals: the delays' least-squares ones, widened to reach
-      // the fitted values
-      auto widened = [](double v, std::pair<double, double> ci_s, double est_s) {
-        const double w = std::max(0.5 * 1e3 * (ci_s.second - ci_s.first), std::fabs(v - 1e3 * est_s));
-        return std::make_pair(v - w, v + w);
-      };
-      const double per = f.x[ip - 1], ph = f.x[ip];
-      best = std::move(f);
-      best.held_ci = ref.held_ci;
-      best.held_ci.push_back(widened(per, fc.period_ci_s, fc.clock.period_s));
-      best.held_ci.push_back(widened(ph, fc.phase_ci_s, fc.clock.phase_s));
+    for (const FrameClockFit& fc : frame_clocks_for(p, model_config(p.datasheet, ref.effects, base))) {
+      std::vector<double> x = base;
+      x.push_back(fc.clock.period_s * 1e3);
+      x.push_back(fc.clock.phase_s * 1e3);
+      scan_phase(p, eff, &x, ip, 1.5, 0.1);
+      // the phase and the base's speed trade off (a later frame looks like a
+      // slower servo): fitted together, then the phase scanned, until it stays
+      Fit f;
+      for (int turn = 0; turn < 3; ++turn) {
+        f = fit_model(p, eff, x, Samples::training, kMaxEvalJoint);
+        x = f.x;
+        scan_phase(p, eff, &x, ip, 0.5, 0.05);
+        if (std::fabs(x[ip] - f.x[ip]) < 0.01) break;
+      }
+      f = evaluate_fit(p, eff, x);
+      if (!best.valid || f.train < best.train) {
+        // the intervals: the delays' least-squares ones, widened to reach
+        // the fitted values
+        auto widened = [](double v, std::pair<double, double> ci_s, double est_s) {
+          const double w = std::max(0.5 * 1e3 * (ci_s.second - ci_s.first), std::fabs(v - 1e3 * est_s));
+          return std::make_pair(v - w, v + w);
+        };
+        const double per = f.x[ip - 1], ph = f.x[ip];
+        best = std::move(f);
+        best.held_ci = ref.held_ci;
+        best.held_ci.push_back(widened(per, fc.period_ci_s, fc.clock.period_s));
+        best.held_ci.push_back(widened(ph, fc.phase_ci_s, fc.clock.phase_s));
+      }
     }
   }
   if (best.valid) return best;
