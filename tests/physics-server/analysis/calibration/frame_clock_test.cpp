@@ -96,6 +96,29 @@ TEST(FrameClock, NeitherHalfNorTwiceThePeriod) {
   EXPECT_FALSE(fit_frame_clock(d, 0.0, 2.5e-3, 40e-3).found);
 }
 
+// two of three changes are small steps whose delays an effect the model
+// lacks has scrambled (as a deadband does to a 3-5 degree step: off by
+// milliseconds with a narrow curvature): from every change no clock agrees
+// with half of them; from the steps of kClockMinStepDeg or more, the truth
+TEST(FrameClock, LargeStepsAloneWhereSmallStepsAreScrambled) {
+  const FrameClock truth{0.0125, 0.0006};
+  std::vector<ChangeDelay> d = delays_of(truth, 0.0, 1e-4, 5);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> any(0.0, 0.012);
+  for (size_t c = 0; c < d.size(); ++c) {
+    const bool small = c % 3 != 0;
+    d[c].step_deg = small ? -4.0 : 40.0;
+    if (small) d[c].delay = any(rng);
+  }
+  const FrameClockFit all = fit_frame_clock(d, 0.0, 2.5e-3, 40e-3);
+  EXPECT_FALSE(all.found && std::fabs(all.clock.period_s - truth.period_s) < 1e-4)
+      << "from every change: " << all.clock.period_s;
+  const FrameClockFit large = fit_frame_clock(d, 0.0, 2.5e-3, 40e-3, kClockMinStepDeg);
+  ASSERT_TRUE(large.found);
+  EXPECT_EQ(large.used, 5);
+  EXPECT_NEAR(large.clock.period_s, truth.period_s, 1e-4);
+}
+
 TEST(FrameClock, FromABenchRecordWithFramesAtAnArbitraryPhase) {
   FitProblem p = problem_of(framed(0.02, 0.007), 3);
   const std::vector<ChangeDelay> d = estimate_delays(p, test_datasheet(), 0.04);
