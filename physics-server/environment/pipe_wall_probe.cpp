@@ -50,17 +50,29 @@ double WallProbe::bore_gap(const Eigen::Vector3d& x, int lo, int hi, int* piece,
   return best;
 }
 
-double WallProbe::pipe_wall_gap(const Eigen::Vector3d& x, int* hint, WallHit* hit) const {
-  if (!layout_ || layout_->pieces.empty()) return -kInf;
+double WallProbe::bore_gap_near(const Eigen::Vector3d& x, int hint, int* lo, int* hi, int* piece,
+                                Eigen::Vector3d* out) const {
   const int n = static_cast<int>(layout_->pieces.size());
-  int lo = 0, hi = n - 1, k = -1;
-  if (n > kAllPieces && *hint >= 0) {
-    lo = std::max(0, *hint - kWindow);
-    hi = std::min(n - 1, *hint + kWindow);
+  *lo = 0;
+  *hi = n - 1;
+  if (n > kAllPieces && hint >= 0) {
+    *lo = std::max(0, hint - kWindow);
+    *hi = std::min(n - 1, hint + kWindow);
   }
+  double g = bore_gap(x, *lo, *hi, piece, out);
+  if (g == -kInf && (*lo > 0 || *hi < n - 1)) {  // the hint was stale: all pieces
+    *lo = 0;
+    *hi = n - 1;
+    g = bore_gap(x, *lo, *hi, piece, out);
+  }
+  return g;
+}
+
+double WallProbe::pipe_wall_gap(const Eigen::Vector3d& x, int* hint, WallHit* hit) const {
+  if (!has_pipe()) return -kInf;
+  int lo, hi, k = -1;
   Eigen::Vector3d out;
-  double g = bore_gap(x, lo, hi, &k, &out);
-  if (g == -kInf && (lo > 0 || hi < n - 1)) g = bore_gap(x, 0, n - 1, &k, &out);
+  const double g = bore_gap_near(x, *hint, &lo, &hi, &k, &out);
   if (g == -kInf) return g;
   *hint = k;
   hit->t = g;
@@ -72,21 +84,10 @@ double WallProbe::pipe_wall_gap(const Eigen::Vector3d& x, int* hint, WallHit* hi
 
 bool WallProbe::cast_pipe(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double max_t,
                           int* hint, WallHit* hit) const {
-  if (!layout_ || layout_->pieces.empty() || !(max_t > 0)) return false;
-  const int n = static_cast<int>(layout_->pieces.size());
-  int lo = 0, hi = n - 1;
-  if (n > kAllPieces && *hint >= 0) {
-    lo = std::max(0, *hint - kWindow);
-    hi = std::min(n - 1, *hint + kWindow);
-  }
-  int k0 = -1, k1 = -1, k = -1;
+  if (!has_pipe() || !(max_t > 0)) return false;
+  int lo, hi, k0 = -1, k1 = -1, k = -1;
   Eigen::Vector3d dir0, dir1, dir;
-  double g0 = bore_gap(o, lo, hi, &k0, &dir0);
-  if (g0 == -kInf && (lo > 0 || hi < n - 1)) {  // the hint was stale: all pieces
-    lo = 0;
-    hi = n - 1;
-    g0 = bore_gap(o, lo, hi, &k0, &dir0);
-  }
+  const double g0 = bore_gap_near(o, *hint, &lo, &hi, &k0, &dir0);
   if (!(g0 < 0)) return false;  // origin past an open end (free) or in the wall
   double g1 = bore_gap(o + max_t * d, lo, hi, &k1, &dir1);
   // no piece owns the far end: past an open end, or deep in the wall (more

@@ -73,6 +73,11 @@ class WallProbe {
   // owns x; *piece = the piece giving it, *out = its outward direction
   double bore_gap(const Eigen::Vector3d& x, int lo, int hi, int* piece,
                   Eigen::Vector3d* out) const;
+  // bore_gap over the pieces near `hint` (every piece for a short pipe or no
+  // hint), and over every piece if none of those owns x; *lo, *hi: the range
+  // it ended with
+  double bore_gap_near(const Eigen::Vector3d& x, int hint, int* lo, int* hi, int* piece,
+                       Eigen::Vector3d* out) const;
 
   const PipeLayout* layout_;
   std::vector<dGeomID> others_;   // environment geoms answered by ODE rays
