@@ -185,6 +185,15 @@ FrameClockFit fit_frame_clock(const std::vector<ChangeDelay>& all, double t0, do
   return out;
 }
 
+bool same_frames(const FrameClock& a, const FrameClock& b, double span_s, double tol_s) {
+  if (!(a.period_s > 0.0) || !(b.period_s > 0.0)) return false;
+  // b's first frame against a's nearest one, then the drift over the span
+  const double d0 = std::remainder(b.phase_s - a.phase_s, a.period_s);
+  const double frames = span_s / a.period_s;
+  const double d1 = d0 + frames * (b.period_s - a.period_s);
+  return std::fabs(d0) <= tol_s && std::fabs(d1) <= tol_s;
+}
+
 namespace {
 
 // the catalogue's period range, s
@@ -209,8 +218,10 @@ std::vector<FrameClockFit> frame_clocks_for(const FitProblem& p, const BenchConf
   const FrameClockFit all = fit_frame_clock(d, p.m.t.front(), lo, hi);
   if (all.found) out.push_back(all);
   const FrameClockFit large = fit_frame_clock(d, p.m.t.front(), lo, hi, kClockMinStepDeg);
-  if (large.found && !(all.found && std::fabs(large.clock.period_s - all.clock.period_s) < 1e-6 &&
-                       std::fabs(large.clock.phase_s - all.clock.phase_s) < 1e-6))
+  // (a second clock within the fit's phase window of the first would be
+  // fitted to the same solution: a thousand model runs for nothing)
+  const double span = p.m.t.back() - p.m.t.front();
+  if (large.found && !(all.found && same_frames(all.clock, large.clock, span, 1e-3 * kClockPhaseWindowMs)))
     out.push_back(large);
   return out;
 }

@@ -66,11 +66,17 @@ struct FrameClockFit {
 FrameClockFit fit_frame_clock(const std::vector<ChangeDelay>& d, double t0, double period_lo, double period_hi,
                               double min_step_deg = 0);
 
+// whether the clocks a and b put each frame of a record of span_s within
+// tol_s of each other (phases compared modulo the period): one clock, as far
+// as a fit that moves the phase by tol_s can tell
+bool same_frames(const FrameClock& a, const FrameClock& b, double span_s, double tol_s);
+
 // delays against the model b, then the clock (2.5..40 ms) from every change
 FrameClockFit frame_clock_for(const FitProblem& p, const BenchConfig& b);
 
 // the same delays, the clocks found: from every change, and from the steps
-// of kClockMinStepDeg or more alone where that differs (none, one or two)
+// of kClockMinStepDeg or more alone where its frames differ from the first
+// clock's by more than the fit's phase window (none, one or two)
 std::vector<FrameClockFit> frame_clocks_for(const FitProblem& p, const BenchConfig& b);
 
 }  // namespace chainsim

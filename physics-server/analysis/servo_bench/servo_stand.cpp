@@ -82,7 +82,7 @@ class Stand {
       // theta += h w' (ODE's semi-implicit position update)
       const ServoModel::StepLaw law = model_.begin_step(theta_, w_, h_);
       const double jh = jh_;
-      w_ = (jh * w_ + law.damping * law.target_rate + cfg_.load_torque_nm) / (jh + law.damping);
+      w_ = (jh * w_ + law.torque0 + cfg_.load_torque_nm) / (jh + law.damping);
       model_.end_step(w_);
       theta_ += h_ * w_;
       return;

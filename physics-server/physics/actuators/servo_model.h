@@ -138,6 +138,10 @@ class ServoModel {
   struct StepLaw {
     double target_rate = 0.0;   // rad/s
     double damping = 0.0;       // N m s/rad, > 0 (1/damping = the motor row's CFM)
+    // damping * target_rate as summed, before the division (N m): a solver
+    // that needs the torque rather than the rate (the bench's closed form)
+    // uses it and saves a division and its rounding
+    double torque0 = 0.0;
   };
 
   explicit ServoModel(const ServoParams& params = ServoParams{});

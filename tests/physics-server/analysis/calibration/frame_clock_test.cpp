@@ -54,6 +54,25 @@ TEST(FrameClock, DelayIsTheTimeToTheNextFrame) {
   EXPECT_NEAR(frame_delay(c, 1.0, 2.5), 0.007, 1e-9);   // 1.507 + 0.02 k
 }
 
+// two clocks are one when every frame of the record is within the
+// tolerance of the other's: across the phase's wrap, and not when the period
+// drifts the frames apart by the record's end
+TEST(FrameClock, SameFramesWithinTheToleranceOverTheWholeRecord) {
+  const FrameClock a{0.015, 0.0140};
+  EXPECT_TRUE(same_frames(a, a, 4.0, 0.5e-3));
+  EXPECT_TRUE(same_frames(a, FrameClock{0.015, 0.0143}, 4.0, 0.5e-3));
+  EXPECT_FALSE(same_frames(a, FrameClock{0.015, 0.0150}, 4.0, 0.5e-3));
+  // frames at 0.2, 15.2 ms: 1.2 ms after a's at 14.0, 29.0 ms
+  EXPECT_FALSE(same_frames(a, FrameClock{0.015, 0.0002}, 4.0, 0.5e-3));
+  // 14.9 ms and 0.1 ms are 0.2 ms apart across the wrap
+  EXPECT_TRUE(same_frames(FrameClock{0.015, 0.0149}, FrameClock{0.015, 0.0001}, 4.0, 0.5e-3));
+  // 2 us more per frame: 267 frames in 4 s drift 0.53 ms apart, 80 in 1.2 s do not
+  const FrameClock b{0.015002, 0.0140};
+  EXPECT_FALSE(same_frames(a, b, 4.0, 0.5e-3));
+  EXPECT_TRUE(same_frames(a, b, 1.2, 0.5e-3));
+  EXPECT_FALSE(same_frames(a, FrameClock{}, 4.0, 0.5e-3));
+}
+
 TEST(FrameClock, RecoversPeriodAndPhaseFromNoisyDelays) {
   int runs = 0, missed = 0;   // 95 % period intervals that miss the truth
   for (const FrameClock truth : {FrameClock{0.02, 0.007}, FrameClock{0.0123, 0.0111}, FrameClock{0.0035, 0.001}}) {
