@@ -5,7 +5,9 @@
 // docs/calibration.md, the targets, a breakdown by condition and the CPU time
 // of one calibration. Not a ctest (an hour of CPU):
 //   build/bin/calibration_study [--seeds 10] [--first 100] [--cases REGEX] [--jobs 1] [--plain] [--keep DIR] [--check]
+//   [--chainsim PATH]   (a copy of chainsim to study, e.g. while the tree is rebuilt; default: the one built with it)
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -13,6 +15,8 @@
 #include <mutex>
 #include <regex>
 #include <thread>
+
+#include <unistd.h>
 
 #include "common.h"
 
@@ -23,7 +27,13 @@ struct Run {
   unsigned seed = 0;
   synth::Conditions cond;
   synth::Outcome o;
+  double size = -1;   // the weakest hidden effect's size in the record (synth::effect_size; -1: none)
 };
+
+// the bins of the table by effect size
+std::string size_bin(double s) {
+  return s < 10 ? "a: below 10" : s < 100 ? "b: 10 to 100" : s < 1000 ? "c: 100 to 1 000" : "d: 1 000 or more";
+}
 
 bool has(const std::vector<std::string>& v, const std::string& x) {
   return std::find(v.begin(), v.end(), x) != v.end();
@@ -49,6 +59,7 @@ int main(int argc, char** argv) {
   int seeds = 10, first = 100, jobs = 1;
   bool plain = false, check = false;   // check: exit 1 unless every run comes out right
   std::string pattern = ".*", keep;   // keep: a folder where one job's files stay (one job)
+  std::string exe = CHAINSIM_EXE;
   for (int i = 1; i < argc; ++i) {
     const bool more = i + 1 < argc;
     if (!std::strcmp(argv[i], "--seeds") && more) seeds = std::atoi(argv[++i]);
@@ -58,15 +69,20 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--plain")) plain = true;
     else if (!std::strcmp(argv[i], "--check")) check = true;
     else if (!std::strcmp(argv[i], "--keep") && more) keep = argv[++i], jobs = 1;
+    else if (!std::strcmp(argv[i], "--chainsim") && more) exe = argv[++i];
     else {
       // --help, a typo or a missing value: say so rather than start an hour of work
       const bool help = !std::strcmp(argv[i], "--help");
       if (!help) std::fprintf(stderr, "calibration_study: not understood: %s\n", argv[i]);
       std::fprintf(help ? stdout : stderr,
                    "usage: calibration_study [--seeds 10] [--first 100] [--cases REGEX] [--jobs 1] [--plain] "
-                   "[--keep DIR] [--check]\n");
+                   "[--keep DIR] [--check] [--chainsim PATH]\n");
       return help ? 0 : 2;
     }
+  }
+  if (access(exe.c_str(), X_OK) != 0) {
+    std::fprintf(stderr, "calibration_study: %s: not an executable chainsim\n", exe.c_str());
+    return 2;
   }
   const auto cases = synth::cases();
   const std::regex re(pattern);
@@ -87,15 +103,17 @@ int main(int argc, char** argv) {
     const std::string dir = keep.empty() ? synth::make_temp_dir() : keep;
     for (size_t i; (i = next++) < runs.size();) {
       Run& r = runs[i];
-      r.o = synth::calibrate_case(cases[r.c], r.seed, r.cond, dir);
+      r.size = synth::weakest_effect_size(cases[r.c], r.seed, r.cond);
+      r.o = synth::calibrate_case(cases[r.c], r.seed, r.cond, dir, exe);
       std::string found = r.o.report.is_object() ? r.o.report["verdict"].get<std::string>() : "error";
       for (const auto& n : r.o.names) found += " " + n + (r.o.variants.count(n) ? "(" + r.o.variants[n] + ")" : "");
       std::lock_guard<std::mutex> lock(mu);
       const double gb = r.o.report.is_object() ? r.o.report["gap_before"].get<double>() : 0.0;
       const double ga = r.o.report.is_object() ? r.o.report["gap_after"].get<double>() : 0.0;
-      std::fprintf(stderr, "%s seed %u [noise %d, load %g, %.0f Hz, %s]: %s; gap %.4f -> %.4f; %.1f s CPU\n",
+      const std::string size = r.size < 0 ? "" : "; size " + std::to_string(static_cast<long>(std::lround(r.size)));
+      std::fprintf(stderr, "%s seed %u [noise %d, load %g, %.0f Hz, %s]: %s; gap %.4f -> %.4f; %.1f s CPU%s\n",
                    cases[r.c].name.c_str(), r.seed, r.cond.noise, r.cond.jl, r.cond.sample_hz,
-                   r.cond.current ? "current" : "angle only", found.c_str(), gb, ga, r.o.cpu_s);
+                   r.cond.current ? "current" : "angle only", found.c_str(), gb, ga, r.o.cpu_s, size.c_str());
     }
     if (keep.empty()) std::filesystem::remove_all(dir);
   };
@@ -109,6 +127,7 @@ int main(int argc, char** argv) {
   int single_ok = 0, single_n = 0, pair_ok = 0, pair_n = 0, null_fp = 0, null_n = 0, out_ok = 0, out_n = 0;
   int expl = 0, expl_halved = 0;
   std::map<std::string, std::pair<int, int>> by_cond;   // exactly right over runs, per condition
+  std::map<std::string, std::pair<int, int>> by_size;   // the same, per bin of the weakest effect's size
   std::vector<double> cpu;
   std::map<std::string, std::vector<double>> cpu_by_rate;
   for (size_t c = 0; c < cases.size(); ++c) {
@@ -149,6 +168,8 @@ int main(int argc, char** argv) {
         const std::string conds[] = {"noise " + std::to_string(r.cond.noise), "load " + std::to_string(r.cond.jl),
                                      rate_bin(r.cond.sample_hz), r.cond.current ? "with current" : "angle only"};
         for (const std::string& s : conds) ++by_cond[s].second, by_cond[s].first += ex;
+        std::pair<int, int>& b = by_size[size_bin(r.size)];
+        ++b.second, b.first += ex;
       }
     }
     if (n == 0) continue;
@@ -170,6 +191,10 @@ int main(int argc, char** argv) {
               single_ok, single_n, pair_ok, pair_n, null_fp, null_n, out_ok, out_n, expl_halved, expl);
   std::printf("\nBy condition (cases with hidden effects, named exactly):\n\n| condition | runs | named exactly |\n|---|---|---|\n");
   for (const auto& [k, v] : by_cond) std::printf("| %s | %d | %d (%.0f %%) |\n", k.c_str(), v.second, v.first, 100.0 * v.first / v.second);
+  std::printf("\nBy the size of the weakest hidden effect in the record (the likelihood ratio of the effect at its "
+              "true value, synth::effect_size), named exactly:\n\n| size | runs | named exactly |\n|---|---|---|\n");
+  for (const auto& [k, v] : by_size)
+    std::printf("| %s | %d | %d (%.0f %%) |\n", k.substr(3).c_str(), v.second, v.first, 100.0 * v.first / v.second);
   std::printf("\nCPU time of one calibration (s): median %.2f, 90 %% %.2f, max %.2f; <= 10 s: %ld of %zu\n", median(cpu),
               quantile(cpu, 0.9), quantile(cpu, 1.0), std::count_if(cpu.begin(), cpu.end(), [](double x) { return x <= 10; }),
               cpu.size());

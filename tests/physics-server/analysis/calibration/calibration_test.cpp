@@ -82,6 +82,35 @@ INSTANTIATE_TEST_SUITE_P(Cases, Calibration, ::testing::ValuesIn(kPicks), [](con
   return out + "_" + std::to_string(info.param.seed);
 });
 
+// the study's effect size: 0 for an effect the truth does not have, larger
+// for a current limit set lower (it acts on more of the moves), and the
+// noiseless record it compares is the noisy one without its noise: the two
+// differ by about the meter's sd
+TEST(EffectSize, MeasuresWhatTheEffectChangesInTheRecord) {
+  const synth::Case c = synth::case_named("current_limit");
+  const synth::Conditions cond = synth::plain_conditions();
+  synth::Truth t = c.truth(1, cond);
+  ASSERT_GT(t.ilim, 0.0);
+  EXPECT_EQ(synth::effect_size(c, t, 1, "deadband"), 0.0);
+  t.ilim = 0.25;
+  const double high = synth::effect_size(c, t, 1, "current_limit");
+  t.ilim = 0.15;
+  const double low = synth::effect_size(c, t, 1, "current_limit");
+  std::printf("current limit 0.25 A: size %.0f; 0.15 A: %.0f\n", high, low);
+  EXPECT_GT(high, 0.0);
+  EXPECT_GT(low, 2 * high);
+  EXPECT_THROW(synth::effect_size(c, t, 1, "cogging"), std::invalid_argument);
+  synth::Truth e = t;
+  e.exact = true;
+  const synth::Series noisy = c.record(t, 1), exact = c.record(e, 1);
+  ASSERT_EQ(noisy.t, exact.t);
+  double ss = 0;
+  for (size_t k = 0; k < noisy.t.size(); ++k) ss += std::pow(noisy.angle[k] - exact.angle[k], 2);
+  const double sd = std::sqrt(ss / static_cast<double>(noisy.t.size()));
+  EXPECT_NEAR(sd, synth::Meter(t).angle_sd(), 0.2 * synth::Meter(t).angle_sd());
+  EXPECT_EQ(synth::weakest_effect_size(synth::case_named("null"), 1, cond), -1.0);
+}
+
 TEST(CalibrationFiles, ErrorsNameFileLineColumn) {
   const std::string dir = synth::make_temp_dir();
   std::ofstream(dir + "/m.csv") << "t_s,setpoint_deg,angle_deg\n0,30,30\n0.001,30,3x0\n";

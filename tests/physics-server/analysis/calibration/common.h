@@ -46,13 +46,15 @@ inline int run_process(const std::vector<std::string>& argv, const std::string& 
   return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
-inline Outcome calibrate_case(const Case& c, unsigned seed, const Conditions& cond, const std::string& dir) {
+// `exe`: the chainsim to run (default: the one built with this test)
+inline Outcome calibrate_case(const Case& c, unsigned seed, const Conditions& cond, const std::string& dir,
+                              const std::string& exe = CHAINSIM_EXE) {
   const Truth t = c.truth(seed, cond);
   std::ofstream(dir + "/bench.yaml") << bench_yaml(t);
   write_csv(dir + "/m.csv", c.record(t, seed));
   std::filesystem::remove_all(dir + "/out");
   Outcome o;
-  o.exit_code = run_process({CHAINSIM_EXE, "calibrate", "-q", "--bench", dir + "/bench.yaml", "--measured",
+  o.exit_code = run_process({exe, "calibrate", "-q", "--bench", dir + "/bench.yaml", "--measured",
                              dir + "/m.csv", "--out", dir + "/out"},
                             dir + "/stderr.txt", &o.cpu_s);
   std::ifstream in(dir + "/out/report.json");

@@ -7,6 +7,7 @@
 
 #include <functional>
 #include <map>
+#include <stdexcept>
 
 #include "synth.h"
 #include "synth_b.h"
@@ -96,6 +97,49 @@ inline std::vector<Case> cases() {
                  t.sag_ohm = 4 * spread(r);
                }});
   return c;
+}
+
+// the truth without one of its hidden effects (catalogue name)
+inline Truth without_effect(Truth t, const std::string& name) {
+  if (name == "static_friction_threshold") t.i_th = 0;
+  else if (name == "coulomb_friction") t.coulomb = 0;
+  else if (name == "backlash") t.backlash_deg = 0;
+  else if (name == "deadband") t.deadband_deg = 0;
+  else if (name == "supply_sag") t.sag_ohm = 0;
+  else if (name == "pwm_frame_delay") t.frame_s = 0, t.frame_phase_s = 0;
+  else if (name == "current_limit") t.ilim = 0;
+  else throw std::invalid_argument("without_effect: no hidden effect named " + name);
+  return t;
+}
+
+// An effect's size in a record: what it changes in the noiseless record (the
+// same seed, so the same servo and sample times, without the effect), summed
+// over the samples as (change / the meter's sd)^2 per recorded channel: the
+// likelihood ratio of the effect at its true value, for a model that is
+// otherwise right. A calibration cannot name an effect whose size is a few
+// units: the record does not show it.
+inline double effect_size(const Case& c, Truth t, unsigned seed, const std::string& name) {
+  t.exact = true;
+  const Series with = c.record(t, seed), without = c.record(without_effect(t, name), seed);
+  const Meter meter(t);
+  double s = 0;
+  for (size_t k = 0; k < with.t.size(); ++k) {
+    const double da = (with.angle[k] - without.angle[k]) / meter.angle_sd();
+    const double di = t.current_column ? (with.current[k] - without.current[k]) / meter.current_sd() : 0.0;
+    s += da * da + di * di;
+  }
+  return s;
+}
+
+// the smallest size of the case's hidden effects in the record (-1: none hidden)
+inline double weakest_effect_size(const Case& c, unsigned seed, const Conditions& cond) {
+  double m = -1;
+  const Truth t = c.truth(seed, cond);
+  for (const std::string& e : c.expect) {
+    const double s = effect_size(c, t, seed, e);
+    m = m < 0 ? s : std::min(m, s);
+  }
+  return m;
 }
 
 // the case of that name (tests)

@@ -34,6 +34,7 @@ struct Truth {
   double sample_hz = 1000;    // mean sample rate
   double jitter = 0;          // sample times jitter by +-jitter of the interval (uniform)
   bool current_column = true; // the record has current_a
+  bool exact = false;         // the meter adds no noise and does not quantise (the study's effect sizes)
 };
 
 // the recording conditions of a study seed: noise level (3), load inertia
@@ -119,13 +120,21 @@ struct Meter {
   const Truth& tr;
   std::normal_distribution<double> na, ni;
   explicit Meter(const Truth& t) : tr(t), na(0, t.angle_noise_deg), ni(0, t.current_noise_a) {}
+  // (exact: the noise is drawn all the same, so that the rest of the record
+  // sees the same random numbers)
   double angle(double deg, std::mt19937_64& rng) {
-    return std::round((deg + na(rng)) / tr.angle_lsb_deg) * tr.angle_lsb_deg;
+    const double n = na(rng);
+    return tr.exact ? deg : std::round((deg + n) / tr.angle_lsb_deg) * tr.angle_lsb_deg;
   }
   double current(double a, std::mt19937_64& rng) {
-    const double c = std::clamp(std::round((a + ni(rng)) / tr.current_full_a * 1023), 0.0, 1023.0);
+    const double n = ni(rng);
+    if (tr.exact) return a;
+    const double c = std::clamp(std::round((a + n) / tr.current_full_a * 1023), 0.0, 1023.0);
     return c * tr.current_full_a / 1023;
   }
+  // the sd of what the meter adds: the noise and the quantisation's (lsb / sqrt 12)
+  double angle_sd() const { return std::hypot(tr.angle_noise_deg, tr.angle_lsb_deg / std::sqrt(12.0)); }
+  double current_sd() const { return std::hypot(tr.current_noise_a, tr.current_full_a / 1023 / std::sqrt(12.0)); }
 };
 
 inline std::string bench_yaml(const Truth& tr) {
