@@ -40,8 +40,8 @@ void test_candidates(const FitProblem& p, const Fit& ref, std::vector<Candidate>
     c.why = "LR " + fmt_g(c.profile.stat) + (c.profile.excludes_null ? " >= " : " < ") + fmt_g(c.profile.crit) +
             " (interval " + (c.profile.excludes_null ? "excludes" : "includes") + " the null), held-out gain " +
             fmt_g(c.held_out.gain, 3) + "/sample, held-out LR " + fmt_g(c.held_out.stat, 4) +
-            (c.held_out.significant ? " >= " : " < ") + fmt_g(c.held_out.crit, 3) + ", change where it acts " +
-            fmt_g(c.resolution, 3) + (c.resolution >= kMinResolution ? " >= " : " < ") + fmt_g(kMinResolution, 2) +
+            (c.held_out.significant ? " >= " : " < ") + fmt_g(c.held_out.crit, 3) +
+            ", change where it acts (99th percentile) " + fmt_g(c.resolution, 3) + (c.resolution >= kMinResolution ? " >= " : " < ") + fmt_g(kMinResolution, 2) +
             " noise";
     if (!c.fit.valid) c.why = "no frame clock fits the set-point changes' delays";
     c.accepted = false;
@@ -136,16 +136,21 @@ double effect_resolution(const FitProblem& p, const Fit& with, const Fit& withou
   // label wins over the motion regimes (a short move is all step onset)
   std::vector<std::string> names = effect_catalogue()[effect].regimes;
   for (int r : {kStepOnset, kReversal}) names.push_back(regime_names()[r]);
-  double sum = 0;
-  size_t n = 0;
+  std::vector<double> change;
   for (size_t k = 0; k < a.size() && k < regime.size(); ++k) {
     if (std::find(names.begin(), names.end(), regime_names()[regime[k]]) == names.end()) continue;
     const double da = (a.angle[k] - b.angle[k]) / p.noise.angle;
     const double di = a.has_current ? (a.current[k] - b.current[k]) / p.noise.current : 0.0;
-    sum += (da * da + di * di) / a.channels();
-    ++n;
+    change.push_back(std::sqrt((da * da + di * di) / a.channels()));
   }
-  return n ? std::sqrt(sum / n) : 0.0;
+  return resolved_change(std::move(change));
+}
+
+double resolved_change(std::vector<double> change) {
+  if (change.empty()) return 0.0;
+  const auto k = static_cast<size_t>(std::floor(kResolutionQuantile * static_cast<double>(change.size() - 1)));
+  std::nth_element(change.begin(), change.begin() + static_cast<long>(k), change.end());
+  return change[k];
 }
 
 EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<int>& regime,

@@ -27,7 +27,7 @@ struct Candidate {
   int effect = 0;        // catalogue index
   Fit fit;
   double signature = 0;  // regime_signature of the reference's residual in the effect's regimes
-  double resolution = 0; // rms change the effect makes where it acts, in white-noise units (effect_resolution)
+  double resolution = 0; // its change where it acts (99th percentile), white-noise units (effect_resolution)
   ProfileTest profile;
   HeldOutTest held_out;
   bool accepted = false;
@@ -57,16 +57,22 @@ struct EffectSearch {
 };
 
 // how much the effect of candidate `with` changes the response where it acts:
-// the rms over the samples of the effect's regimes and of the step onsets and
-// reversals (their label hides the motion regimes) of (model with it - the
-// same model without it), each channel in its white-noise unit, the channels
-// pooled like the loss. Below 1 the effect stays under the noise at the very
-// samples it acts on: a measurement of that noise does not resolve it, and a
-// likelihood gain over thousands of samples is the model's sub-noise mismatch
-// with the measured system, not the effect (kMinResolution).
+// over the samples of the effect's regimes and of the step onsets and
+// reversals (their label hides the motion regimes), the change (model with it
+// - the same model without it), each channel in its white-noise unit, the
+// channels pooled like the loss; its 99th percentile (resolved_change). Below
+// 1 the effect stays under the noise at all but a few of the samples it acts
+// on: a measurement of that noise does not resolve it, and a likelihood gain
+// over thousands of samples is the model's sub-noise mismatch with the
+// measured system, not the effect (kMinResolution). A percentile, not the
+// rms: an effect that acts hard on a few moves (a current limit on the
+// fastest) and not on the rest of its regime's samples is resolved there.
 constexpr double kMinResolution = 1.0;
+constexpr double kResolutionQuantile = 0.99;
 double effect_resolution(const FitProblem& p, const Fit& with, const Fit& without_effects, int effect,
                          const std::vector<int>& regime);
+// the kResolutionQuantile quantile of the per-sample changes (0 for none)
+double resolved_change(std::vector<double> change);
 
 // the search from the refitted base; regime: classify_regimes of the
 // measurement; p.noise is set each round from the current model's residual
