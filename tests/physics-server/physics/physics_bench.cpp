@@ -9,21 +9,25 @@
 #include <algorithm>
 #include <vector>
 
+#include "bench_args.h"
 #include "physics/units.h"
 #include "physics/world.h"
 
 using namespace chainsim;
 
 int main(int argc, char** argv) {
-  const double seconds = argc > 1 ? std::atof(argv[1]) : 5.0;
-  const int iterations = argc > 2 ? std::atoi(argv[2]) : WorldConfig{}.solver_iterations;
+  const char* usage = "physics_bench [seconds=5] [iterations=<WorldConfig default>] [modules... = 2 8 32]";
+  bench::help_or_continue(argc, argv, usage);
+  const double seconds = argc > 1 ? bench::positive(argv[1], "seconds", usage) : 5.0;
+  const int iterations =
+      argc > 2 ? bench::positive_int(argv[2], "iterations", usage) : WorldConfig{}.solver_iterations;
   const double deg = kRadPerDeg;
+  std::vector<int> counts;
+  for (int a = 3; a < argc; ++a) counts.push_back(bench::positive_int(argv[a], "modules", usage));
+  if (counts.empty()) counts = {2, 8, 32};
   std::printf("QuickStep iterations %d, %.1f s simulated per chain\n", iterations, seconds);
   std::printf("%8s %7s %10s %12s %10s %12s %10s\n", "modules", "bodies", "us/step", "x real time",
               "contacts", "dock max mm", "moved m");
-  std::vector<int> counts;
-  for (int a = 3; a < argc; ++a) counts.push_back(std::atoi(argv[a]));
-  if (counts.empty()) counts = {2, 8, 32};
   for (int n : counts) {
     WorldConfig c;
     c.head_position = Eigen::Vector3d(0, 0, 0.0126);

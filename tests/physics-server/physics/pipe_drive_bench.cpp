@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_args.h"
 #include "physics/placement.h"
 #include "physics/world.h"
 
@@ -84,7 +85,13 @@ WorldConfig scene(const Case& k) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const double seconds = argc > 1 ? std::atof(argv[1]) : 3.0;
+  const char* usage = "pipe_drive_bench [seconds=3]";
+  bench::help_or_continue(argc, argv, usage);
+  if (argc > 2) {
+    std::fprintf(stderr, "pipe_drive_bench: one argument at most\nusage: %s\n", usage);
+    return 2;
+  }
+  const double seconds = argc > 1 ? bench::positive(argv[1], "seconds", usage) : 3.0;
   const double kDeg = 3.14159265358979323846 / 180.0;
   const std::vector<Case> cases = {{"H level", "H", 0, false},
                                    {"H vertical", "H", 90, false},
