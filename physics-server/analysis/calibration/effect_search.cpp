@@ -41,8 +41,8 @@ void test_candidates(const FitProblem& p, const Fit& ref, std::vector<Candidate>
             " (interval " + (c.profile.excludes_null ? "excludes" : "includes") + " the null), held-out gain " +
             fmt_g(c.held_out.gain, 3) + "/sample, held-out LR " + fmt_g(c.held_out.stat, 4) +
             (c.held_out.significant ? " >= " : " < ") + fmt_g(c.held_out.crit, 3) +
-            ", change where it acts (99th percentile) " + fmt_g(c.resolution, 3) + (c.resolution >= kMinResolution ? " >= " : " < ") + fmt_g(kMinResolution, 2) +
-            " noise";
+            ", change where it acts (99th percentile) " + fmt_g(c.resolution, 3) +
+            (c.resolution >= kMinResolution ? " >= " : " < ") + fmt_g(kMinResolution, 2) + " noise";
     if (!c.fit.valid) c.why = "no frame clock fits the set-point changes' delays";
     c.accepted = false;
   }

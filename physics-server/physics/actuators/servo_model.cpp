@@ -106,7 +106,6 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
   // and in the impact step
   const double wr = engaged_ && !impact && !mesh ? w : wm_;
   const double w_rotor = impact ? wm_ : w;
-  StepLaw law;
   // rotor inertia, implicit on the joint rate: -J (w' - w)/h
   const double jh = jh_;
   // step-average current = i0 - ci w' (affine in the end-of-step rate w')
@@ -162,16 +161,10 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
       const double t0 = (k * pen * a + k2 * m) / (a + k2), dm = k2 * a / (a + k2);
       if ((t0 - dm * w) * d_free > 0.0) {
         mesh_a_ = a + k2, mesh_kp_ = k * pen, mesh_k2_ = k2;
-        law.damping = dm + dc;
-        law.torque0 = t0 + tc0;
-        law.target_rate = law.torque0 / law.damping;
-        return law;
+        return StepLaw::of(t0 + tc0, dm + dc);
       }
     }
-    law.damping = dc + 1e-9;
-    law.torque0 = tc0;
-    law.target_rate = tc0 / law.damping;
-    return law;
+    return StepLaw::of(tc0, dc + 1e-9);
   }
   if (backlash) {
     const double g = deg_to_rad(0.5 * p_.backlash_deg);
@@ -191,18 +184,12 @@ ServoModel::StepLaw ServoModel::begin_step(double theta, double w, double h) {
         engaged_ = true;
         closed_ = true;
       }
-      law.damping = dc + 1e-9;
-      law.torque0 = tc0;
-      law.target_rate = tc0 / law.damping;
-      return law;
+      return StepLaw::of(tc0, dc + 1e-9);
     }
   }
   // step-average electromagnetic torque = t0 - c_emf w'
   const double t0 = p_.kt * i0, c_emf = p_.kt * ci;
-  law.damping = c_emf + p_.b + jh + dc;
-  law.torque0 = t0 + tc0 + jh * w_rotor;
-  law.target_rate = law.torque0 / law.damping;
-  return law;
+  return StepLaw::of(t0 + tc0 + jh * w_rotor, c_emf + p_.b + jh + dc);
 }
 
 void ServoModel::end_step(double w_next) {

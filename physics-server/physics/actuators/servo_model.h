@@ -142,6 +142,8 @@ class ServoModel {
     // that needs the torque rather than the rate (the bench's closed form)
     // uses it and saves a division and its rounding
     double torque0 = 0.0;
+    // the law of a torque0 and a damping (the rate derived from them)
+    static StepLaw of(double torque0, double damping) { return {torque0 / damping, damping, torque0}; }
   };
 
   explicit ServoModel(const ServoParams& params = ServoParams{});

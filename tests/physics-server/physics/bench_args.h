@@ -24,7 +24,7 @@ inline void help_or_continue(int argc, char** argv, const char* usage) {
     }
 }
 
-// argv[a] as a positive finite number (seconds), else the usage on stderr, exit 2
+// arg as a positive finite number (seconds), else the usage on stderr, exit 2
 inline double positive(const char* arg, const char* what, const char* usage) {
   errno = 0;
   char* end = nullptr;
@@ -37,7 +37,7 @@ inline double positive(const char* arg, const char* what, const char* usage) {
   return v;
 }
 
-// argv[a] as a positive whole number (iterations, modules), else as above
+// arg as a positive whole number (iterations, modules), else as above
 inline int positive_int(const char* arg, const char* what, const char* usage) {
   errno = 0;
   char* end = nullptr;

@@ -100,9 +100,7 @@ TEST(EffectSize, MeasuresWhatTheEffectChangesInTheRecord) {
   EXPECT_GT(high, 0.0);
   EXPECT_GT(low, 2 * high);
   EXPECT_THROW(synth::effect_size(c, t, 1, "cogging"), std::invalid_argument);
-  synth::Truth e = t;
-  e.exact = true;
-  const synth::Series noisy = c.record(t, 1), exact = c.record(e, 1);
+  const synth::Series noisy = c.record(t, 1), exact = synth::exact_record(c, t, 1);
   ASSERT_EQ(noisy.t, exact.t);
   double ss = 0;
   for (size_t k = 0; k < noisy.t.size(); ++k) ss += std::pow(noisy.angle[k] - exact.angle[k], 2);

@@ -112,31 +112,44 @@ inline Truth without_effect(Truth t, const std::string& name) {
   return t;
 }
 
+// the record of t as the meter would give it without noise and quantisation
+inline Series exact_record(const Case& c, Truth t, unsigned seed) {
+  t.exact = true;
+  return c.record(t, seed);
+}
+
+// two exact records of t's servo (same seed: same sample times) apart, summed
+// over the samples as (difference / the meter's sd)^2 per recorded channel
+inline double records_apart(const Series& a, const Series& b, const Truth& t) {
+  const Meter meter(t);
+  double s = 0;
+  for (size_t k = 0; k < a.t.size(); ++k) {
+    const double da = (a.angle[k] - b.angle[k]) / meter.angle_sd();
+    const double di = t.current_column ? (a.current[k] - b.current[k]) / meter.current_sd() : 0.0;
+    s += da * da + di * di;
+  }
+  return s;
+}
+
 // An effect's size in a record: what it changes in the noiseless record (the
 // same seed, so the same servo and sample times, without the effect), summed
 // over the samples as (change / the meter's sd)^2 per recorded channel: the
 // likelihood ratio of the effect at its true value, for a model that is
 // otherwise right. A calibration cannot name an effect whose size is a few
 // units: the record does not show it.
-inline double effect_size(const Case& c, Truth t, unsigned seed, const std::string& name) {
-  t.exact = true;
-  const Series with = c.record(t, seed), without = c.record(without_effect(t, name), seed);
-  const Meter meter(t);
-  double s = 0;
-  for (size_t k = 0; k < with.t.size(); ++k) {
-    const double da = (with.angle[k] - without.angle[k]) / meter.angle_sd();
-    const double di = t.current_column ? (with.current[k] - without.current[k]) / meter.current_sd() : 0.0;
-    s += da * da + di * di;
-  }
-  return s;
+inline double effect_size(const Case& c, const Truth& t, unsigned seed, const std::string& name) {
+  return records_apart(exact_record(c, t, seed), exact_record(c, without_effect(t, name), seed), t);
 }
 
-// the smallest size of the case's hidden effects in the record (-1: none hidden)
+// the smallest size of the case's hidden effects in the record (-1: none
+// hidden); the record with every effect made once
 inline double weakest_effect_size(const Case& c, unsigned seed, const Conditions& cond) {
-  double m = -1;
+  if (c.expect.empty()) return -1;
   const Truth t = c.truth(seed, cond);
+  const Series with = exact_record(c, t, seed);
+  double m = -1;
   for (const std::string& e : c.expect) {
-    const double s = effect_size(c, t, seed, e);
+    const double s = records_apart(with, exact_record(c, without_effect(t, e), seed), t);
     m = m < 0 ? s : std::min(m, s);
   }
   return m;
