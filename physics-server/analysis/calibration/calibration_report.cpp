@@ -17,8 +17,8 @@ namespace {
 const char* const kMetric =
     "structured NRMSE on the held-out (odd) time blocks, models fitted on the even blocks: per channel "
     "(angle, and current when measured) the residual normalised by the measured channel's std, its mean "
-    "square minus its white-noise part (half the mean square of first differences), floored at 0; "
-    "sqrt of the mean over channels";
+    "square minus its white-noise part (half the mean square of first differences, the smaller of the two "
+    "models' residuals), floored at 0; sqrt of the mean over channels";
 
 void write_file(const std::string& path, const std::string& text) {
   std::FILE* f = std::fopen(path.c_str(), "wb");
@@ -149,8 +149,8 @@ nlohmann::ordered_json calibration_report_json(const ServoCalibration& c) {
     }
     j["effects"].push_back(je);
   }
-  j["gap_before"] = c.base.gap;
-  j["gap_after"] = cur.gap;
+  j["gap_before"] = c.gap_before;
+  j["gap_after"] = c.gap_after;
   j["metric"] = kMetric;
   j["nrmse_before"] = c.base.held;
   j["nrmse_after"] = cur.held;
@@ -185,7 +185,7 @@ std::string calibration_report_md(const ServoCalibration& c, const nlohmann::ord
      << "`, measurement: `" << measured_file << "` (" << m.size() << " samples, " << fmt_g(m.t.back() - m.t.front())
      << " s).\n\n";
   md << "**Verdict: " << c.verdict << "**. Gap (" << j["metric"].get<std::string>() << "): refitted base "
-     << fmt_g(c.base.gap) << ", with effects " << fmt_g(cur.gap) << ". Plain held-out NRMSE: datasheet "
+     << fmt_g(c.gap_before) << ", with effects " << fmt_g(c.gap_after) << ". Plain held-out NRMSE: datasheet "
      << fmt_g(c.nrmse_datasheet) << ", refitted base " << fmt_g(c.base.held) << ", with effects "
      << fmt_g(cur.held) << ". Whiteness of the held-out residual (rms / rms of differences x sqrt 2; "
      << "noise ~1, threshold " << kWhiteMax << "): " << fmt_g(c.base.white, 3) << " -> " << fmt_g(cur.white, 3)

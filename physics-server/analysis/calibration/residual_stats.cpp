@@ -99,11 +99,17 @@ double whiteness(const Residual& r, const BlockSplit& s, Samples set) {
   return worst;
 }
 
-double structured_error(const Residual& r, const BlockSplit& s, Samples set) {
-  if (!r.finite) return 1e6;
-  double tot = 0;
-  const int nch = r.channels();
-  for (int ch = 0; ch < nch; ++ch) {
+namespace {
+
+// per channel of r on `set`: the mean square and its white part (half the
+// mean square of first differences within blocks; 0 without a pair)
+struct ChannelMs {
+  double ms[2] = {0, 0}, white[2] = {0, 0};
+};
+
+ChannelMs channel_ms(const Residual& r, const BlockSplit& s, Samples set) {
+  ChannelMs c;
+  for (int ch = 0; ch < r.channels(); ++ch) {
     const std::vector<double>& v = ch == 0 ? r.angle : r.current;
     double s2 = 0, d2 = 0;
     size_t n = 0, nd = 0;
@@ -112,9 +118,35 @@ double structured_error(const Residual& r, const BlockSplit& s, Samples set) {
       s2 += v[k] * v[k], ++n;
       if (k > 0 && s.block[k - 1] == s.block[k]) d2 += (v[k] - v[k - 1]) * (v[k] - v[k - 1]), ++nd;
     }
-    if (n) tot += std::max(0.0, s2 / n - (nd ? d2 / nd / 2.0 : 0.0));
+    c.ms[ch] = n ? s2 / n : 0.0;
+    c.white[ch] = nd ? d2 / nd / 2.0 : 0.0;
   }
-  return std::sqrt(tot / nch);
+  return c;
+}
+
+// the gap of a residual with mean squares c against the white parts `white`
+double gap_of(const Residual& r, const ChannelMs& c, const double* white) {
+  if (!r.finite) return 1e6;
+  double tot = 0;
+  for (int ch = 0; ch < r.channels(); ++ch) tot += std::max(0.0, c.ms[ch] - white[ch]);
+  return std::sqrt(tot / r.channels());
+}
+
+}  // namespace
+
+double structured_error(const Residual& r, const BlockSplit& s, Samples set) {
+  const ChannelMs c = channel_ms(r, s, set);
+  return gap_of(r, c, c.white);
+}
+
+std::pair<double, double> structured_errors(const Residual& a, const Residual& b, const BlockSplit& s,
+                                            Samples set) {
+  const ChannelMs ca = channel_ms(a, s, set), cb = channel_ms(b, s, set);
+  // a non-finite residual's differences say nothing about the noise
+  double white[2];
+  for (int ch = 0; ch < 2; ++ch)
+    white[ch] = !a.finite ? cb.white[ch] : !b.finite ? ca.white[ch] : std::min(ca.white[ch], cb.white[ch]);
+  return {gap_of(a, ca, white), gap_of(b, cb, white)};
 }
 
 std::vector<std::pair<double, double>> confidence_intervals(const Eigen::MatrixXd& J, const Eigen::VectorXd& r,

@@ -75,6 +75,15 @@ double whiteness(const Residual& r, const BlockSplit& s, Samples set);
 // error left once white measurement noise is taken out; 1e6 when non-finite
 double structured_error(const Residual& r, const BlockSplit& s, Samples set);
 
+// the gaps of two models of one measurement (a, b) against one white level:
+// per channel the smaller of the two residuals' MS_white on `set`. The
+// measurement's noise is in both residuals, and a model's misfit can only
+// add to its residual's first differences (a misfit that changes from one
+// sample to the next, a backlash's at a low sample rate, would otherwise be
+// counted as that model's noise and leave it a smaller gap than a model
+// without the misfit)
+std::pair<double, double> structured_errors(const Residual& a, const Residual& b, const BlockSplit& s, Samples set);
+
 // 95 % intervals of the parameters x from the residual's Jacobian J (rows:
 // the angle residuals of `samples` samples, then the current's if any) and
 // the residual r at x: Gauss-Newton covariance s2 (J'J)^-1, inflated by

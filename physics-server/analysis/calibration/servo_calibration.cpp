@@ -2,19 +2,21 @@
 //  1. the measurement is cut into kCvBlocks time blocks; even blocks train,
 //     odd blocks are held out (block cross-validation of a time series);
 //  2. the base parameters are refitted on the training blocks (the search's
-//     first round re-fits them from two starts); the gap before = the
-//     held-out structured error of that base;
+//     first round re-fits them from two starts);
 //  3. every sample gets a regime, for the report's localisation and the
 //     candidates' signatures;
 //  4. the greedy search adds catalogue effects (effect_search.h);
 //  5. verdict: a residual consistent with noise is explained (or
 //     no_missing_effect when nothing was added); otherwise unexplained;
-//  6. the final model is refitted on all data for the reported parameters and
+//  6. the gap before and after: the held-out structured error of the base and
+//     of the search's model, against one white level (structured_errors);
+//  7. the final model is refitted on all data for the reported parameters and
 //     their 95 % intervals, and checked on the ODE stand.
 #include "analysis/calibration/servo_calibration.h"
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "analysis/calibration/regimes.h"
 #include "analysis/calibration/text_format.h"
@@ -41,8 +43,6 @@ ServoCalibration calibrate_servo(const BenchConfig& datasheet, MeasuredRecord me
 
   c.search = search_effects(c.problem, first, c.regime, say);
   c.base = c.search.rounds.front().reference;
-  say("datasheet model: held-out NRMSE " + fmt_g(c.nrmse_datasheet) + "; refitted base: " + fmt_g(c.base.held) +
-      ", structured " + fmt_g(c.base.gap) + " (whiteness " + fmt_g(c.base.white, 3) + ")");
   const Fit& cur = c.search.model;
   c.verdict = cur.white <= kWhiteMax ? (cur.effects.empty() ? "no_missing_effect" : "explained") : "unexplained";
 
@@ -51,6 +51,11 @@ ServoCalibration calibrate_servo(const BenchConfig& datasheet, MeasuredRecord me
   c.ci = fit_intervals(p, c.final_fit);
   c.before = run_model(p, model_config(p.datasheet, {}, c.base.x));
   c.after = run_model(p, model_config(p.datasheet, cur.effects, cur.x));
+  std::tie(c.gap_before, c.gap_after) =
+      structured_errors(c.before.residual, c.after.residual, p.split, Samples::held_out);
+  say("datasheet model: held-out NRMSE " + fmt_g(c.nrmse_datasheet) + "; refitted base: " + fmt_g(c.base.held) +
+      " (whiteness " + fmt_g(c.base.white, 3) + "); gap " + fmt_g(c.gap_before) + " -> " + fmt_g(c.gap_after) +
+      " with the effects");
   for (const Fit& f : c.search.before) c.without.push_back(run_model(p, model_config(p.datasheet, f.effects, f.x)));
   // the bench's own (ODE) stand with the final model, as a check of the fast solver
   const BenchConfig fin = model_config(p.datasheet, c.final_fit.effects, c.final_fit.x);

@@ -37,6 +37,7 @@ struct ServoCalibration {
   std::vector<std::pair<double, double>> ci;   // 95 % intervals of final_fit.x
   ModelRun before, after;        // base and search.model on all samples
   std::vector<ModelRun> without; // per accepted effect: the model before it (search.before) on all samples
+  double gap_before = 0, gap_after = 0;  // held-out gaps of base and search.model, one white level
   double ode_check_max_angle_diff_deg = 0;     // final model: ODE stand vs the fast solver
 };
 

@@ -120,7 +120,6 @@ Fit evaluate_fit(const FitProblem& p, const std::vector<int>& effects, const std
   f.rho_held = residual_rho(r, p.noise, p.split, Samples::held_out);
   f.held = nrmse(r, p.split, Samples::held_out);
   f.white = whiteness(r, p.split, Samples::held_out);
-  f.gap = structured_error(r, p.split, Samples::held_out);
   return f;
 }
 

@@ -53,7 +53,7 @@ struct Fit {
   double sse_train = 0;        // summed loss on the training blocks
   double rho_train = 0;        // lag-1 autocorrelation of the training residual
   double rho_held = 0;         // and of the held-out residual
-  double held = 0, white = 0, gap = 0;   // held-out NRMSE, whiteness, structured error
+  double held = 0, white = 0;   // held-out NRMSE, whiteness
   std::vector<double> loss;    // per-sample loss, all samples
   std::vector<std::pair<double, double>> held_ci;   // per x: a held parameter's interval ({0,0}: none)
   int evals = 0;

@@ -91,6 +91,38 @@ TEST(ResidualStats, TheGapIsTheStructuredPartAlone) {
   EXPECT_EQ(nrmse(bad, s, Samples::held_out), 1e6);
 }
 
+// a misfit that changes from one sample to the next (a 250 Hz sine sampled
+// at 1 kHz: 0, a, 0, -a) has first differences as large as itself, so a
+// residual's own white level counts all of it as noise; against the white
+// level of a model without it (the smaller of the two) it is all gap
+TEST(ResidualStats, TwoModelsGapsShareOneWhiteLevel) {
+  const BlockSplit s = split_blocks(times());
+  std::vector<double> v = sine(1.0, 250.0);
+  const std::vector<double> n = white(0.5, 5);
+  for (size_t k = 0; k < kN; ++k) v[k] += n[k];
+  const Residual fast = angle_only(v), noise = angle_only(white(0.5, 6));
+  const double alone = structured_error(fast, s, Samples::held_out);
+  const auto [with_misfit, without] = structured_errors(fast, noise, s, Samples::held_out);
+  std::printf("250 Hz misfit (rms %.3f) + noise: gap alone %.4f, against the other model's white level %.4f; "
+              "noise alone %.4f\n", 1 / std::sqrt(2.0), alone, with_misfit, without);
+  EXPECT_LT(alone, 0.1);
+  EXPECT_NEAR(with_misfit, 1 / std::sqrt(2.0), 0.05);
+  EXPECT_LT(without, 0.1);   // the noise level's own sampling error: sqrt(0.25 x 0.02)
+  // the order of the two does not matter; one model twice is its own gap
+  const auto [b, a] = structured_errors(noise, fast, s, Samples::held_out);
+  EXPECT_EQ(a, with_misfit);
+  EXPECT_EQ(b, without);
+  const auto [same, same2] = structured_errors(fast, fast, s, Samples::held_out);
+  EXPECT_EQ(same, alone);
+  EXPECT_EQ(same2, alone);
+  // a non-finite model: its gap is 1e6 and the other keeps its own level
+  Residual bad = noise;
+  bad.finite = false;
+  const auto [g_bad, g_fast] = structured_errors(bad, fast, s, Samples::held_out);
+  EXPECT_EQ(g_bad, 1e6);
+  EXPECT_EQ(g_fast, alone);
+}
+
 TEST(ResidualStats, NrmseAveragesTheChannelsAndHonoursTheMask) {
   const BlockSplit s = split_blocks(times());
   Residual r = angle_only(std::vector<double>(kN, 3.0));

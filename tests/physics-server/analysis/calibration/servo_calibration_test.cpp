@@ -35,11 +35,11 @@ TEST(ServoCalibration, FindsAHiddenDeadbandAndShrinksTheGap) {
   truth.servo.deadband_deg = 3.0;
   const ServoCalibration c = calibrate_servo(datasheet(), bench_record(truth, 7), [](const std::string&) {});
   std::printf("deadband: verdict %s, gap %.4f -> %.4f, whiteness %.3f -> %.3f, %d model runs\n", c.verdict.c_str(),
-              c.base.gap, c.search.model.gap, c.base.white, c.search.model.white, c.problem.model_runs);
+              c.gap_before, c.gap_after, c.base.white, c.search.model.white, c.problem.model_runs);
   EXPECT_EQ(c.verdict, "explained");
   ASSERT_EQ(effect_names(c.final_fit), std::vector<std::string>{"deadband"});
   EXPECT_NEAR(c.final_fit.x[kNumBase], 3.0, 0.3);
-  EXPECT_LT(c.search.model.gap, 0.5 * c.base.gap);
+  EXPECT_LT(c.gap_after, 0.5 * c.gap_before);
   EXPECT_NEAR(c.final_fit.x[0], 1.05, 0.03);   // Kp factor
   // the interval of the effect's width contains it
   EXPECT_LE(c.ci[kNumBase].first, 3.0);
@@ -98,10 +98,10 @@ TEST(ServoCalibration, TheShippedBacklashRecordNamesBacklashAlone) {
   const ServoCalibration c = calibrate_servo(sheet, read_measured(dir + "/m.csv", 32), [](const std::string&) {});
   std::filesystem::remove_all(dir);
   std::printf("shipped backlash record: verdict %s, effects %zu, gap %.4f -> %.4f\n", c.verdict.c_str(),
-              c.final_fit.effects.size(), c.base.gap, c.search.model.gap);
+              c.final_fit.effects.size(), c.gap_before, c.gap_after);
   ASSERT_EQ(effect_names(c.final_fit), std::vector<std::string>{"backlash"});
   EXPECT_NEAR(c.final_fit.x[kNumBase], 3.0, 0.3);
-  EXPECT_LT(c.search.model.gap, 0.5 * c.base.gap);
+  EXPECT_LT(c.gap_after, 0.5 * c.gap_before);
 }
 
 }  // namespace
