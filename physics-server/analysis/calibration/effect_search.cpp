@@ -161,6 +161,7 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
   for (;;) {
     SearchRound round;
     // the loss's unit: the white noise left by the current model
+    const int runs_before = p.model_runs;
     p.noise = white_noise_scale(run_model(p, model_config(p.datasheet, cur.effects, cur.x)).residual, p.split);
     round.noise = p.noise;
     Fit ref = evaluate_fit(p, cur.effects, cur.x);
@@ -174,7 +175,8 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
     }
     const Residual rr = run_model(p, model_config(p.datasheet, ref.effects, ref.x)).residual;
     say("round " + std::to_string(s.rounds.size() + 1) + ": reference re-fitted from 2 starts, training loss " +
-        fmt_g(ref.train) + ", held-out NRMSE " + fmt_g(ref.held) + ", whiteness " + fmt_g(ref.white, 3));
+        fmt_g(ref.train) + ", held-out NRMSE " + fmt_g(ref.held) + ", whiteness " + fmt_g(ref.white, 3) + " (" +
+        std::to_string(p.model_runs - runs_before) + " model runs)");
     std::vector<Candidate> cands;
     for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e) {
       const Effect& ef = effect_catalogue()[e];
@@ -183,13 +185,15 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
         say("  candidate " + effect_label(e) + " not fitted: " + ef.refines + " shows no effect this round");
         continue;
       }
+      const int runs_candidate = p.model_runs;
       Candidate c;
       c.effect = e;
       c.fit = fit_with_effect(p, ref, e);
       c.signature = regime_signature(rr, regime, ef.regimes);
       c.resolution = effect_resolution(p, c.fit, ref, e, regime);
       say("  candidate " + effect_label(e) + " = " + fmt_g(c.fit.x[param_count(ref.effects)]) + ": training loss " +
-          fmt_g(c.fit.train) + ", held-out NRMSE " + fmt_g(c.fit.held));
+          fmt_g(c.fit.train) + ", held-out NRMSE " + fmt_g(c.fit.held) + " (" +
+          std::to_string(p.model_runs - runs_candidate) + " model runs)");
       cands.push_back(std::move(c));
     }
     if (cands.empty()) {

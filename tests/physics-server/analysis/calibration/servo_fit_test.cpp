@@ -1,0 +1,56 @@
+// The calibration's least-squares fit (servo_fit.h) on records of the bench
+// model itself with known base factors: it finds them, keeps to its bounds
+// and to its budget of model runs, and never ends worse than it started.
+#include "analysis/calibration/servo_fit.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <vector>
+
+#include "bench_record.h"
+
+namespace chainsim {
+namespace {
+
+FitProblem problem_for(const std::vector<double>& truth) {
+  const BenchConfig ds = test_datasheet();
+  FitProblem p = make_fit_problem(ds, bench_record(model_config(ds, {}, truth), 7));
+  // the loss's unit: the white noise the true model leaves
+  p.noise = white_noise_scale(run_model(p, model_config(ds, {}, truth)).residual, p.split);
+  return p;
+}
+
+TEST(FitModel, FindsTheBaseFactorsOfAModelRecord) {
+  const std::vector<double> truth = {1.25, 0.85, 1.15, 1.3};
+  const FitProblem p = problem_for(truth);
+  const Fit start = evaluate_fit(p, {}, std::vector<double>(kNumBase, 1.0));
+  const Fit f = fit_model(p, {}, std::vector<double>(kNumBase, 1.0), Samples::training, kMaxEvalBase);
+  std::printf("loss %.3f -> %.3f in %d model runs; factors", start.train, f.train, f.evals);
+  for (double x : f.x) std::printf(" %.4f", x);
+  std::printf(" (true 1.25 0.85 1.15 1.3)\n");
+  for (int i = 0; i < kNumBase; ++i) EXPECT_NEAR(f.x[i], truth[i], 0.03 * truth[i]) << kBaseNames[i];
+  // at the truth the loss is the noise alone: one unit a channel, two channels
+  EXPECT_LT(f.train, 2.1);
+  EXPECT_GT(start.train, 10 * f.train);
+  EXPECT_LE(f.evals, kMaxEvalBase);
+}
+
+TEST(FitModel, KeepsToItsBoundsAndItsBudget) {
+  // a gain above the factors' range: the fit ends on the bound, not beyond
+  const FitProblem p = problem_for({2.0, 1.0, 1.0, 1.0});
+  const Fit f = fit_model(p, {}, std::vector<double>(kNumBase, 1.0), Samples::training, kMaxEvalBase);
+  EXPECT_LE(f.x[0], kBaseFactorHi);
+  EXPECT_GT(f.x[0], kBaseFactorHi - 0.05);
+  // a budget smaller than one Jacobian and step: no more runs than that, and
+  // the loss no higher than at the start
+  const Fit start = evaluate_fit(p, {}, std::vector<double>(kNumBase, 1.0));
+  for (int budget : {1, 3, 12}) {
+    const Fit g = fit_model(p, {}, std::vector<double>(kNumBase, 1.0), Samples::training, budget);
+    EXPECT_LE(g.evals, budget);
+    EXPECT_LE(g.train, start.train) << budget;
+  }
+}
+
+}  // namespace
+}  // namespace chainsim
