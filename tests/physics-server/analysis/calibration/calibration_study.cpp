@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <numeric>
 #include <regex>
 #include <thread>
 
@@ -111,9 +112,12 @@ int main(int argc, char** argv) {
       const double gb = r.o.report.is_object() ? r.o.report["gap_before"].get<double>() : 0.0;
       const double ga = r.o.report.is_object() ? r.o.report["gap_after"].get<double>() : 0.0;
       const std::string size = r.size < 0 ? "" : "; size " + std::to_string(static_cast<long>(std::lround(r.size)));
-      std::fprintf(stderr, "%s seed %u [noise %d, load %g, %.0f Hz, %s]: %s; gap %.4f -> %.4f; %.1f s CPU%s\n",
+      const long model_runs = r.o.report.is_object() ? r.o.report["model_runs"].get<long>() : 0;
+      std::fprintf(stderr,
+                   "%s seed %u [noise %d, load %g, %.0f Hz, %s]: %s; gap %.4f -> %.4f; %.1f s CPU, %ld model runs%s\n",
                    cases[r.c].name.c_str(), r.seed, r.cond.noise, r.cond.jl, r.cond.sample_hz,
-                   r.cond.current ? "current" : "angle only", found.c_str(), gb, ga, r.o.cpu_s, size.c_str());
+                   r.cond.current ? "current" : "angle only", found.c_str(), gb, ga, r.o.cpu_s, model_runs,
+                   size.c_str());
     }
     if (keep.empty()) std::filesystem::remove_all(dir);
   };
@@ -128,7 +132,7 @@ int main(int argc, char** argv) {
   int expl = 0, expl_halved = 0;
   std::map<std::string, std::pair<int, int>> by_cond;   // exactly right over runs, per condition
   std::map<std::string, std::pair<int, int>> by_size;   // the same, per bin of the weakest effect's size
-  std::vector<double> cpu;
+  std::vector<double> cpu, model_runs;   // per calibration: CPU seconds, and the model runs (the same on any machine)
   std::map<std::string, std::vector<double>> cpu_by_rate;
   for (size_t c = 0; c < cases.size(); ++c) {
     const synth::Case& k = cases[c];
@@ -145,6 +149,7 @@ int main(int argc, char** argv) {
         continue;
       }
       const nlohmann::json& j = r.o.report;
+      model_runs.push_back(j["model_runs"].get<double>());
       std::string key = j["verdict"].get<std::string>();
       for (const auto& e : r.o.names) key += " " + e;
       ++outcomes[key];
@@ -200,6 +205,11 @@ int main(int argc, char** argv) {
               cpu.size());
   for (const auto& [k, v] : cpu_by_rate)
     std::printf("  %s: median %.2f, max %.2f (%zu runs)\n", k.c_str(), median(v), quantile(v, 1.0), v.size());
+  if (!model_runs.empty())
+    std::printf("Model runs of one calibration (the work, whatever the machine's speed): median %.0f, 90 %% %.0f, "
+                "max %.0f; in all %.0f\n",
+                median(model_runs), quantile(model_runs, 0.9), quantile(model_runs, 1.0),
+                std::accumulate(model_runs.begin(), model_runs.end(), 0.0));
   if (check) {
     // right: exactly the hidden effects and the verdict; outside the
     // catalogue, the verdict 'unexplained'
