@@ -19,15 +19,49 @@ BlockSplit split_blocks(const std::vector<double>& t, int blocks) {
   return s;
 }
 
-NoiseScale white_noise_scale(const Residual& r, const BlockSplit& s) {
-  NoiseScale n;
+namespace {
+
+// per channel of r on `set`: the mean square and its white part (half the
+// mean square of first differences within blocks; 0 without a pair), and
+// the samples and pairs they were taken over
+struct ChannelMs {
+  double ms[2] = {0, 0}, white[2] = {0, 0};
+  size_t n[2] = {0, 0}, pairs[2] = {0, 0};
+};
+
+ChannelMs channel_ms(const Residual& r, const BlockSplit& s, Samples set) {
+  ChannelMs c;
   for (int ch = 0; ch < r.channels(); ++ch) {
     const std::vector<double>& v = ch == 0 ? r.angle : r.current;
-    double d2 = 0;
-    size_t nd = 0;
-    for (size_t k = 1; k < v.size(); ++k)
-      if (s.block[k - 1] == s.block[k]) d2 += (v[k] - v[k - 1]) * (v[k] - v[k - 1]), ++nd;
-    const double sd = nd ? std::sqrt(d2 / nd / 2.0) : 1.0;
+    double s2 = 0, d2 = 0;
+    size_t n = 0, nd = 0;
+    for (size_t k = 0; k < v.size(); ++k) {
+      if (!s.in(k, set)) continue;
+      s2 += v[k] * v[k], ++n;
+      if (k > 0 && s.block[k - 1] == s.block[k]) d2 += (v[k] - v[k - 1]) * (v[k] - v[k - 1]), ++nd;
+    }
+    c.ms[ch] = n ? s2 / n : 0.0;
+    c.white[ch] = nd ? d2 / nd / 2.0 : 0.0;
+    c.n[ch] = n, c.pairs[ch] = nd;
+  }
+  return c;
+}
+
+// the gap of a residual with mean squares c against the white parts `white`
+double gap_of(const Residual& r, const ChannelMs& c, const double* white) {
+  if (!r.finite) return 1e6;
+  double tot = 0;
+  for (int ch = 0; ch < r.channels(); ++ch) tot += std::max(0.0, c.ms[ch] - white[ch]);
+  return std::sqrt(tot / r.channels());
+}
+
+}  // namespace
+
+NoiseScale white_noise_scale(const Residual& r, const BlockSplit& s) {
+  NoiseScale n;
+  const ChannelMs c = channel_ms(r, s, Samples::all);
+  for (int ch = 0; ch < r.channels(); ++ch) {
+    const double sd = c.pairs[ch] ? std::sqrt(c.white[ch]) : 1.0;
     (ch == 0 ? n.angle : n.current) = std::max(sd, 1e-9);
   }
   return n;
@@ -80,59 +114,14 @@ double nrmse(const Residual& r, const BlockSplit& s, Samples set, const std::vec
 
 double whiteness(const Residual& r, const BlockSplit& s, Samples set) {
   double worst = 0;
+  const ChannelMs c = channel_ms(r, s, set);
   for (int ch = 0; ch < r.channels(); ++ch) {
-    const std::vector<double>& v = ch == 0 ? r.angle : r.current;
-    double s2 = 0, d2 = 0, mean = 0;
-    size_t n = 0, nd = 0;
-    for (size_t k = 0; k < v.size(); ++k)
-      if (s.in(k, set)) mean += v[k], ++n;
-    if (n == 0) continue;
-    mean /= n;
-    for (size_t k = 0; k < v.size(); ++k) {
-      if (!s.in(k, set)) continue;
-      s2 += v[k] * v[k];
-      if (k > 0 && s.block[k - 1] == s.block[k]) d2 += (v[k] - v[k - 1]) * (v[k] - v[k - 1]), ++nd;
-    }
-    const double rms = std::sqrt(s2 / n), rd = nd ? std::sqrt(d2 / nd / 2.0) : 0.0;
+    if (c.n[ch] == 0) continue;
+    const double rms = std::sqrt(c.ms[ch]), rd = c.pairs[ch] ? std::sqrt(c.white[ch]) : 0.0;
     worst = std::max(worst, rd > 0 ? rms / rd : 1e3);
   }
   return worst;
 }
-
-namespace {
-
-// per channel of r on `set`: the mean square and its white part (half the
-// mean square of first differences within blocks; 0 without a pair)
-struct ChannelMs {
-  double ms[2] = {0, 0}, white[2] = {0, 0};
-};
-
-ChannelMs channel_ms(const Residual& r, const BlockSplit& s, Samples set) {
-  ChannelMs c;
-  for (int ch = 0; ch < r.channels(); ++ch) {
-    const std::vector<double>& v = ch == 0 ? r.angle : r.current;
-    double s2 = 0, d2 = 0;
-    size_t n = 0, nd = 0;
-    for (size_t k = 0; k < v.size(); ++k) {
-      if (!s.in(k, set)) continue;
-      s2 += v[k] * v[k], ++n;
-      if (k > 0 && s.block[k - 1] == s.block[k]) d2 += (v[k] - v[k - 1]) * (v[k] - v[k - 1]), ++nd;
-    }
-    c.ms[ch] = n ? s2 / n : 0.0;
-    c.white[ch] = nd ? d2 / nd / 2.0 : 0.0;
-  }
-  return c;
-}
-
-// the gap of a residual with mean squares c against the white parts `white`
-double gap_of(const Residual& r, const ChannelMs& c, const double* white) {
-  if (!r.finite) return 1e6;
-  double tot = 0;
-  for (int ch = 0; ch < r.channels(); ++ch) tot += std::max(0.0, c.ms[ch] - white[ch]);
-  return std::sqrt(tot / r.channels());
-}
-
-}  // namespace
 
 double structured_error(const Residual& r, const BlockSplit& s, Samples set) {
   const ChannelMs c = channel_ms(r, s, set);
