@@ -243,7 +243,9 @@ std::string calibration_report_md(const ServoCalibration& c, const nlohmann::ord
        << fmt_g(rs[i]["error_after"].get<double>(), 3) << " |\n";
   md << "\n## Candidates\n\nEach round re-fits the current model from two starts (the reference), fits each "
         "effect on top (a form that refines another, a supply on a rail capacitor, only where the simpler form's "
-        "profile interval excludes the null and it passes the held-out test uncorrected), and accepts the best "
+        "profile interval excludes the null and it passes the held-out test uncorrected; one whose first start has not "
+        "gained the chi-square median of the profile statistic after 2 (2n + 1) model runs is not fitted in full), "
+        "and accepts the best "
         "held-out gain that passes both tests: the likelihood ratio against the reference (its 95 % profile "
         "interval excludes the effect's null) and the same ratio on the held-out blocks, against the chi-square "
         "point at 5 % / the number of candidates. Signature = share of the reference's residual in the regimes "

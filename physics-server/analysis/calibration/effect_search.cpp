@@ -27,8 +27,14 @@ double training_terms(const FitProblem& p) {
   return n * channels(p);
 }
 
+std::string screen_words(const Candidate& c) {
+  return "not fitted in full: no gain after " + std::to_string(c.screen.after) + " model runs (training loss " +
+         fmt_g(c.fit.train) + ", above " + fmt_g(c.screen.loss) + ")";
+}
+
 bool passes(const Candidate& c) {
-  return c.fit.valid && c.profile.excludes_null && c.held_out.significant && c.resolution >= kMinResolution;
+  return c.fit.valid && !c.screen.stopped && c.profile.excludes_null && c.held_out.significant &&
+         c.resolution >= kMinResolution;
 }
 
 // both tests of every candidate against ref, best held-out gain first
@@ -44,6 +50,7 @@ void test_candidates(const FitProblem& p, const Fit& ref, std::vector<Candidate>
             ", change where it acts (99th percentile) " + fmt_g(c.resolution, 3) +
             (c.resolution >= kMinResolution ? " >= " : " < ") + fmt_g(kMinResolution, 2) + " noise";
     if (!c.fit.valid) c.why = "no frame clock fits the set-point changes' delays";
+    if (c.screen.stopped) c.why = screen_words(c);
     c.accepted = false;
   }
   std::stable_sort(cands->begin(), cands->end(), [](const Candidate& a, const Candidate& b) {
@@ -61,7 +68,7 @@ bool shows_effect(const FitProblem& p, const Fit& ref, const std::vector<Candida
     const Effect& s = effect_catalogue()[c.effect];
     if (std::string(s.name) != ef.name || std::string(s.variant) != ef.refines) continue;
     const int dof = dof_of(c.effect);
-    return c.fit.valid &&
+    return c.fit.valid && !c.screen.stopped &&
            profile_test(ref.sse_train, c.fit.sse_train, training_terms(p), c.fit.rho_train, dof).excludes_null &&
            held_out_test(ref.loss, c.fit.loss, c.fit.rho_held, p.split, channels(p), 1, dof).significant;
   }
@@ -79,7 +86,8 @@ size_t choose_variant(const FitProblem& p, std::vector<Candidate>& cands, size_t
   auto others = [&](size_t b) {
     std::vector<size_t> o;
     for (size_t s = 0; s < cands.size(); ++s)
-      if (s != b && cands[s].fit.valid && name == effect_catalogue()[cands[s].effect].name) o.push_back(s);
+      if (s != b && cands[s].fit.valid && !cands[s].screen.stopped && name == effect_catalogue()[cands[s].effect].name)
+        o.push_back(s);
     return o;
   };
   vc->effect = name;
@@ -125,6 +133,23 @@ size_t choose_variant(const FitProblem& p, std::vector<Candidate>& cands, size_t
 }
 
 }  // namespace
+
+GiveUp screen_for(const FitProblem& p, const Fit& ref, int e) {
+  GiveUp g;
+  const double n = static_cast<double>(param_count(ref.effects) + dof_of(e));
+  g.after = static_cast<int>(kScreenSets * (2 * n + 1));
+  const double terms = training_terms(p), samples = terms / channels(p);
+  const double inflation = (1 + ref.rho_train) / (1 - ref.rho_train);
+  const double crit = screen_crit(dof_of(e)) * inflation;
+  // profiled_lr falls as the candidate's summed loss rises: bisection
+  double lo = 0, hi = ref.sse_train;
+  for (int i = 0; i < 100; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (profiled_lr(ref.sse_train, mid, terms) >= crit ? lo : hi) = mid;
+  }
+  g.loss = lo / samples;
+  return g;
+}
 
 double effect_resolution(const FitProblem& p, const Fit& with, const Fit& without_effects, int effect,
                          const std::vector<int>& regime) {
@@ -177,6 +202,31 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
     say("round " + std::to_string(s.rounds.size() + 1) + ": reference re-fitted from 2 starts, training loss " +
         fmt_g(ref.train) + ", held-out NRMSE " + fmt_g(ref.held) + ", whiteness " + fmt_g(ref.white, 3) + " (" +
         std::to_string(p.model_runs - runs_before) + " model runs)");
+    // a candidate's fit, screened (screen_for) or in full
+    auto fit_candidate = [&](int e, bool screened) {
+      const Effect& ef = effect_catalogue()[e];
+      const int runs_candidate = p.model_runs;
+      Candidate c;
+      c.effect = e;
+      c.signature = regime_signature(rr, regime, ef.regimes);
+      c.screen = screen_for(p, ref, e);
+      c.fit = fit_with_effect(p, ref, e, screened ? &c.screen : nullptr);
+      if (c.screen.stopped) {
+        say("  candidate " + effect_label(e) + " " + screen_words(c));
+        return c;
+      }
+      c.resolution = effect_resolution(p, c.fit, ref, e, regime);
+      say("  candidate " + effect_label(e) + " = " + fmt_g(c.fit.x[param_count(ref.effects)]) + ": training loss " +
+          fmt_g(c.fit.train) + ", held-out NRMSE " + fmt_g(c.fit.held) + " (" +
+          std::to_string(p.model_runs - runs_candidate) + " model runs)");
+      return c;
+    };
+    // whether a form of the effect named `name` passed the screen
+    auto shown = [&](const std::vector<Candidate>& cs, const char* name) {
+      return std::any_of(cs.begin(), cs.end(), [&](const Candidate& c) {
+        return !c.screen.stopped && std::string(effect_catalogue()[c.effect].name) == name;
+      });
+    };
     std::vector<Candidate> cands;
     for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e) {
       const Effect& ef = effect_catalogue()[e];
@@ -185,17 +235,12 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
         say("  candidate " + effect_label(e) + " not fitted: " + ef.refines + " shows no effect this round");
         continue;
       }
-      const int runs_candidate = p.model_runs;
-      Candidate c;
-      c.effect = e;
-      c.fit = fit_with_effect(p, ref, e);
-      c.signature = regime_signature(rr, regime, ef.regimes);
-      c.resolution = effect_resolution(p, c.fit, ref, e, regime);
-      say("  candidate " + effect_label(e) + " = " + fmt_g(c.fit.x[param_count(ref.effects)]) + ": training loss " +
-          fmt_g(c.fit.train) + ", held-out NRMSE " + fmt_g(c.fit.held) + " (" +
-          std::to_string(p.model_runs - runs_candidate) + " model runs)");
-      cands.push_back(std::move(c));
+      cands.push_back(fit_candidate(e, ef.fit == EffectFit::smooth && !shown(cands, ef.name)));
     }
+    // every form of an effect that one of its forms shows is fitted in full:
+    // the form is chosen between full fits
+    for (Candidate& c : cands)
+      if (c.screen.stopped && shown(cands, effect_catalogue()[c.effect].name)) c = fit_candidate(c.effect, false);
     if (cands.empty()) {
       round.reference = ref;
       s.rounds.push_back(std::move(round));

@@ -31,6 +31,7 @@ struct Candidate {
   ProfileTest profile;
   HeldOutTest held_out;
   bool accepted = false;
+  GiveUp screen;          // the screen of its fit (effect_search.cpp); screen.stopped: fit is that start's best
   std::string why;       // the decision, in words
 };
 
@@ -55,6 +56,13 @@ struct EffectSearch {
   std::vector<VariantChoice> variants;   // per accepted effect with variants
   std::vector<Fit> before;            // per accepted effect (in model.effects' order): the model without it
 };
+
+// the screen of a candidate's fit (selection_rule.h, screen_crit): after
+// kScreenSets times BOBYQA's interpolation set (2n + 1 model runs for the n
+// parameters of ref plus the effect) its first start must have reached the
+// training loss at which the profile test's statistic against ref is
+// screen_crit (with ref's correlation inflation), or it stops there
+GiveUp screen_for(const FitProblem& p, const Fit& ref, int effect);
 
 // how much the effect of candidate `with` changes the response where it acts:
 // over the samples of the effect's regimes and of the step onsets and

@@ -57,6 +57,8 @@ double chi_square_upper_quantile(double p, int dof) {
   return k * c * c * c;
 }
 
+double screen_crit(int dof) { return chi_square_upper_quantile(kScreenLevel, dof); }
+
 HeldOutTest held_out_test(const std::vector<double>& loss_ref, const std::vector<double>& loss_cand, double rho_cand,
                           const BlockSplit& s, int channels, int comparisons, int dof) {
   HeldOutTest t;

@@ -72,6 +72,20 @@ struct HeldOutTest {
 HeldOutTest held_out_test(const std::vector<double>& loss_ref, const std::vector<double>& loss_cand, double rho_cand,
                           const BlockSplit& s, int channels, int comparisons, int dof);
 
+// The screen of a candidate's fit (effect_search.cpp): the first start of
+// its fit must reach, within kScreenSets times BOBYQA's interpolation set
+// (2n + 1 model runs for n parameters), a training loss whose profile
+// statistic against the reference is the chi-square point at kScreenLevel
+// (the median: 0.45 for one parameter), or it stops there and the candidate
+// is not fitted in full (its second start is not run). An effect the data
+// hold gains far more than that in its first steps, even where the reference
+// has bent its base to absorb part of it (the base moves with it); a
+// parameter that only fits noise stays at its null (LR 0) about half the
+// time. A candidate that passes the screen gets the same fit as without it.
+constexpr double kScreenLevel = 0.5;
+constexpr int kScreenSets = 2;
+double screen_crit(int dof);
+
 // -2 x the Gaussian log-likelihood ratio of two models (reference minus
 // candidate) from their summed losses in noise units over `terms` squared
 // residuals, each model's variance profiled: max(1, sse / terms)

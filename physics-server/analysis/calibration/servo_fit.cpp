@@ -124,7 +124,7 @@ Fit evaluate_fit(const FitProblem& p, const std::vector<int>& effects, const std
 }
 
 Fit fit_model(const FitProblem& p, const std::vector<int>& effects, std::vector<double> x0, Samples set,
-              int max_eval) {
+              int max_eval, GiveUp* give_up) {
   std::vector<Bound> bounds;
   std::vector<size_t> free;
   layout(effects, &x0, &bounds, &free);
@@ -138,9 +138,13 @@ Fit fit_model(const FitProblem& p, const std::vector<int>& effects, std::vector<
     const std::vector<size_t>* free;
     std::vector<double> x;
     Samples set;
+    GiveUp* give_up;
+    nlopt::opt* opt;
     int evals = 0;
-  } ctx{&p, &effects, &bounds, &free, x0, set};
+    double best = 1e300;
+  };
   nlopt::opt opt(nlopt::LN_BOBYQA, static_cast<unsigned>(n));
+  Ctx ctx{&p, &effects, &bounds, &free, x0, set, give_up, &opt};
   opt.set_lower_bounds(std::vector<double>(n, 0.0));
   opt.set_upper_bounds(std::vector<double>(n, 1.0));
   opt.set_maxeval(max_eval);
@@ -152,7 +156,13 @@ Fit fit_model(const FitProblem& p, const std::vector<int>& effects, std::vector<
         Ctx& c = *static_cast<Ctx*>(data);
         for (unsigned i = 0; i < nn; ++i) c.x[(*c.free)[i]] = (*c.bounds)[(*c.free)[i]].from_u(uu[i]);
         ++c.evals;
-        return set_loss(*c.p, *c.effects, c.x, c.set);
+        const double loss = set_loss(*c.p, *c.effects, c.x, c.set);
+        c.best = std::min(c.best, loss);
+        if (c.give_up && c.evals == c.give_up->after && c.best > c.give_up->loss) {
+          c.give_up->stopped = true;
+          c.opt->force_stop();   // BOBYQA returns its best point so far
+        }
+        return loss;
       },
       &ctx);
   double fval = 0;
@@ -269,7 +279,7 @@ Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect) {
 // is multimodal, for the generator's own physics as much as for the model
 // (docs/calibration.md, "Limits"). The effects already accepted keep their
 // values in the datasheet start.
-Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect) {
+Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect, GiveUp* screen) {
   const Effect& ef = effect_catalogue()[effect];
   if (ef.fit == EffectFit::frame_clock) return fit_frame_clock_effect(p, ref, effect);
   std::vector<int> eff = ref.effects;
@@ -286,8 +296,9 @@ Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect) {
       const double m = tails.size() > 1 ? set_loss(p, eff, xt, Samples::training) : 0.0;
       if (m < best_start) best_start = m, x = xt;
     }
-    Fit f = fit_model(p, eff, x, Samples::training, kMaxEvalJoint);
+    Fit f = fit_model(p, eff, x, Samples::training, kMaxEvalJoint, start == 0 ? screen : nullptr);
     if (f.train < best.train) best = std::move(f);
+    if (screen && screen->stopped) break;
   }
   best.held_ci = ref.held_ci;
   best.held_ci.resize(best.x.size(), {0.0, 0.0});

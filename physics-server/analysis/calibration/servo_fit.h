@@ -64,11 +64,21 @@ struct Fit {
 Fit evaluate_fit(const FitProblem& p, const std::vector<int>& effects, const std::vector<double>& x,
                  Samples set = Samples::training);
 
+// when a fit gives up: after `after` model runs, if its best training loss
+// so far is above `loss` (stopped says whether it did)
+struct GiveUp {
+  int after = 0;
+  double loss = 0;
+  bool stopped = false;
+};
+
 // least squares on `set` from x0 within the bounds; the parameters of a
 // frame-clock effect move only within a narrow window around their x0 values
-// (kClockPeriodWindow, kClockPhaseWindowMs)
+// (kClockPeriodWindow, kClockPhaseWindowMs). With give_up the fit stops
+// there with its best point so far if it gives up, and is otherwise the
+// same fit as without it
 Fit fit_model(const FitProblem& p, const std::vector<int>& effects, std::vector<double> x0, Samples set,
-              int max_eval);
+              int max_eval, GiveUp* give_up = nullptr);
 
 // x with the base factors at the datasheet's (1) and the effects' values kept
 std::vector<double> datasheet_start(const std::vector<double>& x);
@@ -82,7 +92,9 @@ Fit refit_from_starts(const FitProblem& p, const Fit& cur, const std::vector<std
 // reference's base factors and the datasheet's, each with the effect's
 // parameters from the best of its starts (a frame clock: fitted to the
 // set-point changes' delays, frame_clock.h); the better training fit
-Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect);
+// With screen (a smooth-fit effect), the first start gives up as fit_model
+// says, and then the second start is not run (screen->stopped).
+Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect, GiveUp* screen = nullptr);
 
 // a model with a frame clock: the clock fitted again on top of the rest of
 // the model (its delays measured against a model that now holds the other

@@ -1,11 +1,14 @@
 // The greedy search's resolution test (effect_search.h): the change an
-// effect makes where it acts, as its 99th percentile over those samples.
+// effect makes where it acts, as its 99th percentile over those samples; and
+// the screen of a candidate's fit, the loss it must reach and when.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
+#include "analysis/calibration/effect_catalogue.h"
 #include "analysis/calibration/effect_search.h"
+#include "analysis/calibration/selection_rule.h"
 
 namespace chainsim {
 namespace {
@@ -32,6 +35,37 @@ TEST(EffectResolution, OneSampleOrASubNoiseChangeIsNot) {
   const std::vector<double> everywhere(5000, 0.9);
   EXPECT_LT(resolved_change(everywhere), kMinResolution);
   EXPECT_EQ(resolved_change({}), 0.0);
+}
+
+// the screen's threshold: at its loss the profile statistic against the
+// reference is the chi-square median, with the reference's inflation; it is
+// checked after twice BOBYQA's interpolation set
+TEST(Screen, StopsAtTheLossOfTheChiSquareMedian) {
+  FitProblem p;
+  p.m.has_current = true;
+  for (int k = 0; k < 800; ++k) p.m.t.push_back(k * 5e-3);
+  p.split = split_blocks(p.m.t);
+  double samples = 0;
+  for (size_t k = 0; k < p.split.block.size(); ++k) samples += p.split.in(k, Samples::training);
+  const int deadband = effect_variants("deadband").front();
+  const int compliant = effect_variants("backlash").back();
+  for (double sse_per_term : {1.0, 1.3, 40.0}) {
+    Fit ref;
+    ref.sse_train = sse_per_term * 2 * samples;
+    ref.rho_train = 0.3;
+    const double inflation = 1.3 / 0.7;
+    const GiveUp one = screen_for(p, ref, deadband);
+    EXPECT_EQ(one.after, 2 * (2 * (kNumBase + 1) + 1));
+    EXPECT_NEAR(profiled_lr(ref.sse_train, one.loss * samples, 2 * samples) / inflation, screen_crit(1), 1e-6);
+    EXPECT_LT(one.loss * samples, ref.sse_train);
+    EXPECT_FALSE(one.stopped);
+    // a two-parameter form on top of an accepted effect: more runs, a lower loss
+    ref.effects = {deadband};
+    const GiveUp two = screen_for(p, ref, compliant);
+    EXPECT_EQ(two.after, 2 * (2 * (kNumBase + 3) + 1));
+    EXPECT_NEAR(profiled_lr(ref.sse_train, two.loss * samples, 2 * samples) / inflation, screen_crit(2), 1e-6);
+    EXPECT_LT(two.loss, one.loss);
+  }
 }
 
 }  // namespace

@@ -43,6 +43,9 @@ TEST(SelectionRule, Quantiles) {
   EXPECT_NEAR(chi_square_upper_quantile(0.05, 1), 3.841, 0.15);
   EXPECT_NEAR(chi_square_upper_quantile(0.05, 2), 5.991, 0.1);
   EXPECT_NEAR(chi_square_upper_quantile(0.05 / 9, 1), 7.69, 0.3);   // Bonferroni over 9
+  // the screen: the chi-square medians, 0.455 and 1.386
+  EXPECT_NEAR(screen_crit(1), 0.455, 0.03);
+  EXPECT_NEAR(screen_crit(2), 1.386, 0.05);
 }
 
 TEST(SelectionRule, TheProfileIntervalExcludesTheNullOnlyForAClearDrop) {

@@ -48,6 +48,21 @@ TEST(ServoCalibration, FindsAHiddenDeadbandAndShrinksTheGap) {
   ASSERT_FALSE(c.search.rounds.empty());
   EXPECT_TRUE(c.search.rounds[0].candidates[0].accepted);
   EXPECT_NE(c.search.rounds[0].candidates[0].why.find("accepted"), std::string::npos);
+  EXPECT_FALSE(c.search.rounds[0].candidates[0].screen.stopped);
+  // the last round only confirms: candidates that show no gain stop at the
+  // screen, after exactly its model runs, and are not accepted
+  int stopped = 0;
+  for (const Candidate& cd : c.search.rounds.back().candidates) {
+    if (!cd.screen.stopped) continue;
+    ++stopped;
+    EXPECT_EQ(cd.fit.evals, cd.screen.after);
+    EXPECT_GT(cd.fit.train, cd.screen.loss);
+    EXPECT_FALSE(cd.accepted);
+    EXPECT_NE(cd.why.find("not fitted in full"), std::string::npos) << cd.why;
+  }
+  std::printf("last round: %d of %zu candidates stopped at the screen\n", stopped,
+              c.search.rounds.back().candidates.size());
+  EXPECT_GE(stopped, 3);
   EXPECT_LT(c.ode_check_max_angle_diff_deg, 0.01);
 }
 

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "analysis/calibration/effect_catalogue.h"
 #include "bench_record.h"
 
 namespace chainsim {
@@ -49,6 +50,54 @@ TEST(FitModel, KeepsToItsBoundsAndItsBudget) {
     const Fit g = fit_model(p, {}, std::vector<double>(kNumBase, 1.0), Samples::training, budget);
     EXPECT_LE(g.evals, budget);
     EXPECT_LE(g.train, start.train) << budget;
+  }
+}
+
+// a record with base factors off the datasheet and, when `deadband` > 0, a
+// deadband of that many degrees; the loss's unit from the true model
+FitProblem deadband_problem(double deadband, unsigned seed) {
+  const BenchConfig ds = test_datasheet();
+  const int db = effect_variants("deadband").front();
+  std::vector<double> truth = {1.1, 0.9, 1.05, 1.0};
+  truth.push_back(deadband);
+  FitProblem p = make_fit_problem(ds, bench_record(model_config(ds, {db}, truth), seed));
+  p.noise = white_noise_scale(run_model(p, model_config(ds, {db}, truth)).residual, p.split);
+  return p;
+}
+
+TEST(FitModel, GivesUpOnlyWhereItShowsNoGain) {
+  const int db = effect_variants("deadband").front();
+  const std::vector<double> base = {1.1, 0.9, 1.05, 1.0};
+  std::vector<double> x0 = base;
+  x0.push_back(0.0);
+  // a 2 degree deadband in the record: after 11 runs far below the
+  // reference's loss, so the fit goes on, the same fit as without the screen
+  {
+    const FitProblem p = deadband_problem(2.0, 11);
+    const Fit ref = evaluate_fit(p, {}, base);
+    GiveUp g{11, 0.99 * ref.train};
+    const Fit screened = fit_model(p, {db}, x0, Samples::training, kMaxEvalJoint, &g);
+    const Fit plain = fit_model(p, {db}, x0, Samples::training, kMaxEvalJoint);
+    std::printf("deadband 2 deg: loss %.3f -> %.3f, %.3f deg in %d model runs\n", ref.train, screened.train,
+                screened.x[kNumBase], screened.evals);
+    EXPECT_FALSE(g.stopped);
+    EXPECT_EQ(screened.x, plain.x);
+    EXPECT_EQ(screened.evals, plain.evals);
+    EXPECT_NEAR(screened.x[kNumBase], 2.0, 0.1);
+  }
+  // no deadband: the reference's loss is not beaten by 1 % within 11 runs,
+  // the fit stops there with its best point so far
+  {
+    const FitProblem p = deadband_problem(0.0, 12);
+    const Fit ref = evaluate_fit(p, {}, base);
+    GiveUp g{11, 0.99 * ref.train};
+    const Fit f = fit_model(p, {db}, x0, Samples::training, kMaxEvalJoint, &g);
+    std::printf("no deadband: stopped %d after %d model runs, loss %.4f -> %.4f, %.4f deg\n", g.stopped, f.evals,
+                ref.train, f.train, f.x[kNumBase]);
+    EXPECT_TRUE(g.stopped);
+    EXPECT_EQ(f.evals, 11);
+    EXPECT_LE(f.train, ref.train * (1 + 1e-12));
+    EXPECT_GT(f.train, 0.99 * ref.train);
   }
 }
 
