@@ -139,7 +139,8 @@ GiveUp screen_for(const FitProblem& p, const Fit& ref, int e) {
   const double n = static_cast<double>(param_count(ref.effects) + dof_of(e));
   g.after = static_cast<int>(kScreenSets * (2 * n + 1));
   const double terms = training_terms(p), samples = terms / channels(p);
-  const double inflation = (1 + ref.rho_train) / (1 - ref.rho_train);
+  const double rho = std::min(ref.rho_train, 0.999);   // as the held-out test bounds it
+  const double inflation = (1 + rho) / (1 - rho);
   const double crit = screen_crit(dof_of(e)) * inflation;
   // profiled_lr falls as the candidate's summed loss rises: bisection
   double lo = 0, hi = ref.sse_train;
