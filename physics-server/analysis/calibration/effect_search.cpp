@@ -28,8 +28,10 @@ double training_terms(const FitProblem& p) {
 }
 
 std::string screen_words(const Candidate& c) {
-  return "not fitted in full: no gain after " + std::to_string(c.screen.after) + " model runs (training loss " +
-         fmt_g(c.fit.train) + ", above " + fmt_g(c.screen.loss) + ")";
+  const Effect& ef = effect_catalogue()[c.effect];
+  return std::string("not fitted in full: no gain") + (*ef.refines ? std::string(" on ") + ef.refines : "") +
+         " after " + std::to_string(c.screen.after) + " model runs (training loss " + fmt_g(c.fit.train) +
+         ", above " + fmt_g(c.screen.loss) + ")";
 }
 
 bool passes(const Candidate& c) {
@@ -59,20 +61,26 @@ void test_candidates(const FitProblem& p, const Fit& ref, std::vector<Candidate>
   });
 }
 
+// the candidate of the form that `ef` refines, fitted this round (or none)
+const Candidate* refined_form(const std::vector<Candidate>& cands, const Effect& ef) {
+  for (const Candidate& c : cands) {
+    const Effect& s = effect_catalogue()[c.effect];
+    if (std::string(s.name) == ef.name && std::string(s.variant) == ef.refines) return &c;
+  }
+  return nullptr;
+}
+
 // whether the form that `ef` refines, fitted this round, shows the effect:
 // its profile interval excludes the null and it predicts the held-out blocks
 // better by the held-out test at the plain 5 % level (a screen: no
 // correction for the number of candidates, which acceptance applies)
 bool shows_effect(const FitProblem& p, const Fit& ref, const std::vector<Candidate>& cands, const Effect& ef) {
-  for (const Candidate& c : cands) {
-    const Effect& s = effect_catalogue()[c.effect];
-    if (std::string(s.name) != ef.name || std::string(s.variant) != ef.refines) continue;
-    const int dof = dof_of(c.effect);
-    return c.fit.valid && !c.screen.stopped &&
-           profile_test(ref.sse_train, c.fit.sse_train, training_terms(p), c.fit.rho_train, dof).excludes_null &&
-           held_out_test(ref.loss, c.fit.loss, c.fit.rho_held, p.split, channels(p), 1, dof).significant;
-  }
-  return false;
+  const Candidate* c = refined_form(cands, ef);
+  if (!c) return false;
+  const int dof = dof_of(c->effect);
+  return c->fit.valid && !c->screen.stopped &&
+         profile_test(ref.sse_train, c->fit.sse_train, training_terms(p), c->fit.rho_train, dof).excludes_null &&
+         held_out_test(ref.loss, c->fit.loss, c->fit.rho_held, p.split, channels(p), 1, dof).significant;
 }
 
 // of the passing candidate `best` and the other variants of its effect, the
@@ -134,19 +142,22 @@ size_t choose_variant(const FitProblem& p, std::vector<Candidate>& cands, size_t
 
 }  // namespace
 
-GiveUp screen_for(const FitProblem& p, const Fit& ref, int e) {
+GiveUp screen_for(const FitProblem& p, const Fit& ref, int e, const Fit* refined) {
   GiveUp g;
   const double n = static_cast<double>(param_count(ref.effects) + dof_of(e));
   g.after = static_cast<int>(kScreenSets * (2 * n + 1));
+  // against the refined form: its extra parameters only
+  const Fit& against = refined ? *refined : ref;
+  const int dof = refined ? dof_of(e) - dof_of(refined->effects.back()) : dof_of(e);
   const double terms = training_terms(p), samples = terms / channels(p);
-  const double rho = std::min(ref.rho_train, 0.999);   // as the held-out test bounds it
+  const double rho = std::min(against.rho_train, 0.999);   // as the held-out test bounds it
   const double inflation = (1 + rho) / (1 - rho);
-  const double crit = screen_crit(dof_of(e)) * inflation;
+  const double crit = screen_crit(dof) * inflation;
   // profiled_lr falls as the candidate's summed loss rises: bisection
-  double lo = 0, hi = ref.sse_train;
+  double lo = 0, hi = against.sse_train;
   for (int i = 0; i < 100; ++i) {
     const double mid = 0.5 * (lo + hi);
-    (profiled_lr(ref.sse_train, mid, terms) >= crit ? lo : hi) = mid;
+    (profiled_lr(against.sse_train, mid, terms) >= crit ? lo : hi) = mid;
   }
   g.loss = lo / samples;
   return g;
@@ -204,14 +215,14 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
         fmt_g(ref.train) + ", held-out NRMSE " + fmt_g(ref.held) + ", whiteness " + fmt_g(ref.white, 3) + " (" +
         std::to_string(p.model_runs - runs_before) + " model runs)");
     // a candidate's fit, screened (screen_for) or in full
-    auto fit_candidate = [&](int e, bool screened) {
+    auto fit_candidate = [&](int e, bool screened, const Fit* refined) {
       const Effect& ef = effect_catalogue()[e];
       const int runs_candidate = p.model_runs;
       Candidate c;
       c.effect = e;
       c.signature = regime_signature(rr, regime, ef.regimes);
-      c.screen = screen_for(p, ref, e);
-      c.fit = fit_with_effect(p, ref, e, screened ? &c.screen : nullptr);
+      c.screen = screen_for(p, ref, e, refined);
+      c.fit = fit_with_effect(p, ref, e, screened ? &c.screen : nullptr, refined);
       if (c.screen.stopped) {
         say("  candidate " + effect_label(e) + " " + screen_words(c));
         return c;
@@ -236,12 +247,21 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
         say("  candidate " + effect_label(e) + " not fitted: " + ef.refines + " shows no effect this round");
         continue;
       }
-      cands.push_back(fit_candidate(e, ef.fit == EffectFit::smooth && !shown(cands, ef.name)));
+      // a refining form: started from the form it refines, screened against it
+      const Candidate* refined = *ef.refines ? refined_form(cands, ef) : nullptr;
+      if (refined) {
+        cands.push_back(fit_candidate(e, true, &refined->fit));
+        continue;
+      }
+      cands.push_back(fit_candidate(e, ef.fit == EffectFit::smooth && !shown(cands, ef.name), nullptr));
     }
-    // every form of an effect that one of its forms shows is fitted in full:
-    // the form is chosen between full fits
+    // every form of an effect that one of its forms shows is fitted in full
+    // (a refining form: where it gains on the form it refines): the form is
+    // chosen between full fits
     for (Candidate& c : cands)
-      if (c.screen.stopped && shown(cands, effect_catalogue()[c.effect].name)) c = fit_candidate(c.effect, false);
+      if (c.screen.stopped && !*effect_catalogue()[c.effect].refines &&
+          shown(cands, effect_catalogue()[c.effect].name))
+        c = fit_candidate(c.effect, false, nullptr);
     if (cands.empty()) {
       round.reference = ref;
       s.rounds.push_back(std::move(round));

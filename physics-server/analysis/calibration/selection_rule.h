@@ -82,6 +82,8 @@ HeldOutTest held_out_test(const std::vector<double>& loss_ref, const std::vector
 // has bent its base to absorb part of it (the base moves with it); a
 // parameter that only fits noise stays at its null (LR 0) about half the
 // time. A candidate that passes the screen gets the same fit as without it.
+// A form that refines another (one more parameter) starts from that form's
+// solution and is screened against it: the statistic of its extra parameter.
 constexpr double kScreenLevel = 0.5;
 constexpr int kScreenSets = 2;
 double screen_crit(int dof);

@@ -279,21 +279,24 @@ Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect) {
 // is multimodal, for the generator's own physics as much as for the model
 // (docs/calibration.md, "Limits"). The effects already accepted keep their
 // values in the datasheet start.
-Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect, GiveUp* screen) {
+Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect, GiveUp* screen, const Fit* refined) {
   const Effect& ef = effect_catalogue()[effect];
   if (ef.fit == EffectFit::frame_clock) return fit_frame_clock_effect(p, ref, effect);
   std::vector<int> eff = ref.effects;
   eff.push_back(effect);
-  const std::vector<std::vector<double>>& tails = ef.starts;
   Fit best;
   for (int start = 0; start < 2; ++start) {
-    const std::vector<double> base = start == 0 ? ref.x : datasheet_start(ref.x);
+    std::vector<double> base = start == 0 ? ref.x : datasheet_start(ref.x);
+    // a refining form's first start: the refined form's solution, its
+    // extra parameters from the catalogue's starts
+    const size_t shared = start == 0 && refined ? refined->x.size() - base.size() : 0;
+    if (shared) base = refined->x;
     std::vector<double> x;
     double best_start = 1e300;
-    for (const std::vector<double>& tail : tails) {
+    for (const std::vector<double>& tail : ef.starts) {
       std::vector<double> xt = base;
-      xt.insert(xt.end(), tail.begin(), tail.end());
-      const double m = tails.size() > 1 ? set_loss(p, eff, xt, Samples::training) : 0.0;
+      xt.insert(xt.end(), tail.begin() + static_cast<long>(shared), tail.end());
+      const double m = ef.starts.size() > 1 ? set_loss(p, eff, xt, Samples::training) : 0.0;
       if (m < best_start) best_start = m, x = xt;
     }
     Fit f = fit_model(p, eff, x, Samples::training, kMaxEvalJoint, start == 0 ? screen : nullptr);

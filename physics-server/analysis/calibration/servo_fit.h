@@ -93,8 +93,12 @@ Fit refit_from_starts(const FitProblem& p, const Fit& cur, const std::vector<std
 // parameters from the best of its starts (a frame clock: fitted to the
 // set-point changes' delays, frame_clock.h); the better training fit
 // With screen (a smooth-fit effect), the first start gives up as fit_model
-// says, and then the second start is not run (screen->stopped).
-Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect, GiveUp* screen = nullptr);
+// says, and then the second start is not run (screen->stopped). With
+// refined (the fit of the form this effect refines, on top of ref), the
+// first start is that fit's solution with the extra parameters from the
+// catalogue's starts.
+Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect, GiveUp* screen = nullptr,
+                    const Fit* refined = nullptr);
 
 // a model with a frame clock: the clock fitted again on top of the rest of
 // the model (its delays measured against a model that now holds the other

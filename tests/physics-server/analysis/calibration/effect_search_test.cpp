@@ -65,6 +65,15 @@ TEST(Screen, StopsAtTheLossOfTheChiSquareMedian) {
     EXPECT_EQ(two.after, 2 * (2 * (kNumBase + 3) + 1));
     EXPECT_NEAR(profiled_lr(ref.sse_train, two.loss * samples, 2 * samples) / inflation, screen_crit(2), 1e-6);
     EXPECT_LT(two.loss, one.loss);
+    // a refining form against the form it refines: its one extra parameter
+    Fit bridge;
+    bridge.effects = {effect_variants("supply_sag")[0]};
+    bridge.sse_train = 0.8 * ref.sse_train;
+    bridge.rho_train = 0.1;
+    ref.effects = {};
+    const GiveUp rail = screen_for(p, ref, effect_variants("supply_sag")[2], &bridge);
+    EXPECT_EQ(rail.after, 2 * (2 * (kNumBase + 2) + 1));
+    EXPECT_NEAR(profiled_lr(bridge.sse_train, rail.loss * samples, 2 * samples) / (1.1 / 0.9), screen_crit(1), 1e-6);
   }
 }
 

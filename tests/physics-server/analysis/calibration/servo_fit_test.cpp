@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
@@ -99,6 +100,29 @@ TEST(FitModel, GivesUpOnlyWhereItShowsNoGain) {
     EXPECT_LE(f.train, ref.train * (1 + 1e-12));
     EXPECT_GT(f.train, 0.99 * ref.train);
   }
+}
+
+// a form that refines another starts from that form's solution, with its
+// extra parameter from the catalogue's starts; a screen that gives up at
+// once leaves it there, and the second start is not run
+TEST(FitModel, ARefiningFormStartsFromTheFormItRefines) {
+  const FitProblem p = deadband_problem(0.0, 13);
+  const int bridge = effect_variants("supply_sag")[0];
+  const int rail = effect_variants("supply_sag")[2];
+  ASSERT_STREQ(effect_catalogue()[rail].refines, effect_catalogue()[bridge].variant);
+  const Fit ref = evaluate_fit(p, {}, {1.1, 0.9, 1.05, 1.0});
+  const Fit refined = fit_with_effect(p, ref, bridge);
+  GiveUp g{1, 0.0};
+  const Fit f = fit_with_effect(p, ref, rail, &g, &refined);
+  EXPECT_TRUE(g.stopped);
+  EXPECT_EQ(f.evals, 1);
+  ASSERT_EQ(f.x.size(), refined.x.size() + 1);
+  // (through the optimiser's unit scaling and back: equal to rounding)
+  for (size_t i = 0; i < refined.x.size(); ++i) EXPECT_NEAR(f.x[i], refined.x[i], 1e-9 * refined.x[i]) << i;
+  bool from_starts = false;
+  for (const std::vector<double>& tail : effect_catalogue()[rail].starts)
+    from_starts |= std::fabs(f.x.back() - tail.back()) < 1e-9 * tail.back();
+  EXPECT_TRUE(from_starts) << f.x.back();
 }
 
 }  // namespace
