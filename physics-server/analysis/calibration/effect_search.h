@@ -61,10 +61,9 @@ struct EffectSearch {
 // kScreenSets times BOBYQA's interpolation set (2n + 1 model runs for the n
 // parameters of ref plus the effect) its first start must have reached the
 // training loss at which the profile test's statistic against ref is
-// screen_crit (with ref's correlation inflation), or it stops there
-// With refined (the fit of the form that effect refines), the loss is the
-// one at which its extra parameters' statistic against that fit is
-// screen_crit.
+// screen_crit (with ref's correlation inflation), or it stops there. With
+// refined (the fit of the form that effect refines), the loss is the one at
+// which its extra parameters' statistic against that fit is screen_crit.
 GiveUp screen_for(const FitProblem& p, const Fit& ref, int effect, const Fit* refined = nullptr);
 
 // how much the effect of candidate `with` changes the response where it acts:
