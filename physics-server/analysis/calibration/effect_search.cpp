@@ -34,9 +34,11 @@ std::string screen_words(const Candidate& c) {
          ", above " + fmt_g(c.screen.loss) + ")";
 }
 
+// a candidate fitted in full: valid, and not stopped at the screen
+bool fitted_in_full(const Candidate& c) { return c.fit.valid && !c.screen.stopped; }
+
 bool passes(const Candidate& c) {
-  return c.fit.valid && !c.screen.stopped && c.profile.excludes_null && c.held_out.significant &&
-         c.resolution >= kMinResolution;
+  return fitted_in_full(c) && c.profile.excludes_null && c.held_out.significant && c.resolution >= kMinResolution;
 }
 
 // both tests of every candidate against ref, best held-out gain first
@@ -78,7 +80,7 @@ bool shows_effect(const FitProblem& p, const Fit& ref, const std::vector<Candida
   const Candidate* c = refined_form(cands, ef);
   if (!c) return false;
   const int dof = dof_of(c->effect);
-  return c->fit.valid && !c->screen.stopped &&
+  return fitted_in_full(*c) &&
          profile_test(ref.sse_train, c->fit.sse_train, training_terms(p), c->fit.rho_train, dof).excludes_null &&
          held_out_test(ref.loss, c->fit.loss, c->fit.rho_held, p.split, channels(p), 1, dof).significant;
 }
@@ -94,8 +96,7 @@ size_t choose_variant(const FitProblem& p, std::vector<Candidate>& cands, size_t
   auto others = [&](size_t b) {
     std::vector<size_t> o;
     for (size_t s = 0; s < cands.size(); ++s)
-      if (s != b && cands[s].fit.valid && !cands[s].screen.stopped && name == effect_catalogue()[cands[s].effect].name)
-        o.push_back(s);
+      if (s != b && fitted_in_full(cands[s]) && name == effect_catalogue()[cands[s].effect].name) o.push_back(s);
     return o;
   };
   vc->effect = name;
@@ -152,14 +153,7 @@ GiveUp screen_for(const FitProblem& p, const Fit& ref, int e, const Fit* refined
   const double terms = training_terms(p), samples = terms / channels(p);
   const double rho = std::min(against.rho_train, 0.999);   // as the held-out test bounds it
   const double inflation = (1 + rho) / (1 - rho);
-  const double crit = screen_crit(dof) * inflation;
-  // profiled_lr falls as the candidate's summed loss rises: bisection
-  double lo = 0, hi = against.sse_train;
-  for (int i = 0; i < 100; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (profiled_lr(against.sse_train, mid, terms) >= crit ? lo : hi) = mid;
-  }
-  g.loss = lo / samples;
+  g.loss = profiled_sse_at(against.sse_train, screen_crit(dof) * inflation, terms) / samples;
   return g;
 }
 

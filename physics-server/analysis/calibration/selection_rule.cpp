@@ -31,14 +31,27 @@ double chi_square_95(int dof) {
   return q[std::clamp(dof, 1, 8) - 1];
 }
 
+namespace {
+
+// -2 log L = sse / v + terms log v, minimised over v >= 1 (the white noise):
+// sse up to `terms`, then terms (1 + log(sse / terms)); increasing in sse
+double m2ll(double sse, double terms) {
+  const double v = std::max(1.0, sse / terms);
+  return sse / v + terms * std::log(v);
+}
+
+}  // namespace
+
 double profiled_lr(double sse_ref, double sse_cand, double terms) {
   if (terms <= 0) return 0.0;
-  // -2 log L = sse / v + terms log v, minimised over v >= 1 (the white noise)
-  auto m2ll = [terms](double sse) {
-    const double v = std::max(1.0, sse / terms);
-    return sse / v + terms * std::log(v);
-  };
-  return m2ll(sse_ref) - m2ll(sse_cand);
+  return m2ll(sse_ref, terms) - m2ll(sse_cand, terms);
+}
+
+double profiled_sse_at(double sse_ref, double lr, double terms) {
+  if (terms <= 0) return 0.0;
+  const double target = m2ll(sse_ref, terms) - lr;   // m2ll of the candidate
+  if (target <= terms) return std::max(0.0, target);
+  return terms * std::exp(target / terms - 1.0);
 }
 
 ProfileTest profile_test(double sse_ref, double sse_cand, double terms, double rho_cand, int dof) {

@@ -92,5 +92,8 @@ double screen_crit(int dof);
 // candidate) from their summed losses in noise units over `terms` squared
 // residuals, each model's variance profiled: max(1, sse / terms)
 double profiled_lr(double sse_ref, double sse_cand, double terms);
+// its inverse in the candidate: the summed loss at which profiled_lr is lr
+// (0 where even a perfect fit would not reach it)
+double profiled_sse_at(double sse_ref, double lr, double terms);
 
 }  // namespace chainsim

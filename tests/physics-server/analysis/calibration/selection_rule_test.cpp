@@ -48,6 +48,19 @@ TEST(SelectionRule, Quantiles) {
   EXPECT_NEAR(screen_crit(2), 1.386, 0.05);
 }
 
+// the summed loss at which the profiled ratio reaches a value, on both
+// sides of the white floor (sse = terms) and where nothing reaches it
+TEST(SelectionRule, ProfiledSseAtInvertsTheProfiledRatio) {
+  for (double sse_ref : {900.0, 1000.0, 1300.0, 40000.0})
+    for (double lr : {0.455, 3.84, 50.0}) {
+      const double sse = profiled_sse_at(sse_ref, lr, 1000.0);
+      EXPECT_LT(sse, sse_ref);
+      EXPECT_NEAR(profiled_lr(sse_ref, sse, 1000.0), lr, 1e-9 * sse_ref) << sse_ref << " " << lr;
+    }
+  EXPECT_EQ(profiled_sse_at(10.0, 50.0, 1000.0), 0.0);
+  EXPECT_EQ(profiled_sse_at(10.0, 1.0, 0.0), 0.0);
+}
+
 TEST(SelectionRule, TheProfileIntervalExcludesTheNullOnlyForAClearDrop) {
   // white residual: the statistic is the drop of the summed loss
   ProfileTest t = profile_test(1000.0, 990.0, 1000.0, 0.0, 1);
