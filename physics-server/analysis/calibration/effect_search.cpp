@@ -30,7 +30,8 @@ double training_terms(const FitProblem& p) {
 std::string screen_words(const Candidate& c) {
   const Effect& ef = effect_catalogue()[c.effect];
   return std::string("not fitted in full: no gain") + (*ef.refines ? std::string(" on ") + ef.refines : "") +
-         " after " + std::to_string(c.screen.after) + " model runs (training loss " + fmt_g(c.fit.train) +
+         " after " + std::to_string(c.screen.after) + " model runs" +
+         (ef.fit == EffectFit::frame_clock ? " of each clock's fit" : "") + " (training loss " + fmt_g(c.fit.train) +
          ", above " + fmt_g(c.screen.loss) + ")";
 }
 
@@ -247,7 +248,7 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
         cands.push_back(fit_candidate(e, true, &refined->fit));
         continue;
       }
-      cands.push_back(fit_candidate(e, ef.fit == EffectFit::smooth && !shown(cands, ef.name), nullptr));
+      cands.push_back(fit_candidate(e, !shown(cands, ef.name), nullptr));
     }
     // every form of an effect that one of its forms shows is fitted in full
     // (a refining form: where it gains on the form it refines): the form is

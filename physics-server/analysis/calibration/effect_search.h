@@ -61,7 +61,8 @@ struct EffectSearch {
 // kScreenSets times BOBYQA's interpolation set (2n + 1 model runs for the n
 // parameters of ref plus the effect) its first start must have reached the
 // training loss at which the profile test's statistic against ref is
-// screen_crit (with ref's correlation inflation), or it stops there. With
+// screen_crit (with ref's correlation inflation), or it stops there (a frame
+// clock: each clock found, in its first fit; servo_fit.h). With
 // refined (the fit of the form that effect refines), the loss is the one at
 // which its extra parameters' statistic against that fit is screen_crit.
 GiveUp screen_for(const FitProblem& p, const Fit& ref, int effect, const Fit* refined = nullptr);

@@ -222,13 +222,17 @@ void scan_phase(const FitProblem& p, const std::vector<int>& eff, std::vector<do
 // base's timing error; the scan finds the right frame edge, farther than the
 // fit's window), the base fitted together with period and phase within
 // their window (layout), the phase scanned again; the better training fit
-Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect) {
+Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect, GiveUp* screen) {
   const Effect& ef = effect_catalogue()[effect];
   std::vector<int> eff = ref.effects;
   eff.push_back(effect);
   const size_t ip = param_count(ref.effects) + 1;   // the phase
   Fit best;
   best.valid = false;
+  // under the screen every clock found, from either start, is screened in
+  // its own first fit: the reference's base may show no clock, or a wrong
+  // one, where it has bent its timing to mimic the frames
+  int screened = 0, passed = 0;
   for (int start = 0; start < 2; ++start) {
     const std::vector<double> base = start == 0 ? ref.x : datasheet_start(ref.x);
     for (const FrameClockFit& fc : frame_clocks_for(p, model_config(p.datasheet, ref.effects, base))) {
@@ -237,15 +241,22 @@ Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect) {
       x.push_back(fc.clock.phase_s * 1e3);
       scan_phase(p, eff, &x, ip, 1.5, 0.1);
       // the phase and the base's speed trade off (a later frame looks like a
-      // slower servo): fitted together, then the phase scanned, until it stays
+      // slower servo): fitted together, then the phase scanned, until it
+      // stays; a clock that stops at the screen is fitted no further
+      GiveUp g = screen ? *screen : GiveUp{};
       Fit f;
+      int evals = 0;   // the fits' model runs (not the scans')
       for (int turn = 0; turn < 3; ++turn) {
-        f = fit_model(p, eff, x, Samples::training, kMaxEvalJoint);
+        f = fit_model(p, eff, x, Samples::training, kMaxEvalJoint, screen && turn == 0 ? &g : nullptr);
         x = f.x;
+        evals += f.evals;
+        if (g.stopped) break;
         scan_phase(p, eff, &x, ip, 0.5, 0.05);
         if (std::fabs(x[ip] - f.x[ip]) < 0.01) break;
       }
+      if (screen) ++screened, passed += !g.stopped;
       f = evaluate_fit(p, eff, x);
+      f.evals = evals;
       if (!best.valid || f.train < best.train) {
         // the intervals: the delays' least-squares ones, widened to reach
         // the fitted values
@@ -261,6 +272,7 @@ Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect) {
       }
     }
   }
+  if (screened > 0 && passed == 0) screen->stopped = true;
   if (best.valid) return best;
   Fit f = evaluate_fit(p, ref.effects, ref.x);
   f.effects = eff;
@@ -281,7 +293,7 @@ Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect) {
 // values in the datasheet start.
 Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect, GiveUp* screen, const Fit* refined) {
   const Effect& ef = effect_catalogue()[effect];
-  if (ef.fit == EffectFit::frame_clock) return fit_frame_clock_effect(p, ref, effect);
+  if (ef.fit == EffectFit::frame_clock) return fit_frame_clock_effect(p, ref, effect, screen);
   std::vector<int> eff = ref.effects;
   eff.push_back(effect);
   Fit best;

@@ -92,8 +92,10 @@ Fit refit_from_starts(const FitProblem& p, const Fit& cur, const std::vector<std
 // reference's base factors and the datasheet's, each with the effect's
 // parameters from the best of its starts (a frame clock: fitted to the
 // set-point changes' delays, frame_clock.h); the better training fit
-// With screen (a smooth-fit effect), the first start gives up as fit_model
-// says, and then the second start is not run (screen->stopped). With
+// With screen, the first start gives up as fit_model says, and then the
+// second start is not run (screen->stopped). A frame clock screens every
+// clock that either start finds, each in its own first fit; one that stops
+// there is fitted no further, and screen->stopped when all of them stopped. With
 // refined (the fit of the form this effect refines, on top of ref), the
 // first start is that fit's solution with the extra parameters from the
 // catalogue's starts.
