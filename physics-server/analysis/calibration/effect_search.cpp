@@ -237,26 +237,24 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
     std::vector<Candidate> cands;
     for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e) {
       const Effect& ef = effect_catalogue()[e];
-      if (used.count(ef.name)) continue;
-      if (*ef.refines && !shows_effect(p, ref, cands, ef)) {
+      if (!used.count(ef.name) && !*ef.refines) cands.push_back(fit_candidate(e, !shown(cands, ef.name), nullptr));
+    }
+    // every form of an effect that one of its forms shows is fitted in full:
+    // the form is chosen between full fits
+    for (Candidate& c : cands)
+      if (c.screen.stopped && shown(cands, effect_catalogue()[c.effect].name))
+        c = fit_candidate(c.effect, false, nullptr);
+    // then a form that refines another, where that form, as fitted in the end,
+    // shows the effect: started from its solution, screened against it
+    for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e) {
+      const Effect& ef = effect_catalogue()[e];
+      if (used.count(ef.name) || !*ef.refines) continue;
+      if (!shows_effect(p, ref, cands, ef)) {
         say("  candidate " + effect_label(e) + " not fitted: " + ef.refines + " shows no effect this round");
         continue;
       }
-      // a refining form: started from the form it refines, screened against it
-      const Candidate* refined = *ef.refines ? refined_form(cands, ef) : nullptr;
-      if (refined) {
-        cands.push_back(fit_candidate(e, true, &refined->fit));
-        continue;
-      }
-      cands.push_back(fit_candidate(e, !shown(cands, ef.name), nullptr));
+      cands.push_back(fit_candidate(e, true, &refined_form(cands, ef)->fit));
     }
-    // every form of an effect that one of its forms shows is fitted in full
-    // (a refining form: where it gains on the form it refines): the form is
-    // chosen between full fits
-    for (Candidate& c : cands)
-      if (c.screen.stopped && !*effect_catalogue()[c.effect].refines &&
-          shown(cands, effect_catalogue()[c.effect].name))
-        c = fit_candidate(c.effect, false, nullptr);
     if (cands.empty()) {
       round.reference = ref;
       s.rounds.push_back(std::move(round));
