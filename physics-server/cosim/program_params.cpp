@@ -87,6 +87,11 @@ ProgramParams read_program_params(const std::string& path, const std::string& pr
   if (fd < 0) throw std::runtime_error(std::string("cannot create a temporary file: ") + std::strerror(errno));
   close(fd);
   const std::string out_path = tmpl;
+  // removed on every way out, a failed spawn's exception included
+  struct RemoveAfter {
+    const std::string& path;
+    ~RemoveAfter() { unlink(path.c_str()); }
+  } remove_after{out_path};
   std::string text;
   std::optional<ExitStatus> st;
   {
@@ -103,7 +108,6 @@ ProgramParams read_program_params(const std::string& path, const std::string& pr
     in.read(text.data(), static_cast<std::streamsize>(text.size()));
     text.resize(static_cast<size_t>(in.gcount()));
   }
-  unlink(out_path.c_str());
   if (!st)
     throw std::runtime_error("it printed no listing within " + std::to_string(kListingTimeoutMs / 1000) +
                              " s (wall clock)");

@@ -1,8 +1,6 @@
 // Problem files: what they set, and errors that name file:line:column and the key.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -10,17 +8,16 @@
 #include "optimize/individual_scene.h"
 #include "optimize/problem.h"
 #include "scene/scene.h"
+#include "temp_dir.h"
 
 using namespace chainsim;
 
 namespace {
 
+// removed when the test program ends
 std::string temp_dir() {
-  static std::string d = [] {
-    char t[] = "/tmp/chainsim-problem-test-XXXXXX";
-    return std::string(mkdtemp(t));
-  }();
-  return d;
+  static const chainsim_test::TempDir d("chainsim-problem-test");
+  return d.path.string();
 }
 
 std::string write(const std::string& name, const std::string& text) {

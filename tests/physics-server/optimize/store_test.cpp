@@ -2,9 +2,8 @@
 // checkpoint, history.csv.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cmath>
+#include <deque>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -12,14 +11,16 @@
 #include "optimize/checkpoint.h"
 #include "optimize/eval_cache.h"
 #include "optimize/history.h"
+#include "temp_dir.h"
 
 using namespace chainsim;
 
 namespace {
 
+// a new directory per call, all removed when the test program ends
 std::string fresh_dir() {
-  char t[] = "/tmp/chainsim-store-test-XXXXXX";
-  return mkdtemp(t);
+  static std::deque<chainsim_test::TempDir> dirs;
+  return dirs.emplace_back("chainsim-store-test").path.string();
 }
 
 std::string slurp(const std::string& p) {
