@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 
 #include "analysis/calibration/regimes.h"
@@ -56,6 +57,10 @@ void test_candidates(const FitProblem& p, const Fit& ref, std::vector<Candidate>
             (c.resolution >= kMinResolution ? " >= " : " < ") + fmt_g(kMinResolution, 2) + " noise";
     if (!c.fit.valid) c.why = "no frame clock fits the set-point changes' delays";
     if (c.screen.stopped) c.why = screen_words(c);
+    if (c.second_start_skipped)
+      c.why += " (from its first start only: its effect's held-out gain there " + fmt_g(c.first_gain, 3) +
+               "/sample, below " + fmt_g(kSecondStartShare, 2) + " of the round's best " +
+               fmt_g(c.round_first_gain, 3) + ")";
     c.accepted = false;
   }
   std::stable_sort(cands->begin(), cands->end(), [](const Candidate& a, const Candidate& b) {
@@ -144,6 +149,10 @@ size_t choose_variant(const FitProblem& p, std::vector<Candidate>& cands, size_t
 
 }  // namespace
 
+bool run_second_start(double effect_first_gain, double round_first_gain) {
+  return round_first_gain <= 0 || effect_first_gain >= kSecondStartShare * round_first_gain;
+}
+
 GiveUp screen_for(const FitProblem& p, const Fit& ref, int e, const Fit* refined) {
   GiveUp g;
   const double n = static_cast<double>(param_count(ref.effects) + dof_of(e));
@@ -209,23 +218,33 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
     say("round " + std::to_string(s.rounds.size() + 1) + ": reference re-fitted from 2 starts, training loss " +
         fmt_g(ref.train) + ", held-out NRMSE " + fmt_g(ref.held) + ", whiteness " + fmt_g(ref.white, 3) + " (" +
         std::to_string(p.model_runs - runs_before) + " model runs)");
-    // a candidate's fit, screened (screen_for) or in full
-    auto fit_candidate = [&](int e, bool screened, const Fit* refined) {
+    // the rest of a candidate fitted in full: its resolution and its line
+    auto finish = [&](Candidate& c) {
+      c.resolution = effect_resolution(p, c.fit, ref, c.effect, regime);
+      say("  candidate " + effect_label(c.effect) + " = " + fmt_g(c.fit.x[param_count(ref.effects)]) +
+          ": training loss " + fmt_g(c.fit.train) + ", held-out NRMSE " + fmt_g(c.fit.held) + " (" +
+          std::to_string(c.runs) + " model runs" + (c.second_start_skipped ? ", its first start only" : "") + ")");
+    };
+    // a candidate's fit, screened (screen_for) or not; `first_only`: an
+    // effect of the smooth kind from its first start alone (the datasheet
+    // start is decided below), otherwise both starts and finished
+    auto fit_candidate = [&](int e, bool screened, const Fit* refined, bool first_only) {
       const Effect& ef = effect_catalogue()[e];
       const int runs_candidate = p.model_runs;
       Candidate c;
       c.effect = e;
       c.signature = regime_signature(rr, regime, ef.regimes);
       c.screen = screen_for(p, ref, e, refined);
-      c.fit = fit_with_effect(p, ref, e, screened ? &c.screen : nullptr, refined);
+      GiveUp* screen = screened ? &c.screen : nullptr;
+      c.two_starts = !first_only || ef.fit != EffectFit::smooth;
+      c.fit = c.two_starts ? fit_with_effect(p, ref, e, screen, refined)
+                           : fit_effect_start(p, ref, e, 0, screen, refined);
+      c.runs = p.model_runs - runs_candidate;
       if (c.screen.stopped) {
         say("  candidate " + effect_label(e) + " " + screen_words(c));
-        return c;
+      } else if (c.two_starts) {
+        finish(c);
       }
-      c.resolution = effect_resolution(p, c.fit, ref, e, regime);
-      say("  candidate " + effect_label(e) + " = " + fmt_g(c.fit.x[param_count(ref.effects)]) + ": training loss " +
-          fmt_g(c.fit.train) + ", held-out NRMSE " + fmt_g(c.fit.held) + " (" +
-          std::to_string(p.model_runs - runs_candidate) + " model runs)");
       return c;
     };
     // whether a form of the effect named `name` passed the screen
@@ -237,13 +256,39 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
     std::vector<Candidate> cands;
     for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e) {
       const Effect& ef = effect_catalogue()[e];
-      if (!used.count(ef.name) && !*ef.refines) cands.push_back(fit_candidate(e, !shown(cands, ef.name), nullptr));
+      if (!used.count(ef.name) && !*ef.refines)
+        cands.push_back(fit_candidate(e, !shown(cands, ef.name), nullptr, true));
     }
     // every form of an effect that one of its forms shows is fitted in full:
     // the form is chosen between full fits
     for (Candidate& c : cands)
       if (c.screen.stopped && shown(cands, effect_catalogue()[c.effect].name))
-        c = fit_candidate(c.effect, false, nullptr);
+        c = fit_candidate(c.effect, false, nullptr, true);
+    // the datasheet starts, where run_second_start says
+    {
+      std::map<std::string, double> effect_gain;   // per effect, its forms' best first-start held-out gain
+      double best = -1e300;
+      for (Candidate& c : cands) {
+        if (c.two_starts || c.screen.stopped) continue;
+        const double g = held_out_test(ref.loss, c.fit.loss, c.fit.rho_held, p.split, channels(p), 1, 1).gain;
+        const auto [it, fresh] = effect_gain.emplace(effect_catalogue()[c.effect].name, g);
+        if (!fresh) it->second = std::max(it->second, g);
+        best = std::max(best, g);
+      }
+      for (Candidate& c : cands) {
+        if (c.two_starts || c.screen.stopped) continue;
+        const int runs_before = p.model_runs;
+        c.first_gain = effect_gain[effect_catalogue()[c.effect].name];
+        c.round_first_gain = best;
+        c.second_start_skipped = !run_second_start(c.first_gain, best);
+        if (!c.second_start_skipped) {
+          Fit f = fit_effect_start(p, ref, c.effect, 1);
+          if (f.train < c.fit.train) c.fit = std::move(f);
+        }
+        c.runs += p.model_runs - runs_before;
+        finish(c);
+      }
+    }
     // then a form that refines another, where that form, as fitted in the end,
     // shows the effect: started from its solution, screened against it
     for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e) {
@@ -253,7 +298,7 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
         say("  candidate " + effect_label(e) + " not fitted: " + ef.refines + " shows no effect this round");
         continue;
       }
-      cands.push_back(fit_candidate(e, true, &refined_form(cands, ef)->fit));
+      cands.push_back(fit_candidate(e, true, &refined_form(cands, ef)->fit, false));
     }
     if (cands.empty()) {
       round.reference = ref;

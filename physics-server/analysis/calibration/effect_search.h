@@ -1,6 +1,8 @@
 // The calibration's greedy search, round by round: the current model is
 // re-fitted from several starts (the reference), every catalogue effect not
-// yet in it is fitted on top (each variant of an effect separately), and the
+// yet in it is fitted on top (each variant of an effect separately; from the
+// reference's base, screened, then from the datasheet's where
+// run_second_start says; the forms that refine another last), and the
 // candidate with the largest held-out gain that passes both tests of
 // selection_rule.h is accepted, after the reference has been re-fitted from
 // that candidate's own solution too. Of an effect's variants the one that
@@ -32,6 +34,11 @@ struct Candidate {
   HeldOutTest held_out;
   bool accepted = false;
   GiveUp screen;          // the screen of its fit (effect_search.cpp); screen.stopped: fit is that start's best
+  bool two_starts = false;           // fitted from both starts at once (a frame clock, a refining form)
+  double first_gain = 0;             // its effect's best first-start held-out gain (per sample)
+  double round_first_gain = 0;       // the round's best of those
+  bool second_start_skipped = false; // the datasheet start not run (run_second_start)
+  int runs = 0;                      // model runs of its fit
   std::string why;       // the decision, in words
 };
 
@@ -66,6 +73,16 @@ struct EffectSearch {
 // refined (the fit of the form that effect refines), the loss is the one at
 // which its extra parameters' statistic against that fit is screen_crit.
 GiveUp screen_for(const FitProblem& p, const Fit& ref, int effect, const Fit* refined = nullptr);
+
+// whether a candidate of the smooth kind is also fitted from the datasheet
+// start: where the best first-start held-out gain of its effect's forms is
+// at least kSecondStartShare of the round's best first-start gain (or no
+// first start gained). A candidate that far behind does not win its round
+// from the datasheet start: in the 66 pair records of seeds 100-102 every
+// accepted candidate had at least 0.43 of its round's best from its first
+// start alone (docs/calibration.md, Method, 5)
+constexpr double kSecondStartShare = 0.25;
+bool run_second_start(double effect_first_gain, double round_first_gain);
 
 // how much the effect of candidate `with` changes the response where it acts:
 // over the samples of the effect's regimes and of the step onsets and

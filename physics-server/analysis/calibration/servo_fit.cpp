@@ -291,33 +291,35 @@ Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect, Give
 // is multimodal, for the generator's own physics as much as for the model
 // (docs/calibration.md, "Limits"). The effects already accepted keep their
 // values in the datasheet start.
-Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect, GiveUp* screen, const Fit* refined) {
+Fit fit_effect_start(const FitProblem& p, const Fit& ref, int effect, int start, GiveUp* screen, const Fit* refined) {
   const Effect& ef = effect_catalogue()[effect];
-  if (ef.fit == EffectFit::frame_clock) return fit_frame_clock_effect(p, ref, effect, screen);
   std::vector<int> eff = ref.effects;
   eff.push_back(effect);
-  Fit best;
-  for (int start = 0; start < 2; ++start) {
-    std::vector<double> base = start == 0 ? ref.x : datasheet_start(ref.x);
-    // a refining form's first start: the refined form's solution, its
-    // extra parameters from the catalogue's starts
-    const size_t shared = start == 0 && refined ? refined->x.size() - base.size() : 0;
-    if (shared) base = refined->x;
-    std::vector<double> x;
-    double best_start = 1e300;
-    for (const std::vector<double>& tail : ef.starts) {
-      std::vector<double> xt = base;
-      xt.insert(xt.end(), tail.begin() + static_cast<long>(shared), tail.end());
-      const double m = ef.starts.size() > 1 ? set_loss(p, eff, xt, Samples::training) : 0.0;
-      if (m < best_start) best_start = m, x = xt;
-    }
-    Fit f = fit_model(p, eff, x, Samples::training, kMaxEvalJoint, start == 0 ? screen : nullptr);
-    if (f.train < best.train) best = std::move(f);
-    if (screen && screen->stopped) break;
+  std::vector<double> base = start == 0 ? ref.x : datasheet_start(ref.x);
+  // a refining form's first start: the refined form's solution, its extra
+  // parameters from the catalogue's starts
+  const size_t shared = start == 0 && refined ? refined->x.size() - base.size() : 0;
+  if (shared) base = refined->x;
+  std::vector<double> x;
+  double best_start = 1e300;
+  for (const std::vector<double>& tail : ef.starts) {
+    std::vector<double> xt = base;
+    xt.insert(xt.end(), tail.begin() + static_cast<long>(shared), tail.end());
+    const double m = ef.starts.size() > 1 ? set_loss(p, eff, xt, Samples::training) : 0.0;
+    if (m < best_start) best_start = m, x = xt;
   }
-  best.held_ci = ref.held_ci;
-  best.held_ci.resize(best.x.size(), {0.0, 0.0});
-  return best;
+  Fit f = fit_model(p, eff, x, Samples::training, kMaxEvalJoint, start == 0 ? screen : nullptr);
+  f.held_ci = ref.held_ci;
+  f.held_ci.resize(f.x.size(), {0.0, 0.0});
+  return f;
+}
+
+Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect, GiveUp* screen, const Fit* refined) {
+  if (effect_catalogue()[effect].fit == EffectFit::frame_clock) return fit_frame_clock_effect(p, ref, effect, screen);
+  Fit best = fit_effect_start(p, ref, effect, 0, screen, refined);
+  if (screen && screen->stopped) return best;
+  Fit f = fit_effect_start(p, ref, effect, 1);
+  return f.train < best.train ? f : best;
 }
 
 Fit refit_frame_clock(const FitProblem& p, const Fit& f) {

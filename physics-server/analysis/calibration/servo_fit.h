@@ -102,6 +102,11 @@ Fit refit_from_starts(const FitProblem& p, const Fit& cur, const std::vector<std
 Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect, GiveUp* screen = nullptr,
                     const Fit* refined = nullptr);
 
+// one start of fit_with_effect for an effect of the smooth kind: 0 from the
+// reference's base (or refined's solution), 1 from the datasheet's
+Fit fit_effect_start(const FitProblem& p, const Fit& ref, int effect, int start, GiveUp* screen = nullptr,
+                     const Fit* refined = nullptr);
+
 // a model with a frame clock: the clock fitted again on top of the rest of
 // the model (its delays measured against a model that now holds the other
 // effects found, which biased them while they were missing), the base

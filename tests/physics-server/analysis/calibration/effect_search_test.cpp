@@ -1,6 +1,7 @@
 // The greedy search's resolution test (effect_search.h): the change an
 // effect makes where it acts, as its 99th percentile over those samples; and
-// the screen of a candidate's fit, the loss it must reach and when.
+// the screen of a candidate's fit, the loss it must reach and when; which
+// candidates are fitted from the datasheet start too.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -75,6 +76,20 @@ TEST(Screen, StopsAtTheLossOfTheChiSquareMedian) {
     EXPECT_EQ(rail.after, 2 * (2 * (kNumBase + 2) + 1));
     EXPECT_NEAR(profiled_lr(bridge.sse_train, rail.loss * samples, 2 * samples) / (1.1 / 0.9), screen_crit(1), 1e-6);
   }
+}
+
+// the datasheet start is run for an effect whose best first start gained at
+// least a quarter of the round's best first start, and for every candidate
+// when no first start gained on the held-out blocks
+TEST(SecondStart, OnlyForAnEffectNearTheRoundsBestFirstStart) {
+  EXPECT_TRUE(run_second_start(1.0, 1.0));
+  EXPECT_TRUE(run_second_start(0.25, 1.0));
+  EXPECT_FALSE(run_second_start(0.2499, 1.0));
+  EXPECT_FALSE(run_second_start(-3.0, 1.0));
+  EXPECT_TRUE(run_second_start(30.0, 100.0));
+  EXPECT_FALSE(run_second_start(20.0, 100.0));
+  EXPECT_TRUE(run_second_start(-3.0, 0.0));
+  EXPECT_TRUE(run_second_start(-3.0, -1.0));
 }
 
 }  // namespace
