@@ -149,6 +149,11 @@ size_t choose_variant(const FitProblem& p, std::vector<Candidate>& cands, size_t
 
 }  // namespace
 
+bool both_starts_at_once(int effect) {
+  const Effect& ef = effect_catalogue()[effect];
+  return ef.fit != EffectFit::smooth || *ef.refines;
+}
+
 bool run_second_start(double effect_first_gain, double round_first_gain) {
   return round_first_gain <= 0 || effect_first_gain >= kSecondStartShare * round_first_gain;
 }
@@ -225,10 +230,10 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
           ": training loss " + fmt_g(c.fit.train) + ", held-out NRMSE " + fmt_g(c.fit.held) + " (" +
           std::to_string(c.runs) + " model runs" + (c.second_start_skipped ? ", its first start only" : "") + ")");
     };
-    // a candidate's fit, screened (screen_for) or not; `first_only`: an
-    // effect of the smooth kind from its first start alone (the datasheet
-    // start is decided below), otherwise both starts and finished
-    auto fit_candidate = [&](int e, bool screened, const Fit* refined, bool first_only) {
+    // a candidate's fit, screened (screen_for) or not: from both starts and
+    // finished where both_starts_at_once, else from its first start alone
+    // (the datasheet start is decided below)
+    auto fit_candidate = [&](int e, bool screened, const Fit* refined) {
       const Effect& ef = effect_catalogue()[e];
       const int runs_candidate = p.model_runs;
       Candidate c;
@@ -236,13 +241,12 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
       c.signature = regime_signature(rr, regime, ef.regimes);
       c.screen = screen_for(p, ref, e, refined);
       GiveUp* screen = screened ? &c.screen : nullptr;
-      c.two_starts = !first_only || ef.fit != EffectFit::smooth;
-      c.fit = c.two_starts ? fit_with_effect(p, ref, e, screen, refined)
-                           : fit_effect_start(p, ref, e, 0, screen, refined);
+      const bool both = both_starts_at_once(e);
+      c.fit = both ? fit_with_effect(p, ref, e, screen, refined) : fit_effect_start(p, ref, e, 0, screen, refined);
       c.runs = p.model_runs - runs_candidate;
       if (c.screen.stopped) {
         say("  candidate " + effect_label(e) + " " + screen_words(c));
-      } else if (c.two_starts) {
+      } else if (both) {
         finish(c);
       }
       return c;
@@ -257,26 +261,26 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
     for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e) {
       const Effect& ef = effect_catalogue()[e];
       if (!used.count(ef.name) && !*ef.refines)
-        cands.push_back(fit_candidate(e, !shown(cands, ef.name), nullptr, true));
+        cands.push_back(fit_candidate(e, !shown(cands, ef.name), nullptr));
     }
     // every form of an effect that one of its forms shows is fitted in full:
     // the form is chosen between full fits
     for (Candidate& c : cands)
       if (c.screen.stopped && shown(cands, effect_catalogue()[c.effect].name))
-        c = fit_candidate(c.effect, false, nullptr, true);
+        c = fit_candidate(c.effect, false, nullptr);
     // the datasheet starts, where run_second_start says
     {
       std::map<std::string, double> effect_gain;   // per effect, its forms' best first-start held-out gain
       double best = -1e300;
       for (Candidate& c : cands) {
-        if (c.two_starts || c.screen.stopped) continue;
+        if (both_starts_at_once(c.effect) || c.screen.stopped) continue;
         const double g = held_out_test(ref.loss, c.fit.loss, c.fit.rho_held, p.split, channels(p), 1, 1).gain;
         const auto [it, fresh] = effect_gain.emplace(effect_catalogue()[c.effect].name, g);
         if (!fresh) it->second = std::max(it->second, g);
         best = std::max(best, g);
       }
       for (Candidate& c : cands) {
-        if (c.two_starts || c.screen.stopped) continue;
+        if (both_starts_at_once(c.effect) || c.screen.stopped) continue;
         const int runs_before = p.model_runs;
         c.first_gain = effect_gain[effect_catalogue()[c.effect].name];
         c.round_first_gain = best;
@@ -298,7 +302,7 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
         say("  candidate " + effect_label(e) + " not fitted: " + ef.refines + " shows no effect this round");
         continue;
       }
-      cands.push_back(fit_candidate(e, true, &refined_form(cands, ef)->fit, false));
+      cands.push_back(fit_candidate(e, true, &refined_form(cands, ef)->fit));
     }
     if (cands.empty()) {
       round.reference = ref;

@@ -34,7 +34,6 @@ struct Candidate {
   HeldOutTest held_out;
   bool accepted = false;
   GiveUp screen;          // the screen of its fit (effect_search.cpp); screen.stopped: fit is that start's best
-  bool two_starts = false;           // fitted from both starts at once (a frame clock, a refining form)
   double first_gain = 0;             // its effect's best first-start held-out gain (per sample)
   double round_first_gain = 0;       // the round's best of those
   bool second_start_skipped = false; // the datasheet start not run (run_second_start)
@@ -83,6 +82,9 @@ GiveUp screen_for(const FitProblem& p, const Fit& ref, int effect, const Fit* re
 // start alone (docs/calibration.md, Method, 5)
 constexpr double kSecondStartShare = 0.25;
 bool run_second_start(double effect_first_gain, double round_first_gain);
+// the candidates fitted from both starts at once, whatever the others do: a
+// frame clock (its own fit) and a form that refines another
+bool both_starts_at_once(int effect);
 
 // how much the effect of candidate `with` changes the response where it acts:
 // over the samples of the effect's regimes and of the step onsets and

@@ -319,7 +319,8 @@ Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect, GiveUp* scr
   Fit best = fit_effect_start(p, ref, effect, 0, screen, refined);
   if (screen && screen->stopped) return best;
   Fit f = fit_effect_start(p, ref, effect, 1);
-  return f.train < best.train ? f : best;
+  if (f.train < best.train) return f;
+  return best;
 }
 
 Fit refit_frame_clock(const FitProblem& p, const Fit& f) {

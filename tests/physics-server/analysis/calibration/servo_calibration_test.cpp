@@ -36,7 +36,7 @@ int check_datasheet_starts(const ServoCalibration& c) {
   int skipped = 0;
   for (const SearchRound& r : c.search.rounds)
     for (const Candidate& cd : r.candidates) {
-      if (cd.screen.stopped || cd.two_starts || !cd.fit.valid) continue;
+      if (cd.screen.stopped || both_starts_at_once(cd.effect) || !cd.fit.valid) continue;
       skipped += cd.second_start_skipped;
       EXPECT_EQ(cd.second_start_skipped, !run_second_start(cd.first_gain, cd.round_first_gain)) << cd.why;
       EXPECT_EQ(cd.second_start_skipped, cd.why.find("first start only") != std::string::npos) << cd.why;
