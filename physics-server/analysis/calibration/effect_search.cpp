@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 
+#include "analysis/calibration/paired_runs.h"
 #include "analysis/calibration/regimes.h"
 #include "analysis/calibration/text_format.h"
 
@@ -176,8 +177,9 @@ double effect_resolution(const FitProblem& p, const Fit& with, const Fit& withou
                          const std::vector<int>& regime) {
   if (!with.valid) return 0;
   const std::vector<double> xs(with.x.begin(), with.x.begin() + param_count(without_effects.effects));
-  const Residual a = run_model(p, model_config(p.datasheet, with.effects, with.x)).residual;
-  const Residual b = run_model(p, model_config(p.datasheet, without_effects.effects, xs)).residual;
+  Residual a, b;
+  run_paired({[&] { a = run_model(p, model_config(p.datasheet, with.effects, with.x)).residual; },
+              [&] { b = run_model(p, model_config(p.datasheet, without_effects.effects, xs)).residual; }});
   // the effect's regimes and the 40 ms after each set-point change, whose
   // label wins over the motion regimes (a short move is all step onset)
   std::vector<std::string> names = effect_catalogue()[effect].regimes;
@@ -223,19 +225,28 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
     say("round " + std::to_string(s.rounds.size() + 1) + ": reference re-fitted from 2 starts, training loss " +
         fmt_g(ref.train) + ", held-out NRMSE " + fmt_g(ref.held) + ", whiteness " + fmt_g(ref.white, 3) + " (" +
         std::to_string(p.model_runs - runs_before) + " model runs)");
+    // The candidates' fits are independent of each other: each stretch below
+    // runs them two at a time (run_paired), each writing its own slot and
+    // its own lines, and the lines are said in the order of the slots.
+    using Lines = std::vector<std::string>;
+    auto say_all = [&](const std::vector<Lines>& lines) {
+      for (const Lines& ls : lines)
+        for (const std::string& l : ls) say(l);
+    };
     // the rest of a candidate fitted in full: its resolution and its line
-    auto finish = [&](Candidate& c) {
+    auto finish = [&](Candidate& c, Lines& out) {
       c.resolution = effect_resolution(p, c.fit, ref, c.effect, regime);
-      say("  candidate " + effect_label(c.effect) + " = " + fmt_g(c.fit.x[param_count(ref.effects)]) +
-          ": training loss " + fmt_g(c.fit.train) + ", held-out NRMSE " + fmt_g(c.fit.held) + " (" +
-          std::to_string(c.runs) + " model runs" + (c.second_start_skipped ? ", its first start only" : "") + ")");
+      out.push_back("  candidate " + effect_label(c.effect) + " = " + fmt_g(c.fit.x[param_count(ref.effects)]) +
+                    ": training loss " + fmt_g(c.fit.train) + ", held-out NRMSE " + fmt_g(c.fit.held) + " (" +
+                    std::to_string(c.runs) + " model runs" +
+                    (c.second_start_skipped ? ", its first start only" : "") + ")");
     };
     // a candidate's fit, screened (screen_for) or not: from both starts and
     // finished where both_starts_at_once, else from its first start alone
     // (the datasheet start is decided below)
-    auto fit_candidate = [&](int e, bool screened, const Fit* refined) {
+    auto fit_candidate = [&](int e, bool screened, const Fit* refined, Lines& out) {
       const Effect& ef = effect_catalogue()[e];
-      const int runs_candidate = p.model_runs;
+      const int runs_candidate = thread_model_runs();
       Candidate c;
       c.effect = e;
       c.signature = regime_signature(rr, regime, ef.regimes);
@@ -243,45 +254,63 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
       GiveUp* screen = screened ? &c.screen : nullptr;
       const bool both = both_starts_at_once(e);
       c.fit = both ? fit_with_effect(p, ref, e, screen, refined) : fit_effect_start(p, ref, e, 0, screen, refined);
-      c.runs = p.model_runs - runs_candidate;
+      c.runs = thread_model_runs() - runs_candidate;
       if (c.screen.stopped) {
-        say("  candidate " + effect_label(e) + " " + screen_words(c));
+        out.push_back("  candidate " + effect_label(e) + " " + screen_words(c));
       } else if (both) {
-        finish(c);
+        finish(c, out);
       }
       return c;
     };
-    // whether a form of the effect named `name` passed the screen
-    auto shown = [&](const std::vector<Candidate>& cs, const char* name) {
-      return std::any_of(cs.begin(), cs.end(), [&](const Candidate& c) {
-        return !c.screen.stopped && std::string(effect_catalogue()[c.effect].name) == name;
-      });
-    };
+    // the forms not yet used and not refining another, in the catalogue's
+    // order. One task per effect fits its forms in that order: a form is
+    // screened unless an earlier form of its effect passed the screen, and
+    // then every form of an effect that one of its forms shows is fitted in
+    // full (the form is chosen between full fits)
     std::vector<Candidate> cands;
-    for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e) {
-      const Effect& ef = effect_catalogue()[e];
-      if (!used.count(ef.name) && !*ef.refines)
-        cands.push_back(fit_candidate(e, !shown(cands, ef.name), nullptr));
+    std::vector<std::vector<size_t>> effect_forms;   // per effect, its candidates
+    {
+      std::map<std::string, size_t> effect_index;
+      for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e) {
+        const Effect& ef = effect_catalogue()[e];
+        if (used.count(ef.name) || *ef.refines) continue;
+        const auto [it, fresh] = effect_index.emplace(ef.name, effect_forms.size());
+        if (fresh) effect_forms.emplace_back();
+        effect_forms[it->second].push_back(cands.size());
+        cands.emplace_back().effect = e;
+      }
     }
-    // every form of an effect that one of its forms shows is fitted in full:
-    // the form is chosen between full fits
-    for (Candidate& c : cands)
-      if (c.screen.stopped && shown(cands, effect_catalogue()[c.effect].name))
-        c = fit_candidate(c.effect, false, nullptr);
+    std::vector<Lines> lines(cands.size()), again_lines(cands.size());
+    run_paired_each(effect_forms.size(), [&](size_t k) {
+      const std::vector<size_t>& forms = effect_forms[k];
+      bool shown = false;   // a form so far passed the screen
+      for (size_t i : forms) {
+        cands[i] = fit_candidate(cands[i].effect, !shown, nullptr, lines[i]);
+        shown = shown || !cands[i].screen.stopped;
+      }
+      for (size_t i : forms)
+        if (shown && cands[i].screen.stopped) cands[i] = fit_candidate(cands[i].effect, false, nullptr, again_lines[i]);
+    });
+    say_all(lines);
+    say_all(again_lines);
     // the datasheet starts, where run_second_start says
     {
       std::map<std::string, double> effect_gain;   // per effect, its forms' best first-start held-out gain
       double best = -1e300;
-      for (Candidate& c : cands) {
+      std::vector<size_t> second;
+      for (size_t i = 0; i < cands.size(); ++i) {
+        const Candidate& c = cands[i];
         if (both_starts_at_once(c.effect) || c.screen.stopped) continue;
         const double g = held_out_test(ref.loss, c.fit.loss, c.fit.rho_held, p.split, channels(p), 1, 1).gain;
         const auto [it, fresh] = effect_gain.emplace(effect_catalogue()[c.effect].name, g);
         if (!fresh) it->second = std::max(it->second, g);
         best = std::max(best, g);
+        second.push_back(i);
       }
-      for (Candidate& c : cands) {
-        if (both_starts_at_once(c.effect) || c.screen.stopped) continue;
-        const int runs_before = p.model_runs;
+      std::vector<Lines> second_lines(second.size());
+      run_paired_each(second.size(), [&](size_t k) {
+        Candidate& c = cands[second[k]];
+        const int runs_before = thread_model_runs();
         c.first_gain = effect_gain[effect_catalogue()[c.effect].name];
         c.round_first_gain = best;
         c.second_start_skipped = !run_second_start(c.first_gain, best);
@@ -289,20 +318,40 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
           Fit f = fit_effect_start(p, ref, c.effect, 1);
           if (f.train < c.fit.train) c.fit = std::move(f);
         }
-        c.runs += p.model_runs - runs_before;
-        finish(c);
-      }
+        c.runs += thread_model_runs() - runs_before;
+        finish(c, second_lines[k]);
+      });
+      say_all(second_lines);
     }
     // then a form that refines another, where that form, as fitted in the end,
     // shows the effect: started from its solution, screened against it
-    for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e) {
-      const Effect& ef = effect_catalogue()[e];
-      if (used.count(ef.name) || !*ef.refines) continue;
-      if (!shows_effect(p, ref, cands, ef)) {
-        say("  candidate " + effect_label(e) + " not fitted: " + ef.refines + " shows no effect this round");
-        continue;
+    {
+      struct Refining {
+        int effect;
+        bool fitted;
+        Lines lines;
+        Candidate c;
+      };
+      std::vector<Refining> rf;
+      for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e) {
+        const Effect& ef = effect_catalogue()[e];
+        if (used.count(ef.name) || !*ef.refines) continue;
+        rf.push_back({e, shows_effect(p, ref, cands, ef), {}, {}});
+        if (!rf.back().fitted)
+          rf.back().lines.push_back("  candidate " + effect_label(e) + " not fitted: " + ef.refines +
+                                    " shows no effect this round");
       }
-      cands.push_back(fit_candidate(e, true, &refined_form(cands, ef)->fit));
+      std::vector<size_t> fit;
+      for (size_t k = 0; k < rf.size(); ++k)
+        if (rf[k].fitted) fit.push_back(k);
+      run_paired_each(fit.size(), [&](size_t k) {
+        Refining& r = rf[fit[k]];
+        r.c = fit_candidate(r.effect, true, &refined_form(cands, effect_catalogue()[r.effect])->fit, r.lines);
+      });
+      for (Refining& r : rf) {
+        for (const std::string& l : r.lines) say(l);
+        if (r.fitted) cands.push_back(std::move(r.c));
+      }
     }
     if (cands.empty()) {
       round.reference = ref;

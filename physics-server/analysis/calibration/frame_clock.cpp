@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "analysis/calibration/paired_runs.h"
+
 namespace chainsim {
 namespace {
 
@@ -41,7 +43,7 @@ std::vector<ChangeDelay> estimate_delays(const FitProblem& p, const BenchConfig&
     while (k + 1 < m.size() && m.t[k + 1] <= tg[j] + 1e-12) ++k;
     spg[j] = m.sp[k];
   }
-  const std::vector<BenchSample> sim = simulate_bench(b, tg, spg, BenchSolver::closed_form);
+  const std::vector<BenchSample> sim = paired_simulate(b, tg, spg, SIZE_MAX);
   ++p.model_runs;
   auto at = [&](double t, bool current) {
     const double f = std::clamp((t - t0) / kGrid_s, 0.0, static_cast<double>(ng - 1));

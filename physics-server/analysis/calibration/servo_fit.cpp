@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "analysis/calibration/frame_clock.h"
+#include "analysis/calibration/paired_runs.h"
 
 namespace chainsim {
 
@@ -26,7 +27,7 @@ FitProblem make_fit_problem(const BenchConfig& datasheet, MeasuredRecord m) {
 
 ModelRun run_model(const FitProblem& p, const BenchConfig& b, size_t rows) {
   ModelRun run;
-  run.sim = simulate_bench(b, p.m.t, p.m.sp, BenchSolver::closed_form, rows);
+  run.sim = paired_simulate(b, p.m.t, p.m.sp, rows);
   ++p.model_runs;
   Residual& r = run.residual;
   const size_t n = run.sim.size();
@@ -186,9 +187,11 @@ std::vector<double> datasheet_start(const std::vector<double>& x) {
 
 Fit refit_from_starts(const FitProblem& p, const Fit& cur, const std::vector<std::vector<double>>& starts,
                       int max_eval) {
+  std::vector<Fit> fits(starts.size());
+  run_paired_each(starts.size(),
+                  [&](size_t i) { fits[i] = fit_model(p, cur.effects, starts[i], Samples::training, max_eval); });
   Fit best = cur;
-  for (const std::vector<double>& x : starts) {
-    Fit f = fit_model(p, cur.effects, x, Samples::training, max_eval);
+  for (Fit& f : fits) {
     f.held_ci = cur.held_ci;
     if (f.train < best.train) best = std::move(f);
   }
@@ -204,13 +207,17 @@ namespace {
 void scan_phase(const FitProblem& p, const std::vector<int>& eff, std::vector<double>* x, size_t i, double span_ms,
                 double step_ms) {
   const double c = (*x)[i];
-  double best = set_loss(p, eff, *x, Samples::training), best_v = c;
-  for (double d = -span_ms; d <= span_ms + 1e-9; d += step_ms) {
+  std::vector<double> phase{c};   // the value now, then the scan's
+  for (double d = -span_ms; d <= span_ms + 1e-9; d += step_ms) phase.push_back(std::max(0.0, c + d));
+  std::vector<double> loss(phase.size());
+  run_paired_each(phase.size(), [&](size_t k) {
     std::vector<double> xt = *x;
-    xt[i] = std::max(0.0, c + d);
-    const double l = set_loss(p, eff, xt, Samples::training);
-    if (l < best - 1e-12) best = l, best_v = xt[i];
-  }
+    xt[i] = phase[k];
+    loss[k] = set_loss(p, eff, xt, Samples::training);
+  });
+  double best = loss[0], best_v = c;
+  for (size_t k = 1; k < phase.size(); ++k)
+    if (loss[k] < best - 1e-12) best = loss[k], best_v = phase[k];
   (*x)[i] = best_v;
 }
 
@@ -232,44 +239,60 @@ Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect, Give
   // under the screen every clock found, from either start, is screened in
   // its own first fit: the reference's base may show no clock, or a wrong
   // one, where it has bent its timing to mimic the frames
-  int screened = 0, passed = 0;
+  struct Clock {
+    std::vector<double> base;
+    FrameClockFit fc;
+    Fit fit;
+    bool stopped = false;
+  };
+  std::vector<Clock> clocks;
   for (int start = 0; start < 2; ++start) {
     const std::vector<double> base = start == 0 ? ref.x : datasheet_start(ref.x);
-    for (const FrameClockFit& fc : frame_clocks_for(p, model_config(p.datasheet, ref.effects, base))) {
-      std::vector<double> x = base;
-      x.push_back(fc.clock.period_s * 1e3);
-      x.push_back(fc.clock.phase_s * 1e3);
-      scan_phase(p, eff, &x, ip, 1.5, 0.1);
-      // the phase and the base's speed trade off (a later frame looks like a
-      // slower servo): fitted together, then the phase scanned, until it
-      // stays; a clock that stops at the screen is fitted no further
-      GiveUp g = screen ? *screen : GiveUp{};
-      Fit f;
-      int evals = 0;   // the fits' model runs (not the scans')
-      for (int turn = 0; turn < 3; ++turn) {
-        f = fit_model(p, eff, x, Samples::training, kMaxEvalJoint, screen && turn == 0 ? &g : nullptr);
-        x = f.x;
-        evals += f.evals;
-        if (g.stopped) break;
-        scan_phase(p, eff, &x, ip, 0.5, 0.05);
-        if (std::fabs(x[ip] - f.x[ip]) < 0.01) break;
-      }
-      if (screen) ++screened, passed += !g.stopped;
-      f = evaluate_fit(p, eff, x);
-      f.evals = evals;
-      if (!best.valid || f.train < best.train) {
-        // the intervals: the delays' least-squares ones, widened to reach
-        // the fitted values
-        auto widened = [](double v, std::pair<double, double> ci_s, double est_s) {
-          const double w = std::max(0.5 * 1e3 * (ci_s.second - ci_s.first), std::fabs(v - 1e3 * est_s));
-          return std::make_pair(v - w, v + w);
-        };
-        const double per = f.x[ip - 1], ph = f.x[ip];
-        best = std::move(f);
-        best.held_ci = ref.held_ci;
-        best.held_ci.push_back(widened(per, fc.period_ci_s, fc.clock.period_s));
-        best.held_ci.push_back(widened(ph, fc.phase_ci_s, fc.clock.phase_s));
-      }
+    for (const FrameClockFit& fc : frame_clocks_for(p, model_config(p.datasheet, ref.effects, base)))
+      clocks.push_back({base, fc, Fit{}, false});
+  }
+  // each clock's fit (independent of the others: two at a time)
+  run_paired_each(clocks.size(), [&](size_t c) {
+    Clock& ck = clocks[c];
+    std::vector<double> x = ck.base;
+    x.push_back(ck.fc.clock.period_s * 1e3);
+    x.push_back(ck.fc.clock.phase_s * 1e3);
+    scan_phase(p, eff, &x, ip, 1.5, 0.1);
+    // the phase and the base's speed trade off (a later frame looks like a
+    // slower servo): fitted together, then the phase scanned, until it
+    // stays; a clock that stops at the screen is fitted no further
+    GiveUp g = screen ? *screen : GiveUp{};
+    Fit f;
+    int evals = 0;   // the fits' model runs (not the scans')
+    for (int turn = 0; turn < 3; ++turn) {
+      f = fit_model(p, eff, x, Samples::training, kMaxEvalJoint, screen && turn == 0 ? &g : nullptr);
+      x = f.x;
+      evals += f.evals;
+      if (g.stopped) break;
+      scan_phase(p, eff, &x, ip, 0.5, 0.05);
+      if (std::fabs(x[ip] - f.x[ip]) < 0.01) break;
+    }
+    ck.stopped = g.stopped;
+    ck.fit = evaluate_fit(p, eff, x);
+    ck.fit.evals = evals;
+  });
+  int screened = 0, passed = 0;
+  for (Clock& ck : clocks) {
+    if (screen) ++screened, passed += !ck.stopped;
+    Fit& f = ck.fit;
+    const FrameClockFit& fc = ck.fc;
+    if (!best.valid || f.train < best.train) {
+      // the intervals: the delays' least-squares ones, widened to reach
+      // the fitted values
+      auto widened = [](double v, std::pair<double, double> ci_s, double est_s) {
+        const double w = std::max(0.5 * 1e3 * (ci_s.second - ci_s.first), std::fabs(v - 1e3 * est_s));
+        return std::make_pair(v - w, v + w);
+      };
+      const double per = f.x[ip - 1], ph = f.x[ip];
+      best = std::move(f);
+      best.held_ci = ref.held_ci;
+      best.held_ci.push_back(widened(per, fc.period_ci_s, fc.clock.period_s));
+      best.held_ci.push_back(widened(ph, fc.phase_ci_s, fc.clock.phase_s));
     }
   }
   if (screened > 0 && passed == 0) screen->stopped = true;
@@ -300,14 +323,17 @@ Fit fit_effect_start(const FitProblem& p, const Fit& ref, int effect, int start,
   // parameters from the catalogue's starts
   const size_t shared = start == 0 && refined ? refined->x.size() - base.size() : 0;
   if (shared) base = refined->x;
+  std::vector<std::vector<double>> xs;
+  for (const std::vector<double>& tail : ef.starts) {
+    xs.push_back(base);
+    xs.back().insert(xs.back().end(), tail.begin() + static_cast<long>(shared), tail.end());
+  }
+  std::vector<double> m(xs.size(), 0.0);
+  if (xs.size() > 1) run_paired_each(xs.size(), [&](size_t k) { m[k] = set_loss(p, eff, xs[k], Samples::training); });
   std::vector<double> x;
   double best_start = 1e300;
-  for (const std::vector<double>& tail : ef.starts) {
-    std::vector<double> xt = base;
-    xt.insert(xt.end(), tail.begin() + static_cast<long>(shared), tail.end());
-    const double m = ef.starts.size() > 1 ? set_loss(p, eff, xt, Samples::training) : 0.0;
-    if (m < best_start) best_start = m, x = xt;
-  }
+  for (size_t k = 0; k < xs.size(); ++k)
+    if (m[k] < best_start) best_start = m[k], x = xs[k];
   Fit f = fit_model(p, eff, x, Samples::training, kMaxEvalJoint, start == 0 ? screen : nullptr);
   f.held_ci = ref.held_ci;
   f.held_ci.resize(f.x.size(), {0.0, 0.0});
@@ -363,17 +389,24 @@ std::vector<std::pair<double, double>> fit_intervals(const FitProblem& p, const 
     if (nch == 2) r(m + k) = wi * r0.current[k];
   }
   std::vector<double> xf(free.size());
+  // each free parameter's two sides, x[2c] = plus, x[2c + 1] = minus
+  std::vector<std::vector<double>> xs(2 * free.size(), f.x);
   for (size_t c = 0; c < free.size(); ++c) {
     const size_t i = free[c];
     xf[c] = f.x[i];
     const Bound& b = bounds[i];
     const double hstep = i < kNumBase ? 0.01 : std::max(0.02 * std::fabs(f.x[i]), 0.002 * (b.hi - b.lo));
-    std::vector<double> xp = f.x, xm = f.x;
+    std::vector<double>&xp = xs[2 * c], &xm = xs[2 * c + 1];
     xp[i] += hstep;
     xm[i] -= hstep;
     if (i >= kNumBase && xm[i] < std::max(0.0, b.lo)) xm[i] = std::max(0.0, b.lo), xp[i] = xm[i] + 2 * hstep;
-    const Residual rp = residual_at(p, f.effects, xp);
-    const Residual rm = residual_at(p, f.effects, xm);
+  }
+  std::vector<Residual> rs(xs.size());
+  run_paired_each(xs.size(), [&](size_t k) { rs[k] = residual_at(p, f.effects, xs[k]); });
+  for (size_t c = 0; c < free.size(); ++c) {
+    const size_t i = free[c];
+    const std::vector<double>&xp = xs[2 * c], &xm = xs[2 * c + 1];
+    const Residual &rp = rs[2 * c], &rm = rs[2 * c + 1];
     for (size_t k = 0; k < m; ++k) {
       J(k, c) = wa * (rp.angle[k] - rm.angle[k]) / (xp[i] - xm[i]);
       if (nch == 2) J(m + k, c) = wi * (rp.current[k] - rm.current[k]) / (xp[i] - xm[i]);

@@ -43,7 +43,8 @@ struct ModelRun {
   std::vector<BenchSample> sim;
   Residual residual;
 };
-// (the first `rows` samples only, when fewer: the same values as the whole run)
+// (the first `rows` samples only, when fewer: the same values as the whole
+// run); inside run_paired's tasks stepped together with the other task's run
 ModelRun run_model(const FitProblem& p, const BenchConfig& b, size_t rows = SIZE_MAX);
 
 struct Fit {

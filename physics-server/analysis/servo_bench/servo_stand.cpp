@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 
 namespace chainsim {
@@ -76,7 +77,8 @@ class Stand {
   // the first set-point back
   void set_setpoint_rad(double rel) { model_.set_setpoint(rel); }
 
-  void step() {
+  // (inline: the closed form's steps of two stands side by side overlap)
+  [[gnu::always_inline]] void step() {
     if (solver_ == BenchSolver::closed_form) {
       // one degree of freedom: (Jl/h + D) w' = Jl w/h + D v + tau_load, then
       // theta += h w' (ODE's semi-implicit position update)
@@ -87,6 +89,11 @@ class Stand {
       theta_ += h_ * w_;
       return;
     }
+    step_ode();
+  }
+
+ private:
+  void step_ode() {
     const double w = dJointGetHingeAngleRate(hinge_);
     drive_servo_motor(motor_, model_.begin_step(theta_, w, h_));
     if (cfg_.load_torque_nm != 0.0) dJointAddHingeTorque(hinge_, cfg_.load_torque_nm);
@@ -101,6 +108,7 @@ class Stand {
     last_raw_ = a;
   }
 
+ public:
   double theta_rad() const { return theta_; }
   double filtered_current_a() const { return model_.filtered_current_a(); }
 
@@ -117,47 +125,100 @@ class Stand {
   double theta_ = 0, last_raw_ = 0;
 };
 
-std::vector<BenchSample> run_stand(const BenchConfig& b, const std::vector<Row>& rows, BenchSolver solver) {
-  Stand stand(b, solver);
-  const double deg = kPi / 180.0;
-  const double sp0 = rows.front().setpoint_deg;
-  const double dt = static_cast<double>(b.dt_us);
-  // the rows' times from the first, us
-  std::vector<double> rel(rows.size());
-  for (size_t k = 0; k < rows.size(); ++k) rel[k] = (rows[k].t_s - rows.front().t_s) * 1e6;
-  // the stand's state after a step, converted to a sample only where one is
-  // written (the calibration's optimiser runs this some thousand times)
-  struct Raw {
-    double theta_rad, current_a;
-  };
-  auto raw = [&] { return Raw{stand.theta_rad(), stand.filtered_current_a()}; };
-  auto sample = [&](const Raw& r) { return BenchSample{sp0 + r.theta_rad / deg, r.current_a}; };
-  std::vector<BenchSample> out;
-  out.reserve(rows.size());
-  Raw prev = raw(), cur = prev;
-  out.push_back(sample(cur));
+// a stand's state after a step, converted to a sample only where one is
+// written (the calibration's optimiser runs this some thousand times)
+struct Raw {
+  double theta_rad, current_a;
+};
+Raw raw(const Stand& s) { return Raw{s.theta_rad(), s.filtered_current_a()}; }
+
+// one stand's run: its rows, the samples so far, its last two step ends
+struct Lane {
+  Stand* stand;
+  size_t count;
+  std::vector<BenchSample>* out;
+  Raw prev, cur;
+};
+
+// the rows shared by the lanes, and where their stepping stands
+struct RowClock {
+  const std::vector<Row>& rows;
+  std::vector<double> rel;   // the rows' times from the first, us
+  double sp0, dt;
   int64_t n = 0;        // steps done: the state is that of time n dt
   size_t active = 0;    // the row whose set-point is applied
-  for (size_t k = 1; k < rows.size(); ++k) {
-    const double tk = rel[k];
-    while (static_cast<double>(n) * dt < tk - kEpsUs) {
+  BenchSample sample(const Raw& r) const { return BenchSample{sp0 + r.theta_rad / kDeg, r.current_a}; }
+  static constexpr double kDeg = kPi / 180.0;
+};
+
+// rows [k0, k1) for the first `lanes` lanes (N of them when N > 0: the
+// compiler then lays the lanes' steps side by side, which is where two
+// independent stands overlap on one core; each stand's steps are the same
+// operations in the same order as alone, so its samples are the same bytes)
+template <size_t N>
+void advance(Lane* lane, size_t lanes, RowClock& c, size_t k0, size_t k1) {
+  const size_t m = N > 0 ? N : lanes;
+  for (size_t k = k0; k < k1; ++k) {
+    const double tk = c.rel[k];
+    while (static_cast<double>(c.n) * c.dt < tk - kEpsUs) {
       // set-point of step n: the last row at or before its start
-      while (active + 1 < rows.size() && rel[active + 1] <= static_cast<double>(n) * dt + kEpsUs) ++active;
-      stand.set_setpoint_rad((rows[active].setpoint_deg - sp0) * deg);
-      stand.step();
-      prev = cur;
-      cur = raw();
-      ++n;
+      while (c.active + 1 < c.rel.size() && c.rel[c.active + 1] <= static_cast<double>(c.n) * c.dt + kEpsUs)
+        ++c.active;
+      const double sp = (c.rows[c.active].setpoint_deg - c.sp0) * RowClock::kDeg;
+      for (size_t i = 0; i < m; ++i) {
+        Lane& l = lane[i];
+        l.stand->set_setpoint_rad(sp);
+        l.stand->step();
+        l.prev = l.cur;
+        l.cur = raw(*l.stand);
+      }
+      ++c.n;
     }
     // (n-1) dt < tk <= n dt: linear between the two step ends
-    const double tn = static_cast<double>(n) * dt;
-    if (n == 0 || std::fabs(tn - tk) <= kEpsUs) {
-      out.push_back(sample(cur));
-    } else {
-      const double f = (tk - (tn - dt)) / dt;
-      const BenchSample a = sample(prev), c = sample(cur);
-      out.push_back({a.angle_deg + f * (c.angle_deg - a.angle_deg), a.current_a + f * (c.current_a - a.current_a)});
+    const double tn = static_cast<double>(c.n) * c.dt;
+    const bool on_step = c.n == 0 || std::fabs(tn - tk) <= kEpsUs;
+    const double f = (tk - (tn - c.dt)) / c.dt;
+    for (size_t i = 0; i < m; ++i) {
+      const Lane& l = lane[i];
+      if (on_step) {
+        l.out->push_back(c.sample(l.cur));
+      } else {
+        const BenchSample a = c.sample(l.prev), b = c.sample(l.cur);
+        l.out->push_back({a.angle_deg + f * (b.angle_deg - a.angle_deg), a.current_a + f * (b.current_a - a.current_a)});
+      }
     }
+  }
+}
+
+// the stands' responses to the same rows, stepped side by side: stand i
+// gives the first counts[i] rows (at least one)
+std::vector<std::vector<BenchSample>> run_stands(const std::vector<const BenchConfig*>& b, const std::vector<Row>& rows,
+                                                 const std::vector<size_t>& counts, BenchSolver solver) {
+  const size_t lanes = b.size();
+  std::vector<std::unique_ptr<Stand>> stand(lanes);
+  for (size_t i = 0; i < lanes; ++i) stand[i] = std::make_unique<Stand>(*b[i], solver);
+  const size_t count = *std::max_element(counts.begin(), counts.end());
+  RowClock c{rows, std::vector<double>(count), rows.front().setpoint_deg, static_cast<double>(b[0]->dt_us)};
+  for (size_t k = 0; k < count; ++k) c.rel[k] = (rows[k].t_s - rows.front().t_s) * 1e6;
+  std::vector<std::vector<BenchSample>> out(lanes);
+  std::vector<Lane> lane(lanes);
+  for (size_t i = 0; i < lanes; ++i) {
+    lane[i] = {stand[i].get(), counts[i], &out[i], raw(*stand[i]), raw(*stand[i])};
+    out[i].reserve(counts[i]);
+    out[i].push_back(c.sample(lane[i].cur));
+  }
+  // the longest first: the lanes that still need rows are a prefix
+  std::stable_sort(lane.begin(), lane.end(), [](const Lane& x, const Lane& y) { return x.count > y.count; });
+  for (size_t k = 1, live = lanes; k < count;) {
+    while (lane[live - 1].count <= k) --live;
+    const size_t until = lane[live - 1].count;   // the rows every live lane needs
+    if (live == 1)
+      advance<1>(lane.data(), live, c, k, until);
+    else if (live == 2)
+      advance<2>(lane.data(), live, c, k, until);
+    else
+      advance<0>(lane.data(), live, c, k, until);
+    k = until;
   }
   return out;
 }
@@ -167,11 +228,24 @@ std::vector<BenchSample> run_stand(const BenchConfig& b, const std::vector<Row>&
 std::vector<BenchSample> simulate_bench(const BenchConfig& b, const std::vector<double>& t_s,
                                         const std::vector<double>& setpoint_deg, BenchSolver solver,
                                         size_t count) {
+  return std::move(simulate_benches({&b}, t_s, setpoint_deg, solver, {count}).front());
+}
+
+std::vector<std::vector<BenchSample>> simulate_benches(const std::vector<const BenchConfig*>& b,
+                                                       const std::vector<double>& t_s,
+                                                       const std::vector<double>& setpoint_deg, BenchSolver solver,
+                                                       const std::vector<size_t>& counts) {
   if (t_s.empty() || t_s.size() != setpoint_deg.size())
     throw std::invalid_argument("simulate_bench: t_s and setpoint_deg must be non-empty, same length");
-  std::vector<Row> rows(std::clamp<size_t>(count, 1, t_s.size()));
+  if (b.empty() || b.size() != counts.size())
+    throw std::invalid_argument("simulate_benches: one count per bench, at least one bench");
+  for (const BenchConfig* c : b)
+    if (c->dt_us != b.front()->dt_us) throw std::invalid_argument("simulate_benches: the benches' steps differ");
+  std::vector<size_t> n(counts.size());
+  for (size_t i = 0; i < n.size(); ++i) n[i] = std::clamp<size_t>(counts[i], 1, t_s.size());
+  std::vector<Row> rows(*std::max_element(n.begin(), n.end()));
   for (size_t k = 0; k < rows.size(); ++k) rows[k] = {t_s[k], setpoint_deg[k]};
-  return run_stand(b, rows, solver);
+  return run_stands(b, rows, n, solver);
 }
 
 }  // namespace chainsim

@@ -220,3 +220,6 @@ class ServoModel {
 };
 
 }  // namespace chainsim
+
+// the step, defined inline
+#include "physics/actuators/servo_model_step.h"

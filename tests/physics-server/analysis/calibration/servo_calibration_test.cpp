@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "analysis/calibration/calibration_report.h"
+#include "analysis/calibration/paired_runs.h"
 #include "analysis/servo_bench/bench_config.h"
 #include "analysis/servo_bench/bench_csv.h"
 #include "bench_record.h"
@@ -103,6 +104,38 @@ TEST(ServoCalibration, ACandidateFarBehindItsRoundIsNotFittedFromTheDatasheetSta
   std::sort(names.begin(), names.end());
   EXPECT_EQ(names, (std::vector<std::string>{"coulomb_friction", "current_limit"}));
   EXPECT_GE(skipped, 1);
+}
+
+// the candidates and starts fitted two at a time (paired_runs.h) give the
+// report and the progress lines, byte for byte, of one after the other: a
+// record with a frame clock (both starts at once, several clocks) and an
+// effect of two forms
+TEST(ServoCalibration, FittingTwoAtATimeChangesNothingButTheTime) {
+  BenchConfig truth = datasheet();
+  truth.servo.kp *= 1.03;
+  truth.servo.pwm_frame_s = 0.02;
+  truth.servo.pwm_frame_phase_s = 0.007;
+  truth.servo.backlash_deg = 2.0;
+  const MeasuredRecord m = bench_record(truth, 11);
+  std::string log[2], report[2];
+  int runs[2];
+  for (int paired = 0; paired < 2; ++paired) {
+    set_paired_runs(paired == 1);
+    const ServoCalibration c = calibrate_servo(datasheet(), m, [&](const std::string& l) { log[paired] += l + "\n"; });
+    report[paired] = calibration_report_json(c).dump(1);
+    runs[paired] = c.problem.model_runs;
+    if (paired == 1) {
+      std::vector<std::string> names = effect_names(c.final_fit);
+      std::sort(names.begin(), names.end());
+      EXPECT_EQ(names, (std::vector<std::string>{"backlash", "pwm_frame_delay"}));
+    }
+  }
+  std::printf("frame clock + backlash: %d model runs, %zu lines of progress\n", runs[1],
+              static_cast<size_t>(std::count(log[1].begin(), log[1].end(), '\n')));
+  EXPECT_EQ(runs[0], runs[1]);
+  EXPECT_EQ(report[0], report[1]);
+  EXPECT_EQ(log[0], log[1]);
+  EXPECT_NE(log[1].find("candidate backlash (compliant)"), std::string::npos);
 }
 
 TEST(ServoCalibration, NoEffectIsAddedWhenNoneIsMissingAndTheReportSaysSo) {

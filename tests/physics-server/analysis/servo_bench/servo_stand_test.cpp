@@ -97,6 +97,54 @@ TEST(ServoStand, ARunCutShortGivesTheWholeRunsFirstSamples) {
   }
 }
 
+// benches stepped side by side give each the bytes it gives alone, whatever
+// its effects and however many samples each asks for
+TEST(ServoStand, BenchesSideBySideGiveEachItsOwnRun) {
+  std::vector<double> t, sp;
+  moves(&t, &sp);
+  std::vector<BenchConfig> b(4);
+  b[0].servo.pwm_frame_s = 0.0167, b[0].servo.pwm_frame_phase_s = 0.004, b[0].servo.current_limit_a = 0.2;
+  b[1].servo.backlash_deg = 2, b[1].servo.backlash_stiffness_nm_rad = 30;
+  b[2].servo.coulomb_nm = 0.004, b[2].load_torque_nm = 0.003;
+  b[3].servo.supply_sag_ohm = 6, b[3].servo.supply_rail_f = 1e-3, b[3].servo.i_threshold_a = 0.02;
+  for (BenchConfig& c : b) c.dt_us = 100;
+  const std::vector<std::vector<size_t>> counts = {
+      {t.size(), t.size()}, {t.size(), 251}, {1, t.size()}, {t.size(), 300, t.size() + 9, 2}};
+  for (BenchSolver solver : {BenchSolver::closed_form, BenchSolver::ode_exact}) {
+    for (const std::vector<size_t>& n : counts) {
+      for (size_t first = 0; first + n.size() <= b.size(); first += 2) {
+        std::vector<const BenchConfig*> benches;
+        for (size_t i = 0; i < n.size(); ++i) benches.push_back(&b[first + i]);
+        const auto runs = simulate_benches(benches, t, sp, solver, n);
+        ASSERT_EQ(runs.size(), n.size());
+        for (size_t i = 0; i < n.size(); ++i) {
+          const auto alone = simulate_bench(*benches[i], t, sp, solver, n[i]);
+          ASSERT_EQ(runs[i].size(), std::min(n[i], t.size()));
+          ASSERT_EQ(runs[i].size(), alone.size());
+          for (size_t k = 0; k < alone.size(); ++k) {
+            ASSERT_EQ(runs[i][k].angle_deg, alone[k].angle_deg) << "bench " << first + i << " sample " << k;
+            ASSERT_EQ(runs[i][k].current_a, alone[k].current_a) << "bench " << first + i << " sample " << k;
+          }
+        }
+      }
+    }
+  }
+  // the benches differ from each other (the test would pass on one bench copied)
+  for (size_t i = 1; i < b.size(); ++i) {
+    const auto a = simulate_bench(b[i - 1], t, sp, BenchSolver::closed_form);
+    const auto c = simulate_bench(b[i], t, sp, BenchSolver::closed_form);
+    double most = 0;
+    for (size_t k = 0; k < t.size(); ++k) most = std::max(most, std::fabs(a[k].angle_deg - c[k].angle_deg));
+    EXPECT_GT(most, 0.1) << "benches " << i - 1 << " and " << i;
+  }
+  // one step for all, a count per bench
+  BenchConfig other = b[0];
+  other.dt_us = 200;
+  EXPECT_THROW(simulate_benches({&b[0], &other}, t, sp, BenchSolver::closed_form, {5, 5}), std::invalid_argument);
+  EXPECT_THROW(simulate_benches({&b[0], &b[1]}, t, sp, BenchSolver::closed_form, {5}), std::invalid_argument);
+  EXPECT_THROW(simulate_benches({}, t, sp, BenchSolver::closed_form, {}), std::invalid_argument);
+}
+
 TEST(ServoStand, BenchFilesSetWhatTheyNameAndNameWhatIsWrong) {
   const BenchConfig b =
       load_bench_text("servo: {Kp: 10, coulomb_nm: 0.01}\nload: {inertia_kgm2: 2e-5}\nsim: {dt_us: 100}\n", "b.yaml");
