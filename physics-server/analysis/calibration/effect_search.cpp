@@ -280,6 +280,13 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
         cands.emplace_back().effect = e;
       }
     }
+    // the longest work first, so that the last task left alone is short: a
+    // frame clock (both starts, each clock), then the effects of more forms
+    auto work = [&](const std::vector<size_t>& forms) {
+      return (both_starts_at_once(cands[forms.front()].effect) ? 100 : 0) + forms.size();
+    };
+    std::stable_sort(effect_forms.begin(), effect_forms.end(),
+                     [&](const std::vector<size_t>& a, const std::vector<size_t>& b) { return work(a) > work(b); });
     std::vector<Lines> lines(cands.size()), again_lines(cands.size());
     run_paired_each(effect_forms.size(), [&](size_t k) {
       const std::vector<size_t>& forms = effect_forms[k];

@@ -49,8 +49,11 @@ namespace chainsim {
   double sp_before = setpoint_, sp_after = setpoint_, after = 1.0;
   if (p_.pwm_frame_s > 0.0) {
     const double eps = 1e-9 * p_.pwm_frame_s;
-    const long long k =
-        static_cast<long long>(std::floor((time_s_ - p_.pwm_frame_phase_s) / p_.pwm_frame_s + 1e-9));
+    // floor, without the library call: truncate, one down for a negative
+    // fraction (the same integer as std::floor)
+    const double q = (time_s_ - p_.pwm_frame_phase_s) / p_.pwm_frame_s + 1e-9;
+    long long k = static_cast<long long>(q);
+    if (static_cast<double>(k) > q) --k;
     if (k > frame_) {
       frame_ = k;
       applied_ = setpoint_;
