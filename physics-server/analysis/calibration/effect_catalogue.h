@@ -41,8 +41,9 @@ struct Effect {
   std::vector<std::string> regimes;           // where it acts (regimes.h)
   EffectFit fit = EffectFit::smooth;
   // the simpler form of the same effect that this one refines (one more
-  // parameter); "" for none. A refining form is fitted only in a round where
-  // its simpler form shows the effect (effect_search.h)
+  // parameter); "" for none, and a form that refines nothing itself. A
+  // refining form is fitted only in a round where its simpler form shows the
+  // effect (effect_search.h)
   const char* refines = "";
 };
 

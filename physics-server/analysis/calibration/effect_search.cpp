@@ -318,7 +318,7 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
       run_paired_each(second.size(), [&](size_t k) {
         Candidate& c = cands[second[k]];
         const int runs_before = thread_model_runs();
-        c.first_gain = effect_gain[effect_catalogue()[c.effect].name];
+        c.first_gain = effect_gain.at(effect_catalogue()[c.effect].name);
         c.round_first_gain = best;
         c.second_start_skipped = !run_second_start(c.first_gain, best);
         if (!c.second_start_skipped) {
@@ -331,7 +331,9 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
       say_all(second_lines);
     }
     // then a form that refines another, where that form, as fitted in the end,
-    // shows the effect: started from its solution, screened against it
+    // shows the effect: started from its solution, screened against it (the
+    // form refined is never itself a refining form, effect_catalogue.h, so
+    // every decision is taken before any of these fits)
     {
       struct Refining {
         int effect;

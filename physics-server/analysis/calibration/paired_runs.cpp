@@ -5,6 +5,7 @@
 #include <condition_variable>
 #include <exception>
 #include <mutex>
+#include <system_error>
 #include <thread>
 
 namespace chainsim {
@@ -101,10 +102,22 @@ void run_paired(const std::vector<std::function<void()>>& tasks) {
   Pairing P;
   P.tasks = &tasks;
   P.live = 2;
-  std::thread a([&P] { work(P); });
-  std::thread b([&P] { work(P); });
+  std::thread a, b;
+  try {
+    a = std::thread([&P] { work(P); });
+  } catch (const std::system_error&) {   // no thread to be had: one after the other, here
+    for (const std::function<void()>& task : tasks) task();
+    return;
+  }
+  try {
+    b = std::thread([&P] { work(P); });
+  } catch (const std::system_error&) {   // the first worker runs them all
+    std::unique_lock<std::mutex> lock(P.m);
+    --P.live;
+    if (P.waiting.size() == P.live) P.run_waiting();
+  }
   a.join();
-  b.join();
+  if (b.joinable()) b.join();
   t_runs += P.runs;
   if (P.error) std::rethrow_exception(P.error);
 }

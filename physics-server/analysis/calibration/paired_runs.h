@@ -8,7 +8,8 @@
 // together.
 //
 // The tasks run on two threads, but only one of them runs at any moment (the
-// other waits for its model run or for its turn): a task sees exactly the
+// other waits for its model run or for its turn; pinned to one core with
+// taskset a calibration takes the same time): a task sees exactly the
 // results it would see alone, in the same order, and the tasks may share the
 // FitProblem. What they write must be their own (a slot of a vector, say);
 // messages are kept in order by the caller.
@@ -38,7 +39,8 @@ void run_paired_each(size_t n, const std::function<void(size_t)>& each);
 // the bench's response (simulate_bench, closed form, the first `rows`
 // samples): inside run_paired's tasks, stepped together with the other
 // task's run when both wait for one on the same set-points; elsewhere
-// simulate_bench itself
+// simulate_bench itself. Its errors are simulate_bench's (the set-points':
+// a pair shares them, so both of its runs throw)
 std::vector<BenchSample> paired_simulate(const BenchConfig& b, const std::vector<double>& t_s,
                                          const std::vector<double>& setpoint_deg, size_t rows);
 

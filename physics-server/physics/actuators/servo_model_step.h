@@ -5,6 +5,7 @@
 #pragma once
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 
 #include "physics/actuators/servo_model.h"
@@ -53,7 +54,7 @@ namespace chainsim {
     // fraction (the same integer as std::floor)
     const double q = (time_s_ - p_.pwm_frame_phase_s) / p_.pwm_frame_s + 1e-9;
     long long k = static_cast<long long>(q);
-    if (static_cast<double>(k) > q) --k;
+    if (static_cast<double>(k) > q && k > LLONG_MIN) --k;
     if (k > frame_) {
       frame_ = k;
       applied_ = setpoint_;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "analysis/calibration/effect_catalogue.h"
@@ -81,6 +82,25 @@ TEST(Screen, StopsAtTheLossOfTheChiSquareMedian) {
 // the datasheet start is run for an effect whose best first start gained at
 // least a quarter of the round's best first start, and for every candidate
 // when no first start gained on the held-out blocks
+// a refining form refines a form of its own effect that refines nothing (the
+// search decides which refining forms to fit before fitting any of them)
+TEST(Catalogue, ARefiningFormRefinesAFormThatRefinesNothing) {
+  int refining = 0;
+  for (const Effect& ef : effect_catalogue()) {
+    if (!*ef.refines) continue;
+    ++refining;
+    int found = 0;
+    for (const Effect& s : effect_catalogue())
+      if (std::string(s.name) == ef.name && std::string(s.variant) == ef.refines) {
+        ++found;
+        EXPECT_STREQ(s.refines, "") << ef.name << " " << ef.variant << " refines " << ef.refines;
+        EXPECT_EQ(s.params.size() + 1, ef.params.size()) << ef.variant;
+      }
+    EXPECT_EQ(found, 1) << ef.name << " " << ef.variant;
+  }
+  EXPECT_GE(refining, 2);
+}
+
 TEST(SecondStart, OnlyForAnEffectNearTheRoundsBestFirstStart) {
   EXPECT_TRUE(run_second_start(1.0, 1.0));
   EXPECT_TRUE(run_second_start(0.25, 1.0));
