@@ -93,21 +93,24 @@ void work(Pairing& P) {
 void set_paired_runs(bool on) { g_paired = on; }
 
 void run_paired(const std::vector<std::function<void()>>& tasks) {
-  // inside a task whose partner is still running: one after the other (the
-  // task is already paired); inside the last task left, its own pair
-  if (!g_paired || (t_pairing && t_pairing->live > 1) || tasks.size() < 2) {
-    for (const std::function<void()>& task : tasks) task();
-    return;
-  }
+  size_t first = 0;   // the tasks before it have run
+  auto rest_here = [&] {
+    for (; first < tasks.size(); ++first) tasks[first]();
+  };
+  if (!g_paired) return rest_here();
+  // inside a task whose partner still runs: one after the other (the task is
+  // already paired), until the partner has ended
+  while (first < tasks.size() && t_pairing && t_pairing->live > 1) tasks[first++]();
+  if (tasks.size() - first < 2) return rest_here();
   Pairing P;
   P.tasks = &tasks;
+  P.next = first;
   P.live = 2;
   std::thread a, b;
   try {
     a = std::thread([&P] { work(P); });
   } catch (const std::system_error&) {   // no thread to be had: one after the other, here
-    for (const std::function<void()>& task : tasks) task();
-    return;
+    return rest_here();
   }
   try {
     b = std::thread([&P] { work(P); });

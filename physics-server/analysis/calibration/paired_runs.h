@@ -24,9 +24,10 @@ namespace chainsim {
 
 // runs the tasks, two at a time as above, and returns when all are done; the
 // first exception a task throws is rethrown here (the tasks not yet started
-// are not run). With fewer than two tasks, or inside a task while the other
-// task still runs, they run one after the other on the calling thread;
-// inside the last task left, two at a time again.
+// are not run). With fewer than two tasks they run on the calling thread.
+// Inside a task they run one after the other while the other task still
+// runs, and the rest two at a time once it has ended (inside the last task
+// left, a pair of their own).
 void run_paired(const std::vector<std::function<void()>>& tasks);
 
 // on (the default) or off: off, run_paired runs the tasks one after the

@@ -127,7 +127,7 @@ TEST(PairedRuns, ATasksExceptionReachesTheCallerAndNoFurtherTaskStarts) {
                std::invalid_argument);
 }
 
-TEST(PairedRuns, NestedTasksPairOnlyInTheLastTaskLeft) {
+TEST(PairedRuns, NestedTasksPairOnceTheOtherTaskHasEnded) {
   const Runs r;
   // nested tasks: their threads, and their runs against the bench alone
   auto nested = [&](std::set<std::thread::id>* ids) {
@@ -154,6 +154,24 @@ TEST(PairedRuns, NestedTasksPairOnlyInTheLastTaskLeft) {
   EXPECT_EQ(early, std::set<std::thread::id>{first_thread});
   EXPECT_EQ(late.size(), 2u);
   EXPECT_EQ(late.count(second_thread), 0u);
+
+  // nested tasks begun while the other task runs, which then ends: the
+  // first here, the rest as a pair of their own
+  std::thread::id here;
+  std::vector<std::thread::id> where(5);
+  std::vector<std::vector<BenchSample>> got(5);
+  run_paired({[&] { paired_simulate(r.b[0], r.t, r.sp, 300); },
+              [&] {
+                here = std::this_thread::get_id();
+                run_paired_each(5, [&](size_t k) {
+                  where[k] = std::this_thread::get_id();
+                  got[k] = paired_simulate(r.b[k], r.t, r.sp, 200 + 50 * k);
+                });
+              }});
+  EXPECT_EQ(where[0], here);
+  EXPECT_NE(where[4], here);
+  EXPECT_EQ(std::set<std::thread::id>(where.begin(), where.end()).size(), 3u);
+  for (size_t k = 0; k < 5; ++k) expect_same(got[k], r.alone(k, 200 + 50 * k), "begun paired " + std::to_string(k));
 }
 
 // a task's runs are its own, its nested tasks' included (on threads of their
