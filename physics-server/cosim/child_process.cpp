@@ -75,7 +75,10 @@ void ChildProcess::spawn(const ChildSpec& spec) {
     setpgid(0, 0);
     prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (getppid() != parent) _exit(126);
-    if (!spec.stdout_path.empty()) {
+    if (spec.stdout_fd >= 0) {
+      dup2(spec.stdout_fd, 1);
+      dup2(spec.stdout_fd, 2);
+    } else if (!spec.stdout_path.empty()) {
       const int fd = open(spec.stdout_path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
       if (fd >= 0) {
         dup2(fd, 1);

@@ -14,6 +14,7 @@ struct ChildSpec {
   std::vector<std::string> args;         // argv[1..]
   std::vector<std::string> env;          // extra NAME=VALUE entries
   std::string stdout_path;               // where its stdout and stderr go
+  int stdout_fd = -1;                    // or an open file of the caller's (then stdout_path is not used)
 };
 
 // how a process ended, in words: "exit code 3", "signal 9 (Killed)"

@@ -1,6 +1,7 @@
 // Programs' parameter listings. See program_params.h.
 #include "cosim/program_params.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,7 +10,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -82,16 +82,17 @@ ProgramParams parse_params_listing(const std::string& text, const std::string& p
 
 ProgramParams read_program_params(const std::string& path, const std::string& program) {
   if (access(path.c_str(), X_OK) != 0) throw std::runtime_error(path + " is not an executable file");
+  // the listing goes to a temporary file without a name (unlinked at once),
+  // so that nothing is left behind however this process ends, SIGKILL
+  // included; closed on every way out, a failed spawn's exception included
   char tmpl[] = "/tmp/chainsim-params-XXXXXX";
-  const int fd = mkstemp(tmpl);
+  const int fd = mkostemp(tmpl, O_CLOEXEC);
   if (fd < 0) throw std::runtime_error(std::string("cannot create a temporary file: ") + std::strerror(errno));
-  close(fd);
-  const std::string out_path = tmpl;
-  // removed on every way out, a failed spawn's exception included
-  struct RemoveAfter {
-    const std::string& path;
-    ~RemoveAfter() { unlink(path.c_str()); }
-  } remove_after{out_path};
+  unlink(tmpl);
+  struct CloseAfter {
+    int fd;
+    ~CloseAfter() { close(fd); }
+  } close_after{fd};
   std::string text;
   std::optional<ExitStatus> st;
   {
@@ -99,15 +100,21 @@ ProgramParams read_program_params(const std::string& path, const std::string& pr
     ChildSpec spec;
     spec.program = path;
     spec.args = {CS_PARAMS_ARG};
-    spec.stdout_path = out_path;
+    spec.stdout_fd = fd;
     child.spawn(spec);
     st = child.wait_for(kListingTimeoutMs);
     if (!st) child.terminate(200);
-    std::ifstream in(out_path, std::ios::binary);
-    text.resize(kListingMaxBytes);
-    in.read(text.data(), static_cast<std::streamsize>(text.size()));
-    text.resize(static_cast<size_t>(in.gcount()));
   }
+  text.resize(kListingMaxBytes);
+  size_t got = 0;
+  while (got < text.size()) {
+    const ssize_t n = pread(fd, text.data() + got, text.size() - got, static_cast<off_t>(got));
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw std::runtime_error(std::string("cannot read its listing: ") + std::strerror(errno));
+    if (n == 0) break;
+    got += static_cast<size_t>(n);
+  }
+  text.resize(got);
   if (!st)
     throw std::runtime_error("it printed no listing within " + std::to_string(kListingTimeoutMs / 1000) +
                              " s (wall clock)");

@@ -123,6 +123,25 @@ TEST(ChildProcess, StdoutAndStderrGoToTheOutputFileWithArgsAndEnvironment) {
   EXPECT_EQ(read_file(d.file("m.out")), "out forty-two arg0\nerr\nstdin []\n");
 }
 
+// an open file of the caller's instead of a path: stdout and stderr go to it
+TEST(ChildProcess, StdoutAndStderrCanGoToAnOpenFile) {
+  TempDir d;
+  const std::string path = d.file("out.txt");
+  const int fd = open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  ASSERT_GE(fd, 0);
+  ChildProcess c;
+  ChildSpec spec;
+  spec.program = "/bin/sh";
+  spec.args = {"-c", "echo out; echo err >&2"};
+  spec.stdout_path = d.file("not-used.txt");
+  spec.stdout_fd = fd;
+  c.spawn(spec);
+  EXPECT_TRUE(c.wait().exited);
+  close(fd);
+  EXPECT_EQ(read_file(path), "out\nerr\n");
+  EXPECT_FALSE(fs::exists(d.file("not-used.txt")));
+}
+
 TEST(ChildProcess, ChildHasItsOwnProcessGroupAndTerminateEndsAllOfIt) {
   TempDir d;
   ChildProcess c;

@@ -93,6 +93,18 @@ TEST(ProgramParams, AProgramThatListsNothingIsNamedWithWhatItDid) {
             dir.file("missing") + " is not an executable file");
 }
 
+// the program writes its listing into a file that has no name, so a server
+// killed meanwhile (SIGKILL) leaves nothing in /tmp
+TEST(ProgramParams, TheListingGoesToAFileWithoutAName) {
+  chainsim_test::TempDir dir;
+  const std::string script = dir.file("fw-where");
+  std::ofstream(script) << "#!/bin/sh\nreadlink /proc/self/fd/1\nexit 3\n";
+  ASSERT_EQ(chmod(script.c_str(), 0755), 0);
+  const std::string e = error_of([&] { read_program_params(script, "fw-where"); });
+  EXPECT_NE(e.find("it ended with exit code 3 and printed \"/tmp/chainsim-params-"), std::string::npos) << e;
+  EXPECT_NE(e.find(" (deleted)\""), std::string::npos) << e;
+}
+
 TEST(ProgramParams, ANameIsLookedForInTheFirmwareDirsFirst) {
   chainsim_test::TempDir a, b;
   const std::string in_b = b.file("fw-x");
