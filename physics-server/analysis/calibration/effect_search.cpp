@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <set>
+#include <utility>
 
 #include "analysis/calibration/paired_runs.h"
 #include "analysis/calibration/regimes.h"
@@ -283,7 +284,7 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
     // the longest work first, so that the last task left alone is short: a
     // frame clock (both starts, each clock), then the effects of more forms
     auto work = [&](const std::vector<size_t>& forms) {
-      return (both_starts_at_once(cands[forms.front()].effect) ? 100 : 0) + forms.size();
+      return std::make_pair(both_starts_at_once(cands[forms.front()].effect), forms.size());
     };
     std::stable_sort(effect_forms.begin(), effect_forms.end(),
                      [&](const std::vector<size_t>& a, const std::vector<size_t>& b) { return work(a) > work(b); });

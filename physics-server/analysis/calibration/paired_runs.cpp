@@ -59,6 +59,13 @@ struct Pairing {
     }
     cv.notify_all();
   }
+
+  // a worker leaves (under m): the other may be waiting for a partner that
+  // will not come
+  void leave() {
+    --live;
+    if (live > 0 && waiting.size() == live) run_waiting();
+  }
 };
 
 std::atomic<bool> g_paired{true};
@@ -81,9 +88,7 @@ void work(Pairing& P) {
     }
   }
   P.runs += t_runs - runs_before;
-  --P.live;
-  // the other worker may be waiting for a partner that will not come
-  if (P.live > 0 && P.waiting.size() == P.live) P.run_waiting();
+  P.leave();
   t_pairing = nullptr;
   t_lock = nullptr;
 }
@@ -116,8 +121,7 @@ void run_paired(const std::vector<std::function<void()>>& tasks) {
     b = std::thread([&P] { work(P); });
   } catch (const std::system_error&) {   // the first worker runs them all
     std::unique_lock<std::mutex> lock(P.m);
-    --P.live;
-    if (P.waiting.size() == P.live) P.run_waiting();
+    P.leave();
   }
   a.join();
   if (b.joinable()) b.join();

@@ -276,9 +276,7 @@ Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect, Give
     ck.fit = evaluate_fit(p, eff, x);
     ck.fit.evals = evals;
   });
-  int screened = 0, passed = 0;
   for (Clock& ck : clocks) {
-    if (screen) ++screened, passed += !ck.stopped;
     Fit& f = ck.fit;
     const FrameClockFit& fc = ck.fc;
     if (!best.valid || f.train < best.train) {
@@ -295,7 +293,8 @@ Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect, Give
       best.held_ci.push_back(widened(ph, fc.phase_ci_s, fc.clock.phase_s));
     }
   }
-  if (screened > 0 && passed == 0) screen->stopped = true;
+  if (screen && !clocks.empty() && std::all_of(clocks.begin(), clocks.end(), [](const Clock& c) { return c.stopped; }))
+    screen->stopped = true;
   if (best.valid) return best;
   Fit f = evaluate_fit(p, ref.effects, ref.x);
   f.effects = eff;
