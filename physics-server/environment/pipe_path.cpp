@@ -42,13 +42,6 @@ PipePiece straight(const PipeFrame& at, double length, double radius, int segmen
   return p;
 }
 
-// angle of p about the elbow's centre from u towards v, in [-eps, 2 pi - eps)
-double elbow_angle(const PipePiece& e, const Eigen::Vector3d& qp) {
-  double a = std::atan2(qp.dot(e.v), qp.dot(e.u));
-  if (a < -1e-12) a += 2 * kPi;
-  return a;
-}
-
 }  // namespace
 
 PipeLayout layout_pipe(const PipeSpec& spec) {
@@ -159,6 +152,26 @@ PipeFrame pipe_piece_frame(const PipePiece& p, double f) {
   return out;
 }
 
+double elbow_angle(const PipePiece& e, const Eigen::Vector3d& qp) {
+  double a = std::atan2(qp.dot(e.v), qp.dot(e.u));
+  if (a < -1e-12) a += 2 * kPi;
+  return a;
+}
+
+// Elbows turn by at most 180 degrees (layout_pipe). With x, y the point along
+// u, v, atan2(y, x) is within [0, pi/2] for x > 0 <= y, below -1e-11 for
+// -y > 1e-11 x > 0 (so elbow_angle >= 3 pi/2 - rounding), above pi/2 + 1e-10
+// for -x > 1e-10 y > 0, and within (0, pi] for y > 0; the margins are far
+// above atan2's rounding (1e-16). Elsewhere atan2 decides.
+bool elbow_past_end(const PipePiece& e, const Eigen::Vector3d& qp) {
+  const double x = qp.dot(e.u), y = qp.dot(e.v), end = e.angle_rad;
+  if (x > 0 && y >= 0 && end >= kPi / 2 - 1e-13) return false;
+  if (x > 0 && -y > 1e-11 * x && end <= kPi) return true;
+  if (x < 0 && -x > 1e-10 * y && y > 0 && end < kPi / 2 + 5e-11) return true;
+  if (y > 0 && end >= kPi - 1e-13) return false;
+  return elbow_angle(e, qp) > end + 1e-12;
+}
+
 double pipe_piece_axis_length(const PipePiece& p) {
   return p.kind == PipePiece::Kind::Straight ? p.length_m : p.bend_radius_m * p.angle_rad;
 }
@@ -178,8 +191,12 @@ bool radial(const PipePiece& p, const Eigen::Vector3d& x, Eigen::Vector3d* d, bo
   const Eigen::Vector3d qp = q - q.dot(p.normal) * p.normal;
   const double rho = qp.norm();
   if (rho < 1e-12) return false;
-  const double a = elbow_angle(p, qp);
-  if (strict ? (a <= 0 || a >= p.angle_rad) : (a > p.angle_rad + 1e-12)) return false;
+  if (strict) {
+    const double a = elbow_angle(p, qp);
+    if (a <= 0 || a >= p.angle_rad) return false;
+  } else if (elbow_past_end(p, qp)) {
+    return false;
+  }
   *d = x - (p.centre + (p.bend_radius_m / rho) * qp);
   return true;
 }

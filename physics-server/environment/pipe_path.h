@@ -95,4 +95,13 @@ PipeFrame pipe_piece_frame(const PipePiece& piece, double f);
 // length of piece k's axis, m
 double pipe_piece_axis_length(const PipePiece& piece);
 
+// The angle of a point about elbow e's centre, from u towards v, in
+// [-1e-12, 2 pi - 1e-12); qp: the point from the centre, in the bend's plane.
+double elbow_angle(const PipePiece& e, const Eigen::Vector3d& qp);
+// elbow_angle(e, qp) > e.angle_rad + 1e-12 (the point lies past the elbow's
+// end), the same answer without atan2 wherever atan2's rounding cannot
+// change it: away from the ends of angles 0, 90 and 180 degrees (the wall
+// probes of wheels in an elbow spent a third of their time in atan2).
+bool elbow_past_end(const PipePiece& e, const Eigen::Vector3d& qp);
+
 }  // namespace chainsim

@@ -7,6 +7,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <iterator>
+#include <random>
 #include <string>
 
 #include "environment/environment_geoms.h"
@@ -134,6 +136,45 @@ Collision collide(const PipeLayout& l, int piece, dGeomID other) {
   dGeomDestroy(pipe);
   dGeomDestroy(other);
   return out;
+}
+
+// elbow_past_end decides "past the elbow's end" without atan2 where it can;
+// it must answer as the angle itself does, also next to the ends and the
+// quadrant lines where its shortcuts stop
+TEST(PipeLayout, PastAnElbowsEndWithoutAtan2AgreesWithTheAngle) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double tiny[] = {0.0, 1e-300, 1e-16, 1e-13, 1e-12, 2e-12, 1e-11, 1.1e-11, 1e-10, 1.1e-10, 1e-9, 1e-6};
+  long past = 0, n = 0;
+  for (double deg : {1.0, 30.0, 45.0, 89.999999, 90.0, 90.000001, 120.0, 135.0, 179.0, 180.0}) {
+    PipePiece e;
+    e.kind = PipePiece::Kind::Elbow;
+    e.angle_rad = deg * kRadPerDeg;
+    // a bend plane that is not the xy plane, so that the dot products round
+    e.u = Eigen::Vector3d(1, 2, 3).normalized();
+    e.normal = Eigen::Vector3d(-2, 1, 0).normalized();
+    e.v = e.normal.cross(e.u);
+    const double lines[] = {0.0, kPi / 2, kPi, 3 * kPi / 2, e.angle_rad, -1e-12, e.angle_rad + 1e-12};
+    for (int i = 0; i < 200000; ++i) {
+      double a;
+      if (i % 2 == 0) {
+        a = 2 * kPi * unit(rng);
+      } else {  // next to a line, at a distance of every order of magnitude
+        const double t = tiny[rng() % std::size(tiny)] * (unit(rng) < 0.5 ? -1 : 1) * (1 + unit(rng));
+        a = lines[rng() % std::size(lines)] + t;
+      }
+      const double rho = std::exp(std::log(1e-9) + unit(rng) * (std::log(10.0) - std::log(1e-9)));
+      const Eigen::Vector3d qp = rho * (std::cos(a) * e.u + std::sin(a) * e.v);
+      const bool expected = elbow_angle(e, qp) > e.angle_rad + 1e-12;
+      ASSERT_EQ(elbow_past_end(e, qp), expected)
+          << deg << " degrees, angle " << a << " (" << elbow_angle(e, qp) << "), rho " << rho;
+      ++n;
+      past += expected;
+    }
+  }
+  // both answers occur often
+  EXPECT_GT(past, n / 5);
+  EXPECT_LT(past, n * 4 / 5);
 }
 
 TEST(PipeGeom, SphereTouchingTheWallGetsAnInwardNormalAndItsDepth) {
