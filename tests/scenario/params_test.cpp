@@ -5,8 +5,6 @@
 // are what the shipped programs declare.
 #include <gtest/gtest.h>
 
-#include <stdio.h>
-
 #include <filesystem>
 #include <string>
 
@@ -14,20 +12,6 @@
 
 using namespace scenario;
 
-namespace {
-
-// `chainsim <args>`'s stdout and exit code
-std::pair<std::string, int> chainsim_stdout(const std::string& args) {
-  FILE* p = popen((std::string(CHAINSIM_EXE) + " " + args + " 2>&1").c_str(), "r");
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  const int st = pclose(p);
-  return {out, WIFEXITED(st) ? WEXITSTATUS(st) : -1};
-}
-
-}  // namespace
 
 TEST(Params, MisspelledParameterStopsTheRunBeforeAnyModuleStarts) {
   const std::string dir = temp_dir("params-typo");

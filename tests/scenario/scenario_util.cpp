@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <dirent.h>
 #include <filesystem>
@@ -73,6 +74,16 @@ pid_t start_chainsim(const std::vector<std::string>& args, const std::string& er
     _exit(127);
   }
   return pid;
+}
+
+std::pair<std::string, int> chainsim_stdout(const std::string& args) {
+  FILE* p = popen((std::string(CHAINSIM_EXE) + " " + args + " 2>&1").c_str(), "r");
+  std::string out;
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  const int st = pclose(p);
+  return {out, WIFEXITED(st) ? WEXITSTATUS(st) : -1};
 }
 
 Outcome wait_chainsim(pid_t pid, const std::string& out_dir, const std::string& err_path, double timeout_s) {

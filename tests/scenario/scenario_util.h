@@ -32,6 +32,9 @@ std::string read_file(const std::string& path);
 pid_t start_chainsim(const std::vector<std::string>& args, const std::string& err_path);
 // wait for it (killing it after timeout_s) and collect the outcome
 Outcome wait_chainsim(pid_t pid, const std::string& out_dir, const std::string& err_path, double timeout_s = 240);
+// `chainsim <args>` (a shell command line) run to its end: stdout and
+// stderr together, and the exit code (-1 if it did not exit)
+std::pair<std::string, int> chainsim_stdout(const std::string& args);
 // both at once: `chainsim run <args> --out <dir>/run`
 Outcome run(const std::vector<std::string>& args, const std::string& dir);
 

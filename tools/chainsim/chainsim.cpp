@@ -24,6 +24,7 @@
 #include "chainsim/optimize_command.h"
 #include "chainsim/params_command.h"
 #include "viewer/live_view.h"
+#include "cosim/lockstep_bench.h"
 #include "cosim/lockstep_server.h"
 #include "cosim/program_params.h"
 #include "cosim/scene_check.h"
@@ -149,54 +150,74 @@ int cmd_run(const RunArgs& a) {
 
 struct BenchArgs {
   std::vector<int> sizes{2, 8, 32};
+  std::vector<std::string> scenes;  // --scene: these scenes instead of the chains
   double duration = 5.0;
+  bool duration_given = false;
   int64_t control_ms = -1;
   int repeat = 3;
   std::string out = "runs/bench-lockstep";
 };
 
+// the chain of n rotation modules of the built-in snake scene
+Scene bench_chain(int n, const BenchArgs& a) {
+  Scene scene = default_scene();
+  scene.name = "bench-" + std::to_string(n);
+  scene.duration_s = a.duration;
+  scene.modules.clear();
+  for (int i = 0; i < n; ++i) {
+    SceneModule m;
+    m.type = "rotation";
+    m.firmware = default_firmware("rotation");
+    if (a.control_ms > 0) m.params["control_ms"] = static_cast<int32_t>(a.control_ms);
+    scene.modules.push_back(m);
+  }
+  return scene;
+}
+
 int cmd_bench_lockstep(const BenchArgs& a) {
+  // scenes are loaded and checked before anything runs: a bad one is a bad option
+  std::vector<Scene> scenes;
+  for (const std::string& file : a.scenes) {
+    try {
+      Scene s = load_scene_file(file);
+      if (a.duration_given) s.duration_s = a.duration;
+      if (std::llround(s.duration_s * 1e6) < s.tick_us)
+        throw SceneError(file + ": --duration " + fixed_text(s.duration_s, 6) + " s is shorter than one tick");
+      check_scene_programs(s, "");
+      scenes.push_back(std::move(s));
+    } catch (const SceneError& e) {
+      std::fprintf(stderr, "chainsim: %s\n", e.what());
+      return kExitBadInput;
+    }
+  }
+  std::vector<std::string> outs;
+  if (scenes.empty()) {
+    for (int n : a.sizes) {
+      scenes.push_back(bench_chain(n, a));
+      outs.push_back(a.out + "/" + std::to_string(n));
+    }
+  } else {
+    for (size_t i = 0; i < scenes.size(); ++i) outs.push_back(a.out + "/" + std::to_string(i) + "-" + scenes[i].name);
+  }
   std::printf("# lockstep price: co-simulation (processes + sockets + firmware) vs physics only\n");
-  std::printf("# (the same servo commands replayed into the same world with no processes)\n");
-  std::printf("%8s %10s %12s %14s %10s %12s %12s\n", "modules", "sim_s", "cosim_rtf", "physics_rtf", "ratio",
-              "exch/tick", "same_trace");
+  std::printf("# (the same servo commands replayed into the same world with no processes; best of %d)\n", a.repeat);
+  std::printf("%-24s %8s %8s %10s %12s %8s %10s %11s\n", "scene", "modules", "sim_s", "cosim_rtf", "physics_rtf",
+              "ratio", "exch/tick", "same_trace");
   int rc = 0;
-  for (int n : a.sizes) {
-    Scene scene = default_scene();
-    scene.name = "bench-" + std::to_string(n);
-    scene.duration_s = a.duration;
-    scene.modules.clear();
-    for (int i = 0; i < n; ++i) {
-      SceneModule m;
-      m.type = "rotation";
-      m.firmware = default_firmware("rotation");
-      if (a.control_ms > 0) m.params["control_ms"] = static_cast<int32_t>(a.control_ms);
-      scene.modules.push_back(m);
-    }
+  for (size_t i = 0; i < scenes.size(); ++i) {
+    const Scene& scene = scenes[i];
     RunOptions opt;
-    opt.out_dir = a.out + "/" + std::to_string(n);
+    opt.out_dir = outs[i];
     opt.quiet = true;
-    // best of a.repeat for each side: wall-clock figures on a shared machine are noisy
-    double cosim_wall = 1e300, phys_wall = 1e300;
-    RunResult r;
-    bool same = true;
-    for (int rep = 0; rep < a.repeat; ++rep) {
-      std::vector<ServoCommand> rec;
-      r = run_scene(scene, opt, &rec);
-      if (r.exit_code != kExitOk) break;
-      cosim_wall = std::min(cosim_wall, r.wall_time_s);
-      std::string sha;
-      phys_wall = std::min(phys_wall, replay_physics(scene, rec, &sha));
-      same &= sha == r.summary["trace_sha256"].get<std::string>();
-    }
-    if (r.exit_code != kExitOk) {
-      std::fprintf(stderr, "chainsim: bench run with %d modules failed: %s\n", n, r.message.c_str());
+    const LockstepFigures f = measure_lockstep(scene, opt, a.repeat);
+    if (f.exit_code != kExitOk) {
+      std::fprintf(stderr, "chainsim: bench run of %s failed: %s\n", scene.name.c_str(), f.message.c_str());
       rc = kExitModuleFault;
       continue;
     }
-    const double ticks = a.duration * 1e6 / scene.tick_us;
-    std::printf("%8d %10.2f %12.2f %14.2f %10.3f %12.2f %12s\n", n, a.duration, a.duration / cosim_wall,
-                a.duration / phys_wall, cosim_wall / phys_wall, r.exchanges / ticks, same ? "yes" : "NO");
+    std::printf("%-24s %8zu %8.2f %10.2f %12.2f %8.3f %10.2f %11s\n", scene.name.c_str(), scene.modules.size(),
+                f.sim_s, f.cosim_rtf(), f.physics_rtf(), f.ratio(), f.exchanges / f.ticks,
+                f.same_trace ? "yes" : "NO");
     std::fflush(stdout);
   }
   return rc;
@@ -268,18 +289,21 @@ int main(int argc, char** argv) {
 
   BenchArgs ba;
   auto* bench = app.add_subcommand("bench-lockstep",
-                                   "real-time factor of the co-simulation vs physics only, for chains of rotation modules");
+                                   "real-time factor of the co-simulation vs physics only, for chains of rotation modules or scene files");
   bench->add_option("--modules", ba.sizes, "chain lengths to measure")->expected(1, -1)->capture_default_str();
-  bench->add_option("--duration", ba.duration, "simulated seconds per run")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
+  bench->add_option("--scene", ba.scenes, "measure these scene files instead of the chains")
+      ->expected(1, -1)
+      ->check(CLI::ExistingFile);
+  auto* duration = bench->add_option("--duration", ba.duration,
+                                     "simulated seconds per run (default 5 for the chains, a scene's own for --scene)")
+                       ->check(CLI::PositiveNumber);
   bench->add_option("--control-ms", ba.control_ms, "firmware control step of the rotation modules (default: theirs)")
       ->check(CLI::Range(1, 1000));  // fw-rotation's declared range of control_ms
   bench->add_option("--out", ba.out, "where the bench runs are written")->capture_default_str();
   bench->add_option("--repeat", ba.repeat, "runs per figure; the fastest counts")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  bench->footer("Exit codes: 0 every chain length measured; 1 bad options; 2 a bench run failed.");
+  bench->footer("Exit codes: 0 every chain length or scene measured; 1 bad options or scene; 2 a bench run failed.");
 
   add_bench_command(app);
   add_calibrate_command(app);
@@ -299,6 +323,9 @@ int main(int argc, char** argv) {
   if (const int rc = params_command_exit_code(); rc >= 0) return rc;
   if (*run) return cmd_run(ra);
   if (*view) return cmd_view(va);
-  if (*bench) return cmd_bench_lockstep(ba);
+  if (*bench) {
+    ba.duration_given = duration->count() > 0;
+    return cmd_bench_lockstep(ba);
+  }
   return kExitBadInput;
 }

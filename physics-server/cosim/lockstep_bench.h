@@ -1,0 +1,33 @@
+// The lockstep's price for one scene: the co-simulation (one process per
+// module, sockets, firmware) against the same servo commands replayed into a
+// fresh world with no processes (replay.h), each the fastest of `repeat`
+// runs. `chainsim bench-lockstep` (docs/benchmarks.md).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "cosim/run_options.h"
+#include "scene/scene.h"
+
+namespace chainsim {
+
+struct LockstepFigures {
+  int exit_code = kExitOk;     // of the first co-simulation that did not finish cleanly
+  std::string message;         // what stopped it
+  double cosim_wall_s = 0;     // fastest co-simulation, wall seconds
+  double physics_wall_s = 0;   // fastest physics-only replay, wall seconds
+  double sim_s = 0;            // simulated seconds per run
+  uint64_t exchanges = 0;      // TickBegin/TickEnd round trips of a co-simulation
+  double ticks = 0;            // HAL ticks per run
+  bool same_trace = true;      // every replay gave its co-simulation's trace byte for byte
+  double cosim_rtf() const { return sim_s / cosim_wall_s; }
+  double physics_rtf() const { return sim_s / physics_wall_s; }
+  double ratio() const { return cosim_wall_s / physics_wall_s; }
+};
+
+// runs the scene `repeat` times (opt.out_dir holds the last run) and replays
+// each run's commands; stops at the first run that does not finish cleanly
+LockstepFigures measure_lockstep(const Scene& scene, const RunOptions& opt, int repeat);
+
+}  // namespace chainsim
