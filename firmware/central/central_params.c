@@ -41,7 +41,10 @@ const hal_param_decl hal_param_table[] = {
               "gait 9: way the next elbow turns, deg (0 up, 90 left, 180 down, 270 right); -1 = no steering"),
     HAL_PARAM("bend_cdeg", HAL_PARAM_I16, 0, CC_QUARTER_TURN_CDEG, 4500,
               "gait 9: how far each rotation module bends toward the elbow, cdeg"),
-    HAL_PARAM("bend_ms", HAL_PARAM_U16, 0, 30000, 1500, "gait 9: how long the bend is held after the contact, ms"),
+    HAL_PARAM("bend_ms", HAL_PARAM_U16, 0, 30000, 1500, "gait 9: how long each rotation module holds the bend, ms"),
+    HAL_PARAM("bend_travel_ms", HAL_PARAM_U16, 0, 30000, 0,
+              "gait 9: the bend travels down the chain: the module k places behind the first rotation module bends "
+              "k * bend_travel_ms after it, ms; 0 = all at once"),
     HAL_PARAM_END
 };
 
@@ -68,4 +71,5 @@ void central_params_read(void)
     params.elbow_dir_deg = (int16_t)hal_param("elbow_dir_deg");
     params.bend_cdeg = (int16_t)hal_param("bend_cdeg");
     params.bend_ms = (uint16_t)hal_param("bend_ms");
+    params.bend_travel_ms = (uint16_t)hal_param("bend_travel_ms");
 }

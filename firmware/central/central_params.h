@@ -32,6 +32,7 @@ typedef struct {
     int16_t elbow_dir_deg;
     int16_t bend_cdeg;
     uint16_t bend_ms;
+    uint16_t bend_travel_ms; /* delay of the bend per module along the chain */
 } central_params;
 
 /* the parameters as read by central_params_read (a global: SDCC reaches it

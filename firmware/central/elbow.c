@@ -4,11 +4,13 @@
 #include "central_io.h"
 #include "central_params.h"
 #include "fixed_sin.h"
+#include "discovery.h"
 #include "gaits.h"
+#include "chain_commands.h"
 
 static int16_t bend_pitch, bend_yaw; /* cdeg, held while bending */
 static uint8_t bending, bent_once;
-uint32_t elbow_bend_end; /* when the bend ends (while bending) or ended */
+uint32_t elbow_bend_end; /* the steering's next change (while bending), or when it ended */
 
 void elbow_setup(void)
 {
@@ -31,7 +33,43 @@ void elbow_log(void)
     cio_put(" pitch_cdeg=", bend_pitch);
     cio_put(" yaw_cdeg=", bend_yaw);
     cio_put(" bend_ms=", params.bend_ms);
+    if (params.bend_travel_ms != 0)
+        cio_put(" bend_travel_ms=", params.bend_travel_ms);
     cio_log_line(cio_sb.buf);
+}
+
+/* The steering under way: the rotation module at chain index next_on bends
+ * at t_on, the one at next_off straightens at t_off. Each bends
+ * bend_travel_ms per place behind the first rotation module later than it,
+ * and straightens bend_ms after it bent. The steering ends at t_end: when
+ * the last one straightened (bend_ms after the contact in a chain without
+ * rotation modules). Counters rather than a table per module: the PIC's RAM. */
+static uint32_t t_on, t_off, t_end;
+static uint8_t next_on, next_off;
+
+/* the first rotation module at chain index i or after it (chain_n_modules:
+ * none); *t moves on by bend_travel_ms for each place from `from` to it */
+static uint8_t rotation_from(uint8_t i, uint8_t from, uint32_t *t)
+{
+    while (i < chain_n_modules && chain_module_type[i] != MT_ROTATION)
+        i++;
+    for (; from < i; from++)
+        *t += params.bend_travel_ms;
+    return i;
+}
+
+/* send the bends and straightenings that are due */
+static void steer(uint32_t now)
+{
+    while (next_on < chain_n_modules && (int32_t)(now - t_on) >= 0) {
+        gaits_send_bend(next_on, bend_pitch, bend_yaw);
+        next_on = rotation_from((uint8_t)(next_on + 1), next_on, &t_on);
+    }
+    while (next_off < next_on && (int32_t)(now - t_off) >= 0) {
+        gaits_send_bend(next_off, 0, 0);
+        t_end = t_off;
+        next_off = rotation_from((uint8_t)(next_off + 1), next_off, &t_off);
+    }
 }
 
 void elbow_contact(uint32_t now)
@@ -40,11 +78,15 @@ void elbow_contact(uint32_t now)
         return;
     if (bent_once && (int32_t)(now - elbow_bend_end) < (int32_t)params.bend_ms)
         return; /* the same elbow: the head meets the outgoing leg's wall */
-    gaits_send_bend(bend_pitch, bend_yaw);
+    next_on = rotation_from(0, 0, &t_on);
+    next_off = next_on;
+    t_on = now; /* the first rotation module bends at the contact */
+    t_off = now + params.bend_ms;
+    t_end = t_off;
+    steer(now);
     cio_log_int("elbow: bend at ms ", now);
     bending = 1;
     bent_once = 1;
-    elbow_bend_end = now + params.bend_ms;
 }
 
 uint8_t elbow_update(uint32_t now, uint8_t stopped)
@@ -55,11 +97,16 @@ uint8_t elbow_update(uint32_t now, uint8_t stopped)
         bending = 0; /* STOP has straightened them */
         return 0;
     }
-    if ((int32_t)(now - elbow_bend_end) >= 0) {
-        gaits_send_bend(0, 0);
+    steer(now);
+    if (next_off >= chain_n_modules && (int32_t)(now - t_end) >= 0) {
         bending = 0;
+        elbow_bend_end = t_end;
         cio_log_int("elbow: straight at ms ", now);
         return 0;
     }
+    /* the next change */
+    elbow_bend_end = next_off < chain_n_modules ? t_off : t_end;
+    if (next_on < chain_n_modules && (int32_t)(t_on - elbow_bend_end) < 0)
+        elbow_bend_end = t_on;
     return 1;
 }

@@ -104,10 +104,10 @@ void gaits_send(void)
         send_wave();
 }
 
-void gaits_send_bend(int16_t pitch_cdeg, int16_t yaw_cdeg)
+void gaits_send_bend(uint8_t module, int16_t pitch_cdeg, int16_t yaw_cdeg)
 {
     frame_clear(GAIT_BEND);
     cc_put_i16(frame + CC_GAIT_OFF_BEND_PITCH, pitch_cdeg);
     cc_put_i16(frame + CC_GAIT_OFF_BEND_YAW, yaw_cdeg);
-    chain_send_to_type(MT_ROTATION, frame, CC_SET_GAIT_LEN);
+    cio_send((uint8_t)(CHAIN_FIRST_MODULE_ADDR + module), frame, CC_SET_GAIT_LEN);
 }

@@ -15,7 +15,8 @@ void gaits_log(void);
 /* SET_GAIT of params.gait to every module it moves */
 void gaits_send(void);
 
-/* gait 10 to every rotation module: hold pitch and yaw (cdeg) */
-void gaits_send_bend(int16_t pitch_cdeg, int16_t yaw_cdeg);
+/* gait 10 to the module at chain index `module` (a rotation module): hold
+ * pitch and yaw (cdeg) */
+void gaits_send_bend(uint8_t module, int16_t pitch_cdeg, int16_t yaw_cdeg);
 
 #endif

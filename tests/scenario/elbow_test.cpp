@@ -76,6 +76,27 @@ bool steered_at_elbow(const Outcome& o, const std::string& log, double elbow_x) 
   return false;
 }
 
+// the central control's SET_GAIT frames of gait 10 (bend) in bus.log: time
+// sent (us), the address, and whether it bends (a non-zero pitch or yaw) or
+// straightens
+struct BendFrame {
+  int64_t t_us;
+  std::string to;
+  bool bends;
+};
+std::vector<BendFrame> bend_frames(const Outcome& o) {
+  std::vector<BendFrame> out;
+  std::istringstream bus(read_file(o.dir + "/bus.log"));
+  std::string line;
+  while (std::getline(bus, line)) {
+    const size_t to = line.find(" to="), data = line.find(" data=100a");  // SET_GAIT (0x10), gait 10
+    if (line.find(" i2c from=") == std::string::npos || to == std::string::npos || data == std::string::npos) continue;
+    const std::string angles = line.substr(data + 10, 8);  // pitch and yaw, i16 each
+    out.push_back({std::atoll(line.c_str()), line.substr(to + 4, 4), angles != "00000000"});
+  }
+  return out;
+}
+
 std::string text(const Head& h) {
   std::ostringstream s;
   s << "head at x=" << h.x << " y=" << h.y << ", 5 cm into the outgoing leg at t=" << h.t_out << " s";
@@ -98,6 +119,37 @@ TEST(Elbow, TRRHPassesTheElbow) {
   const Head h = head(o, 0.55);
   EXPECT_GT(h.t_out, 0) << text(h) << "\n" << log;
   EXPECT_GT(h.y, 0.13) << text(h);
+  // both rotation modules bend at once (bend_travel_ms 0), and straighten at once
+  const std::vector<BendFrame> f = bend_frames(o);
+  ASSERT_EQ(f.size(), 4u);
+  EXPECT_EQ(f[0].to + f[1].to, "0x210x22");
+  EXPECT_TRUE(f[0].bends && f[1].bends);
+  EXPECT_EQ(f[0].t_us, f[1].t_us);
+  EXPECT_FALSE(f[2].bends || f[3].bends);
+  EXPECT_EQ(f[2].t_us, f[3].t_us);
+  EXPECT_EQ(f[2].t_us - f[0].t_us, 8000000);
+}
+
+// bend_travel_ms: each rotation module bends that much later than the one
+// before it in the chain, and holds its bend for bend_ms of its own; the
+// steering ends when the last one straightens
+TEST(Elbow, TheBendTravelsDownTheChain) {
+  const Outcome o = run_scene("elbow", "elbow-TRRH", 22,
+                              {{"bend_ms: 8000", "bend_ms: 3000\n    bend_travel_ms: 2000"}});
+  ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+  const std::string log = central_log(o, 4);
+  EXPECT_NE(log.find("elbow: dir_deg=90 pitch_cdeg=3 yaw_cdeg=-4500 bend_ms=3000 bend_travel_ms=2000\n"),
+            std::string::npos) << log;
+  const std::vector<BendFrame> f = bend_frames(o);
+  ASSERT_EQ(f.size(), 4u) << log;
+  const int64_t t0 = f[0].t_us;
+  // (module, bends, time after the contact)
+  EXPECT_TRUE(f[0].to == "0x21" && f[0].bends);
+  EXPECT_TRUE(f[1].to == "0x22" && f[1].bends && f[1].t_us - t0 == 2000000) << f[1].t_us - t0;
+  EXPECT_TRUE(f[2].to == "0x21" && !f[2].bends && f[2].t_us - t0 == 3000000) << f[2].t_us - t0;
+  EXPECT_TRUE(f[3].to == "0x22" && !f[3].bends && f[3].t_us - t0 == 5000000) << f[3].t_us - t0;
+  EXPECT_NE(log.find("elbow: bend at ms " + std::to_string(t0 / 1000) + "\n"), std::string::npos) << log;
+  EXPECT_NE(log.find("elbow: straight at ms " + std::to_string(t0 / 1000 + 5000) + "\n"), std::string::npos) << log;
 }
 
 // the same chain without the steering (elbow_dir_deg off) jams at the elbow
