@@ -43,7 +43,7 @@ const hal_param_decl hal_param_table[] = {
               "gait 9: how far each rotation module bends toward the elbow, cdeg"),
     HAL_PARAM("bend_ms", HAL_PARAM_U16, 0, 30000, 1500, "gait 9: how long each rotation module holds the bend, ms"),
     HAL_PARAM("bend_travel_ms", HAL_PARAM_U16, 0, 30000, 0,
-              "gait 9: the bend travels down the chain: the module k places behind the first rotation module bends "
+              "gait 9: the bend travels down the chain: a rotation module k places behind the first one bends "
               "k * bend_travel_ms after it, ms; 0 = all at once"),
     HAL_PARAM_END
 };

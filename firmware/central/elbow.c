@@ -58,13 +58,18 @@ static uint8_t rotation_from(uint8_t i, uint8_t from, uint32_t *t)
     return i;
 }
 
-/* send the bends and straightenings that are due */
-static void steer(uint32_t now)
+/* send the bends that are due */
+static void bend_due(uint32_t now)
 {
     while (next_on < chain_n_modules && (int32_t)(now - t_on) >= 0) {
         gaits_send_bend(next_on, bend_pitch, bend_yaw);
         next_on = rotation_from((uint8_t)(next_on + 1), next_on, &t_on);
     }
+}
+
+/* send the straightenings that are due (of modules already bent) */
+static void straighten_due(uint32_t now)
+{
     while (next_off < next_on && (int32_t)(now - t_off) >= 0) {
         gaits_send_bend(next_off, 0, 0);
         t_end = t_off;
@@ -78,12 +83,12 @@ void elbow_contact(uint32_t now)
         return;
     if (bent_once && (int32_t)(now - elbow_bend_end) < (int32_t)params.bend_ms)
         return; /* the same elbow: the head meets the outgoing leg's wall */
-    next_on = rotation_from(0, 0, &t_on);
+    t_on = now; /* the first rotation module bends at the contact: */
+    next_on = rotation_from(0, chain_n_modules, &t_on); /* no places counted */
     next_off = next_on;
-    t_on = now; /* the first rotation module bends at the contact */
     t_off = now + params.bend_ms;
     t_end = t_off;
-    steer(now);
+    bend_due(now); /* straightenings wait for elbow_update, after this log line */
     cio_log_int("elbow: bend at ms ", now);
     bending = 1;
     bent_once = 1;
@@ -97,7 +102,8 @@ uint8_t elbow_update(uint32_t now, uint8_t stopped)
         bending = 0; /* STOP has straightened them */
         return 0;
     }
-    steer(now);
+    bend_due(now);
+    straighten_due(now);
     if (next_off >= chain_n_modules && (int32_t)(now - t_end) >= 0) {
         bending = 0;
         elbow_bend_end = t_end;

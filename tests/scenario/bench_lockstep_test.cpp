@@ -89,9 +89,14 @@ TEST(BenchLockstep, BadScenesAndDurationsAreNamedBeforeAnythingRuns) {
   const auto [out2, rc2] = chainsim_stdout("bench-lockstep --scene " + scene_path("helicoidal-0") +
                                            " --duration 0.0001 --out " + dir + "/runs");
   EXPECT_EQ(rc2, 1) << out2;
-  EXPECT_NE(out2.find("shorter than one tick"), std::string::npos) << out2;
+  EXPECT_NE(out2.find("shorter than one tick (physics.tick_us = 1000 us)"), std::string::npos) << out2;
 
   const auto [out3, rc3] = chainsim_stdout("bench-lockstep --scene " + dir + "/missing.yaml");
   EXPECT_EQ(rc3, 1) << out3;
   EXPECT_NE(out3.find("missing.yaml"), std::string::npos) << out3;
+
+  // the chains' options do not mix with scene files
+  const auto [out4, rc4] = chainsim_stdout("bench-lockstep --scene " + scene_path("helicoidal-0") + " --modules 2");
+  EXPECT_EQ(rc4, 1) << out4;
+  EXPECT_NE(out4.find("excludes"), std::string::npos) << out4;
 }

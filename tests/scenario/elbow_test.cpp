@@ -134,20 +134,25 @@ TEST(Elbow, TRRHPassesTheElbow) {
 // before it in the chain, and holds its bend for bend_ms of its own; the
 // steering ends when the last one straightens
 TEST(Elbow, TheBendTravelsDownTheChain) {
-  const Outcome o = run_scene("elbow", "elbow-TRRH", 22,
+  // the contact comes at about 16.6 s, the last straightening 5 s later
+  const Outcome o = run_scene("elbow", "elbow-TRRH", 25,
                               {{"bend_ms: 8000", "bend_ms: 3000\n    bend_travel_ms: 2000"}});
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
   const std::string log = central_log(o, 4);
   EXPECT_NE(log.find("elbow: dir_deg=90 pitch_cdeg=3 yaw_cdeg=-4500 bend_ms=3000 bend_travel_ms=2000\n"),
             std::string::npos) << log;
   const std::vector<BendFrame> f = bend_frames(o);
-  ASSERT_EQ(f.size(), 4u) << log;
+  ASSERT_GE(f.size(), 4u) << log;  // (a later contact may steer again)
   const int64_t t0 = f[0].t_us;
-  // (module, bends, time after the contact)
-  EXPECT_TRUE(f[0].to == "0x21" && f[0].bends);
-  EXPECT_TRUE(f[1].to == "0x22" && f[1].bends && f[1].t_us - t0 == 2000000) << f[1].t_us - t0;
-  EXPECT_TRUE(f[2].to == "0x21" && !f[2].bends && f[2].t_us - t0 == 3000000) << f[2].t_us - t0;
-  EXPECT_TRUE(f[3].to == "0x22" && !f[3].bends && f[3].t_us - t0 == 5000000) << f[3].t_us - t0;
+  // module, bend or straighten, time after the contact
+  const std::tuple<const char*, bool, int64_t> expected[] = {
+      {"0x21", true, 0}, {"0x22", true, 2000000}, {"0x21", false, 3000000}, {"0x22", false, 5000000}};
+  for (size_t k = 0; k < 4; ++k) {
+    const auto& [to, bends, dt] = expected[k];
+    EXPECT_EQ(f[k].to, to) << "frame " << k;
+    EXPECT_EQ(f[k].bends, bends) << "frame " << k;
+    EXPECT_EQ(f[k].t_us - t0, dt) << "frame " << k;
+  }
   EXPECT_NE(log.find("elbow: bend at ms " + std::to_string(t0 / 1000) + "\n"), std::string::npos) << log;
   EXPECT_NE(log.find("elbow: straight at ms " + std::to_string(t0 / 1000 + 5000) + "\n"), std::string::npos) << log;
 }

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
@@ -162,6 +163,7 @@ struct BenchArgs {
 Scene bench_chain(int n, const BenchArgs& a) {
   Scene scene = default_scene();
   scene.name = "bench-" + std::to_string(n);
+  scene.source = "bench-lockstep --modules " + std::to_string(n);
   scene.duration_s = a.duration;
   scene.modules.clear();
   for (int i = 0; i < n; ++i) {
@@ -175,29 +177,31 @@ Scene bench_chain(int n, const BenchArgs& a) {
 }
 
 int cmd_bench_lockstep(const BenchArgs& a) {
-  // scenes are loaded and checked before anything runs: a bad one is a bad option
+  // every scene is loaded and checked before anything runs: a bad one is a bad option
   std::vector<Scene> scenes;
-  for (const std::string& file : a.scenes) {
-    try {
-      Scene s = load_scene_file(file);
+  std::vector<std::string> outs;
+  try {
+    for (size_t i = 0; i < a.scenes.size(); ++i) {
+      Scene s = load_scene_file(a.scenes[i]);
       if (a.duration_given) s.duration_s = a.duration;
-      if (std::llround(s.duration_s * 1e6) < s.tick_us)
-        throw SceneError(file + ": --duration " + fixed_text(s.duration_s, 6) + " s is shorter than one tick");
       check_scene_programs(s, "");
       scenes.push_back(std::move(s));
-    } catch (const SceneError& e) {
-      std::fprintf(stderr, "chainsim: %s\n", e.what());
-      return kExitBadInput;
+      // named after the file: a scene's own name may hold anything
+      outs.push_back(a.out + "/" + std::to_string(i) + "-" + std::filesystem::path(a.scenes[i]).stem().string());
     }
-  }
-  std::vector<std::string> outs;
-  if (scenes.empty()) {
-    for (int n : a.sizes) {
-      scenes.push_back(bench_chain(n, a));
-      outs.push_back(a.out + "/" + std::to_string(n));
+    if (a.scenes.empty()) {
+      for (int n : a.sizes) {
+        scenes.push_back(bench_chain(n, a));
+        outs.push_back(a.out + "/" + std::to_string(n));
+      }
     }
-  } else {
-    for (size_t i = 0; i < scenes.size(); ++i) outs.push_back(a.out + "/" + std::to_string(i) + "-" + scenes[i].name);
+    for (const Scene& s : scenes)
+      if (std::llround(s.duration_s * 1e6) < s.tick_us)
+        throw SceneError(s.source + ": a run of " + fixed_text(s.duration_s, 6) +
+                         " s is shorter than one tick (physics.tick_us = " + std::to_string(s.tick_us) + " us)");
+  } catch (const SceneError& e) {
+    std::fprintf(stderr, "chainsim: %s\n", e.what());
+    return kExitBadInput;
   }
   std::printf("# lockstep price: co-simulation (processes + sockets + firmware) vs physics only\n");
   std::printf("# (the same servo commands replayed into the same world with no processes; best of %d)\n", a.repeat);
@@ -209,13 +213,27 @@ int cmd_bench_lockstep(const BenchArgs& a) {
     RunOptions opt;
     opt.out_dir = outs[i];
     opt.quiet = true;
-    const LockstepFigures f = measure_lockstep(scene, opt, a.repeat);
+    const RunDirCheck dir = prepare_run_dir(opt.out_dir);
+    if (!dir.error.empty()) {
+      std::fprintf(stderr, "chainsim: %s\n", dir.error.c_str());
+      return kExitBadInput;
+    }
+    LockstepFigures f;
+    try {
+      f = measure_lockstep(scene, opt, a.repeat);
+    } catch (const WorldSetupError& e) {  // the scene asks for a world that cannot be built
+      std::fprintf(stderr, "chainsim: %s: %s\n", scene.source.c_str(), e.what());
+      return kExitBadInput;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "chainsim: bench run of %s: %s\n", scene.name.c_str(), e.what());
+      return kExitInternal;
+    }
     if (f.exit_code != kExitOk) {
       std::fprintf(stderr, "chainsim: bench run of %s failed: %s\n", scene.name.c_str(), f.message.c_str());
       rc = kExitModuleFault;
       continue;
     }
-    std::printf("%-24s %8zu %8.2f %10.2f %12.2f %8.3f %10.2f %11s\n", scene.name.c_str(), scene.modules.size(),
+    std::printf("%-24s %8zu %8.2f %10.3f %12.3f %8.3f %10.2f %11s\n", scene.name.c_str(), scene.modules.size(),
                 f.sim_s, f.cosim_rtf(), f.physics_rtf(), f.ratio(), f.exchanges / f.ticks,
                 f.same_trace ? "yes" : "NO");
     std::fflush(stdout);
@@ -290,15 +308,18 @@ int main(int argc, char** argv) {
   BenchArgs ba;
   auto* bench = app.add_subcommand("bench-lockstep",
                                    "real-time factor of the co-simulation vs physics only, for chains of rotation modules or scene files");
-  bench->add_option("--modules", ba.sizes, "chain lengths to measure")->expected(1, -1)->capture_default_str();
-  bench->add_option("--scene", ba.scenes, "measure these scene files instead of the chains")
-      ->expected(1, -1)
-      ->check(CLI::ExistingFile);
+  auto* modules =
+      bench->add_option("--modules", ba.sizes, "chain lengths to measure")->expected(1, -1)->capture_default_str();
+  auto* scene_files = bench->add_option("--scene", ba.scenes, "measure these scene files instead of the chains")
+                          ->expected(1, -1)
+                          ->check(CLI::ExistingFile)
+                          ->excludes(modules);
   auto* duration = bench->add_option("--duration", ba.duration,
                                      "simulated seconds per run (default 5 for the chains, a scene's own for --scene)")
                        ->check(CLI::PositiveNumber);
   bench->add_option("--control-ms", ba.control_ms, "firmware control step of the rotation modules (default: theirs)")
-      ->check(CLI::Range(1, 1000));  // fw-rotation's declared range of control_ms
+      ->check(CLI::Range(1, 1000))  // fw-rotation's declared range of control_ms
+      ->excludes(scene_files);
   bench->add_option("--out", ba.out, "where the bench runs are written")->capture_default_str();
   bench->add_option("--repeat", ba.repeat, "runs per figure; the fastest counts")
       ->check(CLI::PositiveNumber)

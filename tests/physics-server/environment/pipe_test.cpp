@@ -139,8 +139,9 @@ Collision collide(const PipeLayout& l, int piece, dGeomID other) {
 }
 
 // elbow_past_end decides "past the elbow's end" without atan2 where it can;
-// it must answer as the angle itself does, also next to the ends and the
-// quadrant lines where its shortcuts stop
+// it must answer as the angle itself does: on random points, on points next
+// to the ends and the quadrant lines where its shortcuts stop, and on exact
+// zeros and subnormals
 TEST(PipeLayout, PastAnElbowsEndWithoutAtan2AgreesWithTheAngle) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -175,6 +176,19 @@ TEST(PipeLayout, PastAnElbowsEndWithoutAtan2AgreesWithTheAngle) {
   // both answers occur often
   EXPECT_GT(past, n / 5);
   EXPECT_LT(past, n * 4 / 5);
+  // the bend in the xy plane: exact zeros of either sign, subnormals and
+  // points on the quadrant lines reach the shortcuts unrounded
+  const double edges[] = {0.0, -0.0, 5e-324, -5e-324, 1e-310, -1e-310, 1e-300, -1e-300, 1e-12, -1e-12, 1.0, -1.0};
+  for (double deg : {45.0, 90.0, 135.0, 180.0}) {
+    PipePiece e;
+    e.kind = PipePiece::Kind::Elbow;
+    e.angle_rad = deg * kRadPerDeg;
+    for (double x : edges)
+      for (double y : edges) {
+        const Eigen::Vector3d qp(x, y, 0);
+        EXPECT_EQ(elbow_past_end(e, qp), elbow_angle(e, qp) > e.angle_rad + 1e-12) << deg << " " << x << " " << y;
+      }
+  }
 }
 
 TEST(PipeGeom, SphereTouchingTheWallGetsAnInwardNormalAndItsDepth) {
