@@ -295,7 +295,8 @@ ga: {population: 1}
 TEST(Problem, ShippedProblemsLoad) {
   const std::filesystem::path dir = std::filesystem::path(CHAINSIM_SOURCE_DIR) / "scenes" / "optimize";
   const std::vector<std::string> problems = {"elbow-configuration-100mm.yaml", "elbow-configuration.yaml",
-                                             "minimal-configuration.yaml", "terrain-gait.yaml"};
+                                             "elbow-configuration-travelling-bend.yaml", "minimal-configuration.yaml",
+                                             "terrain-gait.yaml"};
   std::vector<std::string> files;
   for (const auto& e : std::filesystem::directory_iterator(dir))
     if (e.path().extension() == ".yaml") files.push_back(e.path().filename().string());
@@ -315,7 +316,8 @@ TEST(Problem, ShippedProblemsLoad) {
   // the elbow search ranks the chains that do not get through by their
   // shortfall: "never" scores the run's whole duration, so a chain that gets
   // through always beats one that does not
-  for (const char* f : {"elbow-configuration.yaml", "elbow-configuration-100mm.yaml"}) {
+  for (const char* f :
+       {"elbow-configuration.yaml", "elbow-configuration-100mm.yaml", "elbow-configuration-travelling-bend.yaml"}) {
     SCOPED_TRACE(f);
     const Problem e = load_problem_file((dir / f).string());
     ASSERT_EQ(e.measures[0].name, "through_s");
@@ -326,10 +328,11 @@ TEST(Problem, ShippedProblemsLoad) {
   }
 }
 
-// the 100 mm elbow search's base scene is the shipped elbow scene with
-// another bend radius and nothing else (problem files cannot override a
-// scene, so it is a copy, and it must not drift from the original)
-TEST(Problem, TheHundredMillimetreElbowIsTheShippedElbowSceneWithAnotherRadius) {
+// the base scenes beside the problems are the shipped elbow scene with one
+// thing changed and nothing else (problem files cannot override a scene, so
+// each is a copy, and it must not drift from the original): the 100 mm
+// elbow's bend radius, the travelling bend's bend_travel_ms
+TEST(Problem, TheElbowVariantsAreTheShippedElbowSceneWithOneChange) {
   const std::string root = CHAINSIM_SOURCE_DIR;
   auto body = [](const std::string& path) {  // the file without its comment lines
     std::ifstream in(path);
@@ -338,13 +341,21 @@ TEST(Problem, TheHundredMillimetreElbowIsTheShippedElbowSceneWithAnotherRadius) 
       if (line.rfind("#", 0) != 0) out += line + "\n";
     return out;
   };
-  std::string copy = body(root + "/scenes/optimize/elbow-100mm.yaml");
   const std::string original = body(root + "/scenes/elbow-THRHRHRHH.yaml");
-  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
-           {"name: elbow-100mm\n", "name: elbow-THRHRHRHH\n"}, {"bend_radius_m: 0.1,", "bend_radius_m: 0.08,"}}) {
-    const size_t at = copy.find(from);
-    ASSERT_NE(at, std::string::npos) << from;
-    copy.replace(at, from.size(), to);
+  using Edits = std::vector<std::pair<std::string, std::string>>;
+  for (const auto& [file, edits] : std::vector<std::pair<std::string, Edits>>{
+           {"elbow-100mm.yaml",
+            {{"name: elbow-100mm\n", "name: elbow-THRHRHRHH\n"}, {"bend_radius_m: 0.1,", "bend_radius_m: 0.08,"}}},
+           {"elbow-travelling-bend.yaml",
+            {{"name: elbow-travelling-bend\n", "name: elbow-THRHRHRHH\n"},
+             {"    bend_travel_ms: 2000          # the bend travels down the chain: 2 s per place\n", ""}}}}) {
+    SCOPED_TRACE(file);
+    std::string copy = body(root + "/scenes/optimize/" + file);
+    for (const auto& [from, to] : edits) {
+      const size_t at = copy.find(from);
+      ASSERT_NE(at, std::string::npos) << from;
+      copy.replace(at, from.size(), to);
+    }
+    EXPECT_EQ(copy, original);
   }
-  EXPECT_EQ(copy, original);
 }
