@@ -193,14 +193,15 @@ std::string scene_path(const std::string& name) {
 
 Outcome run_scene(const std::string& tag, const std::string& name, double duration_s,
                   const std::vector<std::pair<std::string, std::string>>& edits) {
-  const std::string dir = temp_dir(tag + "-" + name);
+  const std::string base = name.substr(name.rfind('/') + 1);  // a scene in a folder of scenes/
+  const std::string dir = temp_dir(tag + "-" + base);
   std::string text = read_file(scene_path(name));
   for (const auto& e : edits) {
     const size_t at = text.find(e.first);
     EXPECT_NE(at, std::string::npos) << e.first;
     if (at != std::string::npos) text.replace(at, e.first.size(), e.second);
   }
-  const std::string scene = write_file(dir, name + ".yaml", text);
+  const std::string scene = write_file(dir, base + ".yaml", text);
   return run({scene, "--duration", std::to_string(duration_s), "-q"}, dir);
 }
 

@@ -50,9 +50,9 @@ std::string sha256_file(const std::string& path);
 std::map<std::string, std::vector<double>> read_trace(const std::string& path);
 // scenes/<name>.yaml of the repository
 std::string scene_path(const std::string& name);
-// run scenes/<name>.yaml for duration_s (quiet), after replacing each
-// edits[i].first in its text by .second (a missing one fails the test);
-// tag names the test's /tmp directory
+// run scenes/<name>.yaml (name may hold a folder: optimize/x) for
+// duration_s (quiet), after replacing each edits[i].first in its text by
+// .second (a missing one fails the test); tag names the test's /tmp directory
 Outcome run_scene(const std::string& tag, const std::string& name, double duration_s,
                   const std::vector<std::pair<std::string, std::string>>& edits = {});
 // the central control's log of a run of n modules (it is endpoint n)
