@@ -21,9 +21,14 @@ struct LockstepFigures {
   uint64_t exchanges = 0;      // TickBegin/TickEnd round trips of a co-simulation
   double ticks = 0;            // HAL ticks per run
   bool same_trace = true;      // every replay gave its co-simulation's trace byte for byte
+  // CPU seconds (the least of the runs): the server process in a
+  // co-simulation, its module processes, and the replay. Less disturbed by
+  // other work on the machine than the wall clock.
+  double cosim_cpu_s = 0, modules_cpu_s = 0, physics_cpu_s = 0;
   double cosim_rtf() const { return sim_s / cosim_wall_s; }
   double physics_rtf() const { return sim_s / physics_wall_s; }
   double ratio() const { return cosim_wall_s / physics_wall_s; }
+  double cpu_ratio() const { return cosim_cpu_s / physics_cpu_s; }  // the server's CPU against the replay's
 };
 
 // runs the scene `repeat` times (opt.out_dir holds the last run) and replays

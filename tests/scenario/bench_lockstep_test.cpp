@@ -20,7 +20,7 @@ namespace {
 struct Row {
   std::string scene, same_trace;
   int modules = -1;
-  double sim_s = 0, cosim_rtf = 0, physics_rtf = 0, ratio = 0, exch_per_tick = -1;
+  double sim_s = 0, cosim_rtf = 0, physics_rtf = 0, ratio = 0, cpu_ratio = 0, modules_cpu_s = -1, exch_per_tick = -1;
 };
 
 // the table's row of a scene (scene == "" when it has none)
@@ -31,7 +31,8 @@ Row row_of(const std::string& out, const std::string& scene) {
     std::istringstream f(line);
     Row r;
     if (f >> r.scene && r.scene == scene &&
-        f >> r.modules >> r.sim_s >> r.cosim_rtf >> r.physics_rtf >> r.ratio >> r.exch_per_tick >> r.same_trace)
+        f >> r.modules >> r.sim_s >> r.cosim_rtf >> r.physics_rtf >> r.ratio >> r.cpu_ratio >> r.modules_cpu_s >>
+            r.exch_per_tick >> r.same_trace)
       return r;
   }
   return Row{};
@@ -54,8 +55,14 @@ TEST(BenchLockstep, ScenesAreMeasuredAndTheirReplaysGiveTheirTraces) {
     EXPECT_GT(r.cosim_rtf, 0);
     EXPECT_GT(r.physics_rtf, 0);
     EXPECT_NEAR(r.ratio, r.physics_rtf / r.cosim_rtf, 0.01 * r.ratio + 0.002);
+    // the server does at least the replay's work: its CPU is not below the
+    // replay's by more than the clocks' grain
+    EXPECT_GT(r.cpu_ratio, 0.8) << out;
     EXPECT_EQ(r.same_trace, "yes") << out;
   }
+  // the module processes' CPU is counted: three programs and the central
+  // control ran half a second of firmware each
+  EXPECT_GT(w.modules_cpu_s, 0.0) << out;
   // the inchworm's modules compute every 10 ms (S E S and the central control)
   EXPECT_GT(w.exch_per_tick, 0.05);
   // each scene's last co-simulation is kept, as long as --duration asked

@@ -205,8 +205,10 @@ int cmd_bench_lockstep(const BenchArgs& a) {
   }
   std::printf("# lockstep price: co-simulation (processes + sockets + firmware) vs physics only\n");
   std::printf("# (the same servo commands replayed into the same world with no processes; best of %d)\n", a.repeat);
-  std::printf("%-24s %8s %8s %10s %12s %8s %10s %11s\n", "scene", "modules", "sim_s", "cosim_rtf", "physics_rtf",
-              "ratio", "exch/tick", "same_trace");
+  std::printf("# ratio: wall clock; cpu_ratio: the server's CPU against the replay's; modules_cpu_s: the module\n"
+              "# processes' CPU in one co-simulation\n");
+  std::printf("%-24s %8s %8s %10s %12s %8s %10s %14s %10s %11s\n", "scene", "modules", "sim_s", "cosim_rtf",
+              "physics_rtf", "ratio", "cpu_ratio", "modules_cpu_s", "exch/tick", "same_trace");
   int rc = 0;
   for (size_t i = 0; i < scenes.size(); ++i) {
     const Scene& scene = scenes[i];
@@ -233,9 +235,9 @@ int cmd_bench_lockstep(const BenchArgs& a) {
       rc = kExitModuleFault;
       continue;
     }
-    std::printf("%-24s %8zu %8.2f %10.3f %12.3f %8.3f %10.2f %11s\n", scene.name.c_str(), scene.modules.size(),
-                f.sim_s, f.cosim_rtf(), f.physics_rtf(), f.ratio(), f.exchanges / f.ticks,
-                f.same_trace ? "yes" : "NO");
+    std::printf("%-24s %8zu %8.2f %10.3f %12.3f %8.3f %10.3f %14.3f %10.2f %11s\n", scene.name.c_str(),
+                scene.modules.size(), f.sim_s, f.cosim_rtf(), f.physics_rtf(), f.ratio(), f.cpu_ratio(),
+                f.modules_cpu_s, f.exchanges / f.ticks, f.same_trace ? "yes" : "NO");
     std::fflush(stdout);
   }
   return rc;
