@@ -96,7 +96,10 @@ TEST(BenchLockstep, BadScenesAndDurationsAreNamedBeforeAnythingRuns) {
   const auto [out2, rc2] = chainsim_stdout("bench-lockstep --scene " + scene_path("helicoidal-0") +
                                            " --duration 0.0001 --out " + dir + "/runs");
   EXPECT_EQ(rc2, 1) << out2;
-  EXPECT_NE(out2.find("shorter than one tick (physics.tick_us = 1000 us)"), std::string::npos) << out2;
+  EXPECT_NE(out2.find(scene_path("helicoidal-0") +
+                      ": --duration 0.000100 s is shorter than one tick of the scene (physics.tick_us = 1000 us)"),
+            std::string::npos)
+      << out2;
 
   const auto [out3, rc3] = chainsim_stdout("bench-lockstep --scene " + dir + "/missing.yaml");
   EXPECT_EQ(rc3, 1) << out3;

@@ -64,6 +64,14 @@ struct RunArgs {
   double progress_every = 0;  // 0: 1 s on a terminal, 10 s otherwise
 };
 
+// a run is whole ticks: a --duration shorter than one tick of the scene
+// would silently become one tick. The error, or "" when it is not shorter
+std::string duration_error(double duration, const Scene& scene) {
+  if (std::llround(duration * 1e6) >= scene.tick_us) return "";
+  return "--duration " + fixed_text(duration, 6) + " s is shorter than one tick of the scene (physics.tick_us = " +
+         std::to_string(scene.tick_us) + " us)";
+}
+
 int cmd_run(const RunArgs& a) {
   Scene scene;
   try {
@@ -74,10 +82,8 @@ int cmd_run(const RunArgs& a) {
   }
   if (a.duration > 0) scene.duration_s = a.duration;
   if (a.seed >= 0) scene.world.seed = static_cast<uint64_t>(a.seed);
-  // a run is whole ticks: a shorter duration would silently become one tick
-  if (a.duration > 0 && std::llround(a.duration * 1e6) < scene.tick_us) {
-    std::fprintf(stderr, "chainsim: --duration %s s is shorter than one tick of the scene (physics.tick_us = %lld us)\n",
-                 fixed_text(a.duration, 6).c_str(), static_cast<long long>(scene.tick_us));
+  if (const std::string e = a.duration > 0 ? duration_error(a.duration, scene) : ""; !e.empty()) {
+    std::fprintf(stderr, "chainsim: %s\n", e.c_str());
     return kExitBadInput;
   }
   for (int i : a.attach) {
@@ -152,8 +158,7 @@ int cmd_run(const RunArgs& a) {
 struct BenchArgs {
   std::vector<int> sizes{2, 8, 32};
   std::vector<std::string> scenes;  // --scene: these scenes instead of the chains
-  double duration = 5.0;
-  bool duration_given = false;
+  double duration = -1;             // -1: 5 s for the chains, a scene's own for --scene
   int64_t control_ms = -1;
   int repeat = 3;
   std::string out = "runs/bench-lockstep";
@@ -164,7 +169,7 @@ Scene bench_chain(int n, const BenchArgs& a) {
   Scene scene = default_scene();
   scene.name = "bench-" + std::to_string(n);
   scene.source = "bench-lockstep --modules " + std::to_string(n);
-  scene.duration_s = a.duration;
+  scene.duration_s = a.duration > 0 ? a.duration : 5.0;
   scene.modules.clear();
   for (int i = 0; i < n; ++i) {
     SceneModule m;
@@ -183,7 +188,7 @@ int cmd_bench_lockstep(const BenchArgs& a) {
   try {
     for (size_t i = 0; i < a.scenes.size(); ++i) {
       Scene s = load_scene_file(a.scenes[i]);
-      if (a.duration_given) s.duration_s = a.duration;
+      if (a.duration > 0) s.duration_s = a.duration;
       check_scene_programs(s, "");
       scenes.push_back(std::move(s));
       // named after the file: a scene's own name may hold anything
@@ -196,9 +201,8 @@ int cmd_bench_lockstep(const BenchArgs& a) {
       }
     }
     for (const Scene& s : scenes)
-      if (std::llround(s.duration_s * 1e6) < s.tick_us)
-        throw SceneError(s.source + ": a run of " + fixed_text(s.duration_s, 6) +
-                         " s is shorter than one tick (physics.tick_us = " + std::to_string(s.tick_us) + " us)");
+      if (const std::string e = a.duration > 0 ? duration_error(a.duration, s) : ""; !e.empty())
+        throw SceneError(s.source + ": " + e);
   } catch (const SceneError& e) {
     std::fprintf(stderr, "chainsim: %s\n", e.what());
     return kExitBadInput;
@@ -316,9 +320,9 @@ int main(int argc, char** argv) {
                           ->expected(1, -1)
                           ->check(CLI::ExistingFile)
                           ->excludes(modules);
-  auto* duration = bench->add_option("--duration", ba.duration,
-                                     "simulated seconds per run (default 5 for the chains, a scene's own for --scene)")
-                       ->check(CLI::PositiveNumber);
+  bench->add_option("--duration", ba.duration,
+                    "simulated seconds per run (default 5 for the chains, a scene's own for --scene)")
+      ->check(CLI::PositiveNumber);
   bench->add_option("--control-ms", ba.control_ms, "firmware control step of the rotation modules (default: theirs)")
       ->check(CLI::Range(1, 1000))  // fw-rotation's declared range of control_ms
       ->excludes(scene_files);
@@ -346,9 +350,6 @@ int main(int argc, char** argv) {
   if (const int rc = params_command_exit_code(); rc >= 0) return rc;
   if (*run) return cmd_run(ra);
   if (*view) return cmd_view(va);
-  if (*bench) {
-    ba.duration_given = duration->count() > 0;
-    return cmd_bench_lockstep(ba);
-  }
+  if (*bench) return cmd_bench_lockstep(ba);
   return kExitBadInput;
 }
