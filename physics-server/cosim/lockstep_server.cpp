@@ -432,6 +432,7 @@ RunSummary Server::summary(double wall_s, const Eigen::Vector3d& displacement_m)
   s.limp_mode = opt_.on_fault == FaultMode::Limp;
   s.trace_sha256 = out_->trace_sha256();
   s.exchanges = exchanges_;
+  s.degenerate_lcp_steps = world_.degenerate_lcp_steps();
   for (int i = 0; i < endpoints_->size(); ++i) {
     const Endpoint& e = (*endpoints_)[i];
     EndpointSummary es;

@@ -5,6 +5,17 @@
 
 namespace chainsim {
 
+namespace {
+
+// the constraint solver, and how often the exact one met a degenerate pivot
+nlohmann::json solver_json(const WorldConfig& world, int64_t degenerate_lcp_steps) {
+  if (world.solver == WorldConfig::Solver::Exact)
+    return {{"name", "exact"}, {"degenerate_lcp_steps", degenerate_lcp_steps}};
+  return {{"name", "quickstep"}, {"iterations", world.solver_iterations}};
+}
+
+}  // namespace
+
 nlohmann::json summary_json(const Scene& scene, const RunSummary& run) {
   nlohmann::json mods = nlohmann::json::array();
   for (const EndpointSummary& e : run.endpoints) {
@@ -37,6 +48,7 @@ nlohmann::json summary_json(const Scene& scene, const RunSummary& run) {
           {"real_time_factor", wall > 0 ? sim_s / wall : 0.0},
           {"dt_us", scene.world.dt_us},
           {"tick_us", scene.tick_us},
+          {"solver", solver_json(scene.world, run.degenerate_lcp_steps)},
           {"on_module_fault", run.limp_mode ? "limp" : "stop"},
           {"trace_file", "trace.csv"},
           {"trace_sha256", run.trace_sha256},

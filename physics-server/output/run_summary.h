@@ -35,6 +35,7 @@ struct RunSummary {
   bool limp_mode = false;           // --on-module-fault=limp
   std::string trace_sha256;
   uint64_t exchanges = 0;
+  int64_t degenerate_lcp_steps = 0; // World::degenerate_lcp_steps (the exact solver)
   std::vector<EndpointSummary> endpoints;
   Eigen::Vector3d displacement_m = Eigen::Vector3d::Zero();  // of the chain's centre of mass
   // discovery, judged at discovery_us when the run got that far: the modules

@@ -29,7 +29,15 @@
 //  * the 10 s crawl distance varies by +-10% with no trend (mildly chaotic);
 //  * cost grows about linearly: ~2 us per iteration for 8 modules.
 // 30 keeps the jitter under one potentiometer count (0.18 degrees) at about
-// 70 us per step for 8 modules. Global ERP/CFM 0.2 / 1e-9 (stiff joints; a
+// 70 us per step for 8 modules.
+// WorldConfig::Solver::Exact steps with dWorldStep instead. An inchworm
+// (S E S, 13 bodies) in a 40 mm pipe, the supports' arm pads gripping the
+// wall, moves at 1.24 / 1.06 / 1.29 cm/s up 0 / 30 / 90 degrees at 30
+// iterations, 1.23 / 1.18 / 1.23 at 50, 1.38 / 1.35 / 1.34 at 100, 1.47 /
+// 1.43 / 1.45 at 200, 1.48 / 1.45 / 1.45 at 300 and 1.47 / 1.46 / 1.45 at
+// 1000; exact: 1.47 / 1.46 / 1.46, at a quarter of 300 iterations' cost. The
+// unconverged iteration lets a gripping support creep back under the
+// extension's push (docs/firmware.md, "Inchworm"). Global ERP/CFM 0.2 / 1e-9 (stiff joints; a
 // softer CFM up to 1e-5 changed nothing measurable); contacts use their
 // Material's soft ERP/CFM.
 #include "physics/world.h"
@@ -38,6 +46,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 #include <mutex>
 #include <stdexcept>
@@ -58,9 +67,28 @@ constexpr unsigned kStepReserveBytes = 4u << 20;  // ODE stepper working memory,
 constexpr int kWarmContactsPerGeom = 8;           // contact joints pre-allocated per geom
 constexpr double kSurfaceLayer = 1e-4;            // m, ODE's allowed contact penetration
 
+// ODE's messages (non-fatal) go to stderr as before, but for the exact
+// solver's "LCP internal error" (d_ERR_LCP, a degenerate pivot in dLCP: the
+// step goes on with the solution found so far), which each thread counts
+// for World::degenerate_lcp_steps
+thread_local int64_t t_lcp_messages = 0;
+
+void ode_message(int num, const char* msg, va_list ap) {
+  if (num == d_ERR_LCP) {
+    ++t_lcp_messages;
+    return;
+  }
+  std::fprintf(stderr, "ODE Message %d: ", num);
+  std::vfprintf(stderr, msg, ap);
+  std::fprintf(stderr, "\n");
+}
+
 void ode_init_once() {
   static std::once_flag flag;
-  std::call_once(flag, [] { dInitODE2(0); });
+  std::call_once(flag, [] {
+    dInitODE2(0);
+    dSetMessageHandler(ode_message);
+  });
   dAllocateODEDataForThread(dAllocateMaskAll);
 }
 
@@ -134,6 +162,8 @@ struct World::Impl {
   std::unique_ptr<WallProbe> wall_probe;   // where wheel arms and pads meet the wall
   std::unique_ptr<WheelContacts> wheels;   // wheel sets and pads (wheels/wheel_contacts.h)
   unsigned long rand_seed = 0;             // ODE's random state between steps
+  bool exact = false;                      // dWorldStep instead of dWorldQuickStep (WorldConfig::solver)
+  int64_t degenerate_lcp_steps = 0;        // exact: steps whose LCP met a degenerate pivot
   int64_t time_us = 0;
 
   std::vector<Body> bodies;
@@ -157,6 +187,7 @@ void World::Impl::build(const WorldConfig& cfg, const std::vector<std::string>& 
   dWorldSetERP(world, 0.2);
   dWorldSetCFM(world, 1e-9);
   dWorldSetQuickStepNumIterations(world, std::max(1, cfg.solver_iterations));
+  exact = cfg.solver == WorldConfig::Solver::Exact;
   dWorldSetAutoDisableFlag(world, 0);
   dWorldSetContactSurfaceLayer(world, kSurfaceLayer);
   space = dSimpleSpaceCreate(nullptr);
@@ -322,6 +353,8 @@ World::World(const WorldConfig& config, const std::vector<std::string>& chain) {
 
 World::~World() = default;
 
+int64_t World::degenerate_lcp_steps() const { return impl_->degenerate_lcp_steps; }
+
 int World::module_count() const { return static_cast<int>(impl_->modules.size()); }
 const std::string& World::module_type(int module) const { return impl_->mod(module).type; }
 int World::servo_count(int module) const {
@@ -360,7 +393,13 @@ void World::step() {
   dRandSetSeed(w.rand_seed);       // this world's random state (QuickStep reorders with it)
   w.contacts->collide(w.space);    // contact joints, touch flags
   w.wheels->begin_step();          // wheels and pads on the wall: contact joints
-  dWorldQuickStep(w.world, w.h);
+  if (w.exact) {
+    const int64_t messages = t_lcp_messages;
+    dWorldStep(w.world, w.h);
+    if (t_lcp_messages != messages) ++w.degenerate_lcp_steps;
+  } else {
+    dWorldQuickStep(w.world, w.h);
+  }
   w.rand_seed = dRandGetSeed();
   w.contacts->clear();
   w.wheels->end_step();            // their forces; their joints go

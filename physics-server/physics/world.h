@@ -50,6 +50,12 @@ struct WorldConfig {
   ServoParams servo;                   // every servo's model (paper Table 1 defaults)
   double gravity_m_s2 = 9.81;
   int solver_iterations = 30;          // ODE QuickStep iterations (see world.cpp for the measurements)
+  // the constraint solver: ODE's iterative QuickStep (solver_iterations), or
+  // its exact LCP solver dWorldStep (iterations do not apply), whose cost
+  // grows with the cube of a connected group's constraint rows: for short
+  // chains whose results depend on the iterations (world.cpp)
+  enum class Solver { QuickStep, Exact };
+  Solver solver = Solver::QuickStep;
   // module types the chain may name besides the built-ins (looked up first:
   // test fixtures, a scene's own types)
   std::vector<ModuleDef> module_types;
@@ -88,6 +94,10 @@ class World {
   // advance the world by one physics step (dt_us); never allocates
   void step();
   int64_t time_us() const;
+  // the exact solver (WorldConfig::Solver::Exact): the steps whose LCP met
+  // a degenerate pivot (ODE's "LCP internal error"; the step went on with
+  // the solution found so far); 0 for QuickStep
+  int64_t degenerate_lcp_steps() const;
   int64_t dt_us() const;
 
   // sensor readings of module m now, in wire units

@@ -203,12 +203,18 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
   s.world.seed = static_cast<uint64_t>(c.integer(root, "seed", 1, 0, INT64_MAX, "scene"));
 
   if (const YAML::Node p = root["physics"]) {
-    c.keys(p, "physics", {"dt_us", "tick_us", "gravity_m_s2", "solver_iterations"});
+    c.keys(p, "physics", {"dt_us", "tick_us", "gravity_m_s2", "solver", "solver_iterations"});
     s.world.dt_us = c.integer(p, "dt_us", s.world.dt_us, 10, 100000, "physics");
     s.tick_us = c.integer(p, "tick_us", s.tick_us, 10, 1000000, "physics");
     s.world.gravity_m_s2 = c.number(p, "gravity_m_s2", s.world.gravity_m_s2, 0.0, 100.0, "physics");
     s.world.solver_iterations =
         static_cast<int>(c.integer(p, "solver_iterations", s.world.solver_iterations, 1, 10000, "physics"));
+    if (c.choice(p, "solver", "quickstep", {"quickstep", "exact"}, "physics") == "exact") {
+      if (p["solver_iterations"])
+        c.fail(p["solver_iterations"], "'physics.solver_iterations' applies to the quickstep solver only, and "
+                                       "'physics.solver' is exact");
+      s.world.solver = WorldConfig::Solver::Exact;
+    }
     if (s.tick_us % s.world.dt_us != 0)
       c.fail(p, "'physics.tick_us' (" + std::to_string(s.tick_us) +
                      ") must be a multiple of 'physics.dt_us' (" + std::to_string(s.world.dt_us) + ")");

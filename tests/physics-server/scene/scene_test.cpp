@@ -176,3 +176,19 @@ TEST(Scene, SolverIterationsAreAPhysicsSetting) {
   const std::string e = scene_error_of("chain: R\nphysics: {solver_iterations: 0}\n");
   EXPECT_EQ(e.rfind("s.yaml:2:30: 'physics.solver_iterations' = 0 ", 0), 0u) << e;
 }
+
+TEST(Scene, TheSolverIsQuickStepUnlessTheSceneAsksForTheExactOne) {
+  using Solver = chainsim::WorldConfig::Solver;
+  EXPECT_EQ(load_scene_text("chain: R\n", "s.yaml").world.solver, Solver::QuickStep);
+  EXPECT_EQ(load_scene_text("chain: R\nphysics: {solver: quickstep, solver_iterations: 50}\n", "s.yaml").world.solver,
+            Solver::QuickStep);
+  EXPECT_EQ(load_scene_text("chain: R\nphysics: {solver: exact}\n", "s.yaml").world.solver, Solver::Exact);
+  const std::string bad = scene_error_of("chain: R\nphysics: {solver: lcp}\n");
+  EXPECT_EQ(bad.rfind("s.yaml:2:", 0), 0u) << bad;
+  EXPECT_NE(bad.find("quickstep"), std::string::npos) << bad;
+  EXPECT_NE(bad.find("exact"), std::string::npos) << bad;
+  // iterations mean nothing to the exact solver: said, not ignored
+  const std::string both = scene_error_of("chain: R\nphysics: {solver: exact, solver_iterations: 50}\n");
+  EXPECT_EQ(both.rfind("s.yaml:2:", 0), 0u) << both;
+  EXPECT_NE(both.find("'physics.solver_iterations' applies to the quickstep solver only"), std::string::npos) << both;
+}
