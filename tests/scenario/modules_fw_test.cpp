@@ -113,15 +113,55 @@ TEST(Inchworm, AdvancesInAHorizontalPipe) {
               tr.at("t_s").back() - 0.2);
   EXPECT_GT(head, 0.03);
   EXPECT_GT(tail, 0.03);
-  // with the exact solver (the scene's) the grip holds and the chain moves
-  // at its gait's speed, stroke / (2 step) = 1.5 cm/s (measured 1.47; under
-  // QuickStep's 30 iterations the gripping supports crept: 1.24)
+  // with the exact solver (the scene's) the grip holds: the chain moves at
+  // nearly its gait's speed, stroke / (2 step) = 2.5 cm/s (measured 2.27 over
+  // 1-10 s; the extension, near its stall force, loses a little of each
+  // stroke to the drag). Under QuickStep the gripping supports crept back
+  // (1.46 cm/s at 300 iterations).
   const double window_s = tr.at("t_s").back() - 0.2;
-  EXPECT_GT(head / window_s, 0.9 * 0.015);
-  EXPECT_LT(head / window_s, 1.05 * 0.015);
+  EXPECT_GT(head / window_s, 0.85 * 0.025);
+  EXPECT_LT(head / window_s, 1.02 * 0.025);
   EXPECT_EQ(o.summary["solver"]["name"], "exact");
   EXPECT_GE(o.summary["solver"]["degenerate_lcp_steps"].get<int64_t>(), 0);
   EXPECT_EQ(o.stderr_text.find("ODE Message"), std::string::npos) << o.stderr_text;
+}
+
+// The paper's Table 3 (real 2.5 / 1.5 / 0.6 cm/s at 0 / 30 / 90 degrees),
+// two parameters fitted: the gait's step_ms from the level row (ideal speed
+// = the real 2.5 cm/s; the paper gives no timing) and the extension's stall
+// force, named and fitted by `chainsim calibrate --robot`
+// (scenes/modules/extension.yaml; leave-one-row-out 0.21 cm/s: docs/
+// calibration.md). Speed of the head support from 1 s to 10 s; RMS within
+// 0.30 cm/s (the paper's simulator: 0.61). With the documented gait's 500 ms
+// steps the chain cannot beat stroke / (2 step) = 1.5 cm/s on the level.
+TEST(Inchworm, Table3SpeedsVsSlope) {
+  const double real[] = {2.5, 1.5, 0.6};
+  const int slopes[] = {0, 30, 90};
+  double sum2 = 0, documented0 = 0;
+  std::vector<double> v(3);
+  for (int i = 0; i < 3; ++i) {
+    const Outcome o = run_scene("mfw", "inchworm-" + std::to_string(slopes[i]), 10);
+    ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+    const auto tr = read_trace(o.dir + "/trace.csv");
+    v[i] = advance(tr, "m0.front", slopes[i], 1.0) / (tr.at("t_s").back() - 1.0) * 100;
+    std::printf("[ inchworm ] %d degrees: %.3f cm/s (real %.1f)\n", slopes[i], v[i], real[i]);
+    EXPECT_NEAR(v[i], real[i], 0.4) << slopes[i];
+    sum2 += (v[i] - real[i]) * (v[i] - real[i]);
+  }
+  const double rms = std::sqrt(sum2 / 3);
+  std::printf("[ inchworm ] RMS %.3f cm/s against the real Table 3\n", rms);
+  EXPECT_LT(rms, 0.30);
+  EXPECT_GT(v[0], v[1]);  // slower the steeper, as the real one
+  EXPECT_GT(v[1], v[2]);
+  {
+    const Outcome o = run_scene("mfw", "inchworm-0", 10, {{"step_ms: 300", "step_ms: 500"}});
+    ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+    const auto tr = read_trace(o.dir + "/trace.csv");
+    documented0 = advance(tr, "m0.front", 0, 1.0) / (tr.at("t_s").back() - 1.0) * 100;
+  }
+  std::printf("[ inchworm ] documented gait (step 500 ms), 0 degrees: %.3f cm/s\n", documented0);
+  EXPECT_LT(documented0, 1.5);
+  EXPECT_GT(documented0, 1.2);
 }
 
 // ---- touch and traveller ------------------------------------------------------

@@ -20,6 +20,8 @@ const std::vector<Knob>& robot_knobs() {
       {"arm_grip_torque", "kt (all support arm servos)", "support",
        "the support arms' servo torque constant: how hard the arms press the wall (slip of the grip)", 0.1, 1.5},
       {"pad_friction", "mu (every pad)", "support", "the support arms' pads' friction on the wall", 0.2, 2.0},
+      {"extension_force", "fmax_n (every linear servo)", "extension",
+       "the extension's stall force (force-speed line): how its stroke slows under the load it moves", 0.1, 1.5},
       {"wall_friction", "environment.material.mu", "", "module-pipe Coulomb friction", 0.2, 5.0},
   };
   return k;

@@ -98,6 +98,14 @@ SceneVariants::SceneVariants(const std::string& scene_template, const std::vecto
     const ModuleDef d = find_module_def(s0.world.module_types, "support");
     if (!d.pads.empty()) nominal_[robot_knob("pad_friction")] = d.pads[0].mu;
   }
+  if (in_chain(s0, "extension")) {
+    type_text_["extension"] = module_text(root0, dirs_[0], "extension");
+    for (const ActuatorDef& a : find_module_def(s0.world.module_types, "extension").actuators)
+      if (a.type == ActuatorType::LinearServo) {
+        nominal_[robot_knob("extension_force")] = a.fmax_n;
+        break;
+      }
+  }
   for (size_t k = 0; k < robot_knobs().size(); ++k) {
     const std::string m = robot_knobs()[k].module;
     if (!m.empty() && !type_text_.count(m)) continue;
@@ -158,6 +166,15 @@ std::string SceneVariants::scene_text(size_t i, const KnobSetting& st, const std
     const std::string file = dir + "/support-" + tag + ".yaml";
     write_module(d, file);
     root["module_types"]["support"] = file;
+  }
+  const double fx = factor_of(st, robot_knob("extension_force"));
+  if (fx != 1.0 && type_text_.count("extension")) {
+    YAML::Node d = YAML::Load(type_text_.at("extension"));
+    for (auto a : d["actuators"])
+      if (a["type"] && a["type"].as<std::string>() == "linear_servo") a["fmax_n"] = fx * a["fmax_n"].as<double>();
+    const std::string file = dir + "/extension-" + tag + ".yaml";
+    write_module(d, file);
+    root["module_types"]["extension"] = file;
   }
   YAML::Emitter e;
   e << root;

@@ -79,6 +79,27 @@ TEST(SceneVariants, InchwormScenesArmGripScalesEveryArmServo) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(SceneVariants, InchwormScenesExtensionForceScalesTheLinearServo) {
+  const SceneVariants v(kScenes + "inchworm-{slope}.yaml", {"0", "90"});
+  const int force = robot_knob("extension_force");
+  EXPECT_EQ(v.nominal(force), 0.356);  // scenes/modules/extension.yaml (fitted on Table 3)
+  EXPECT_NE(std::find(v.usable().begin(), v.usable().end(), force), v.usable().end());
+  const std::string dir = temp_dir("inch-ext");
+  const Scene s = load_scene_text(v.scene_text(1, {{force, 2.0}}, dir), dir + "/scene.yaml");
+  const ModuleDef d = find_module_def(s.world.module_types, "extension");
+  std::vector<double> fmax;
+  for (const ActuatorDef& a : d.actuators)
+    if (a.type == ActuatorType::LinearServo) fmax.push_back(a.fmax_n);
+  EXPECT_EQ(fmax, std::vector<double>{0.712});
+  // the rest of the scene stays: the slope's row, the exact solver
+  EXPECT_EQ(s.world.solver, WorldConfig::Solver::Exact);
+  EXPECT_EQ(s.world.environment.pipe.segments.at(0).slope_deg, 90);
+  // a helicoidal scene has no extension: the knob does not apply
+  const SceneVariants h(kScenes + "helicoidal-{slope}.yaml", {"0"});
+  EXPECT_EQ(std::find(h.usable().begin(), h.usable().end(), force), h.usable().end());
+  std::filesystem::remove_all(dir);
+}
+
 TEST(SceneVariants, MissingOrBrokenScenesAreNamed) {
   try {
     SceneVariants(kScenes + "helicoidal-{slope}.yaml", {"0", "45"});
