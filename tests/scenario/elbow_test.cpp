@@ -130,6 +130,28 @@ TEST(Elbow, TRRHPassesTheElbow) {
   EXPECT_EQ(f[2].t_us - f[0].t_us, 8000000);
 }
 
+// The head-out above is QuickStep's verdict at the scenes' 30 iterations (at
+// 100 and 300 too). With the solver converged (the exact solver; 1000
+// iterations agree) T R R H jams at the elbow's entry: the helicoidal module
+// stalls (its motor at stall current) 3 s after the contact, the head 2.7 cm
+// into the bend, and after the straightening it stays there. So the verdict
+// rests on the iterative solver's give (docs/firmware.md, "Elbow
+// negotiation"); this test pins it so that a change to either side shows.
+TEST(Elbow, TRRHJamsWhenTheSolverConverges) {
+  const Outcome o = run_scene("elbow", "elbow-TRRH", 30, {{"tick_us: 1000", "tick_us: 1000\n  solver: exact"}});
+  ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+  EXPECT_EQ(o.summary["solver"]["name"], "exact");
+  const std::string log = central_log(o, 4);
+  EXPECT_TRUE(steered_at_elbow(o, log, 0.55)) << log;
+  const Head h = head(o, 0.55);
+  EXPECT_LT(h.t_out, 0) << text(h);
+  EXPECT_LT(h.y, 0.03) << text(h);
+  EXPECT_GT(h.x, 0.56) << text(h);  // at the elbow, not short of it
+  // the helicoidal module (the last) at its stall current at the end: 5 V / 12 ohm
+  const auto tr = read_trace(o.dir + "/trace.csv");
+  EXPECT_GT(tr.at("m3.s0.current_a").back(), 0.9 * 5.0 / 12.0);
+}
+
 // bend_travel_ms: each rotation module bends that much later than the one
 // before it in the chain, and holds its bend for bend_ms of its own; the
 // steering ends when the last one straightens
