@@ -152,6 +152,35 @@ TEST(Elbow, TRRHJamsWhenTheSolverConverges) {
   EXPECT_GT(tr.at("m3.s0.current_a").back(), 0.9 * 5.0 / 12.0);
 }
 
+// What decides T R R H: its last module, with nothing behind it, has to
+// cross the bend on its own. Alone (the exact solver, no steering) a
+// helicoidal module stalls at the 80 mm elbow's entry with its motor at
+// stall current, and crosses one of 120 mm (paper 6.6: it cannot move by its
+// own means in pipes with elbows; docs/firmware.md, "Elbow negotiation").
+TEST(Elbow, ALoneHelicoidalModuleStallsAtThe80mmElbowButCrossesOneOf120mm) {
+  for (const char* radius : {"0.08", "0.12"}) {
+    const Outcome o = run_scene("elbow", "elbow-TRRH", 45,
+                                {{"tick_us: 1000", "tick_us: 1000\n  solver: exact"},
+                                 {"chain: TRRH", "chain: H"},
+                                 {"elbow_dir_deg: 90", "elbow_dir_deg: -1"},
+                                 {"bend_radius_m: 0.08", std::string("bend_radius_m: ") + radius}});
+    ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+    const auto tr = read_trace(o.dir + "/trace.csv");
+    const double x = tr.at("m0.pig.x").back(), y = tr.at("m0.pig.y").back();
+    const double current = tr.at("m0.s0.current_a").back();
+    std::printf("[ elbow ] lone H, bend radius %s m: pig at (%.3f, %.3f) m, %.3f A after 45 s\n", radius, x, y,
+                current);
+    if (std::string(radius) == "0.08") {
+      EXPECT_GT(x, 0.55);   // it reached the elbow (it starts at x = 0.55)
+      EXPECT_LT(x, 0.60);   // and stalls at its entry, at stall current (5 V / 12 ohm)
+      EXPECT_LT(y, 0.02);
+      EXPECT_GT(current, 0.9 * 5.0 / 12.0);
+    } else {
+      EXPECT_GT(y, 0.12 + 0.1);  // 10 cm into the outgoing leg
+    }
+  }
+}
+
 // bend_travel_ms: each rotation module bends that much later than the one
 // before it in the chain, and holds its bend for bend_ms of its own; the
 // steering ends when the last one straightens
