@@ -32,12 +32,14 @@
 // 70 us per step for 8 modules.
 // WorldConfig::Solver::Exact steps with dWorldStep instead. An inchworm
 // (S E S, 13 bodies) in a 40 mm pipe, the supports' arm pads gripping the
-// wall, moves at 1.24 / 1.06 / 1.29 cm/s up 0 / 30 / 90 degrees at 30
+// wall (a 2 N extension, 500 ms steps: the gait's ideal 1.5 cm/s), moves at
+// 1.24 / 1.06 / 1.29 cm/s up 0 / 30 / 90 degrees at 30
 // iterations, 1.23 / 1.18 / 1.23 at 50, 1.38 / 1.35 / 1.34 at 100, 1.47 /
 // 1.43 / 1.45 at 200, 1.48 / 1.45 / 1.45 at 300 and 1.47 / 1.46 / 1.45 at
-// 1000; exact: 1.47 / 1.46 / 1.46, at a quarter of 300 iterations' cost. The
+// 1000; exact: 1.47 / 1.46 / 1.46, at the cost of 30 iterations (a sixth of 300). The
 // unconverged iteration lets a gripping support creep back under the
-// extension's push (docs/firmware.md, "Inchworm"). Global ERP/CFM 0.2 / 1e-9 (stiff joints; a
+// extension's push (docs/firmware.md, "Inchworm").
+// Global ERP/CFM 0.2 / 1e-9 (stiff joints; a
 // softer CFM up to 1e-5 changed nothing measurable); contacts use their
 // Material's soft ERP/CFM.
 #include "physics/world.h"
@@ -67,14 +69,17 @@ constexpr unsigned kStepReserveBytes = 4u << 20;  // ODE stepper working memory,
 constexpr int kWarmContactsPerGeom = 8;           // contact joints pre-allocated per geom
 constexpr double kSurfaceLayer = 1e-4;            // m, ODE's allowed contact penetration
 
-// ODE's messages (non-fatal) go to stderr as before, but for the exact
-// solver's "LCP internal error" (d_ERR_LCP, a degenerate pivot in dLCP: the
-// step goes on with the solution found so far), which each thread counts
-// for World::degenerate_lcp_steps
+// ODE's messages (non-fatal) go to stderr as ODE's own handler prints them,
+// but for the exact solver's "LCP internal error" (d_ERR_LCP, a degenerate
+// pivot in dLCP: the step goes on with the solution found so far) within
+// World::step, which the stepping thread counts for
+// World::degenerate_lcp_steps (other dWorldStep users, e.g. the servo stand,
+// still see them printed)
+thread_local bool t_counting_lcp = false;
 thread_local int64_t t_lcp_messages = 0;
 
 void ode_message(int num, const char* msg, va_list ap) {
-  if (num == d_ERR_LCP) {
+  if (num == d_ERR_LCP && t_counting_lcp) {
     ++t_lcp_messages;
     return;
   }
@@ -395,7 +400,9 @@ void World::step() {
   w.wheels->begin_step();          // wheels and pads on the wall: contact joints
   if (w.exact) {
     const int64_t messages = t_lcp_messages;
+    t_counting_lcp = true;
     dWorldStep(w.world, w.h);
+    t_counting_lcp = false;
     if (t_lcp_messages != messages) ++w.degenerate_lcp_steps;
   } else {
     dWorldQuickStep(w.world, w.h);

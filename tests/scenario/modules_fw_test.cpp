@@ -11,6 +11,8 @@
 #include <cstdlib>
 #include <map>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "physics/units.h"
 #include "scenario_util.h"
@@ -32,6 +34,29 @@ double advance(const std::map<std::string, std::vector<double>>& tr, const std::
   while (i0 + 1 < t.size() && t[i0] < t_from) ++i0;
   const size_t i1 = t.size() - 1;
   return (tr.at(b + ".x")[i1] - tr.at(b + ".x")[i0]) * ux + (tr.at(b + ".z")[i1] - tr.at(b + ".z")[i0]) * uz;
+}
+
+// a table of speed against slope: each row's scene "<prefix><slope>" run for
+// duration_s, the speed of `body` along the pipe from 1 s to the end, cm/s;
+// each row within `tolerance` of the real speed; returns the speeds and
+// prints them with `tag`
+std::vector<double> table_speeds(const std::string& tag, const std::string& prefix, const std::string& body,
+                                 const std::vector<int>& slopes, const std::vector<double>& real, double duration_s,
+                                 double tolerance, double* rms) {
+  std::vector<double> v;
+  double sum2 = 0;
+  for (size_t i = 0; i < slopes.size(); ++i) {
+    const Outcome o = run_scene("mfw", prefix + std::to_string(slopes[i]), duration_s);
+    EXPECT_EQ(o.exit_code, 0) << o.stderr_text;
+    const auto tr = read_trace(o.dir + "/trace.csv");
+    v.push_back(advance(tr, body, slopes[i], 1.0) / (tr.at("t_s").back() - 1.0) * 100);
+    std::printf("[ %s ] %d degrees: %.3f cm/s (real %.1f)\n", tag.c_str(), slopes[i], v.back(), real[i]);
+    EXPECT_NEAR(v.back(), real[i], tolerance) << slopes[i];
+    sum2 += (v.back() - real[i]) * (v.back() - real[i]);
+  }
+  *rms = std::sqrt(sum2 / slopes.size());
+  std::printf("[ %s ] RMS %.3f cm/s against the real table\n", tag.c_str(), *rms);
+  return v;
 }
 
 }  // namespace
@@ -87,19 +112,9 @@ TEST(Helicoidal, ReversedCommandDrivesBackwards) {
 // predictions. Speed along the pipe from 1 s to 6 s; RMS over the four rows
 // within 0.06 cm/s (the paper's simulator: 0.12).
 TEST(Helicoidal, Table2SpeedsVsSlope) {
-  const double real[] = {3.0, 2.1, 1.5, 1.2};
-  const int slopes[] = {0, 30, 60, 90};
-  double sum2 = 0;
-  for (int i = 0; i < 4; ++i) {
-    const Outcome o = run_scene("mfw", "helicoidal-" + std::to_string(slopes[i]), 6);
-    ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
-    const auto tr = read_trace(o.dir + "/trace.csv");
-    const double v = advance(tr, "m0.pig", slopes[i], 1.0) / (tr.at("t_s").back() - 1.0) * 100;
-    std::printf("[ helicoid ] %d degrees: %.3f cm/s (real %.1f)\n", slopes[i], v, real[i]);
-    EXPECT_NEAR(v, real[i], 0.08) << slopes[i];
-    sum2 += (v - real[i]) * (v - real[i]);
-  }
-  EXPECT_LT(std::sqrt(sum2 / 4), 0.06);
+  double rms = 0;
+  table_speeds("helicoid", "helicoidal-", "m0.pig", {0, 30, 60, 90}, {3.0, 2.1, 1.5, 1.2}, 6, 0.08, &rms);
+  EXPECT_LT(rms, 0.06);
 }
 
 // ---- inchworm (gait 8) --------------------------------------------------------
@@ -114,15 +129,16 @@ TEST(Inchworm, AdvancesInAHorizontalPipe) {
   EXPECT_GT(head, 0.03);
   EXPECT_GT(tail, 0.03);
   // with the exact solver (the scene's) the grip holds: the chain moves at
-  // nearly its gait's speed, stroke / (2 step) = 2.5 cm/s (measured 2.27 over
-  // 1-10 s; the extension, near its stall force, loses a little of each
-  // stroke to the drag). Under QuickStep the gripping supports crept back
-  // (1.46 cm/s at 300 iterations).
+  // nearly its gait's speed, stroke / (2 step) = 2.5 cm/s (measured 2.20
+  // over these 0.2-5.8 s; 2.27 over 1-10 s). The stroke has 150 ms, which
+  // takes the extension's whole free speed (10 cm/s), so the level speed is
+  // bound by that. Under QuickStep the gripping supports crept back (1.46
+  // cm/s at 300 iterations).
   const double window_s = tr.at("t_s").back() - 0.2;
-  EXPECT_GT(head / window_s, 0.85 * 0.025);
+  EXPECT_GT(head / window_s, 0.8 * 0.025);
   EXPECT_LT(head / window_s, 1.02 * 0.025);
   EXPECT_EQ(o.summary["solver"]["name"], "exact");
-  EXPECT_GE(o.summary["solver"]["degenerate_lcp_steps"].get<int64_t>(), 0);
+  EXPECT_LE(o.summary["solver"]["degenerate_lcp_steps"].get<int64_t>(), 5);  // measured: 1
   EXPECT_EQ(o.stderr_text.find("ODE Message"), std::string::npos) << o.stderr_text;
 }
 
@@ -135,21 +151,10 @@ TEST(Inchworm, AdvancesInAHorizontalPipe) {
 // 0.30 cm/s (the paper's simulator: 0.61). With the documented gait's 500 ms
 // steps the chain cannot beat stroke / (2 step) = 1.5 cm/s on the level.
 TEST(Inchworm, Table3SpeedsVsSlope) {
-  const double real[] = {2.5, 1.5, 0.6};
-  const int slopes[] = {0, 30, 90};
-  double sum2 = 0, documented0 = 0;
-  std::vector<double> v(3);
-  for (int i = 0; i < 3; ++i) {
-    const Outcome o = run_scene("mfw", "inchworm-" + std::to_string(slopes[i]), 10);
-    ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
-    const auto tr = read_trace(o.dir + "/trace.csv");
-    v[i] = advance(tr, "m0.front", slopes[i], 1.0) / (tr.at("t_s").back() - 1.0) * 100;
-    std::printf("[ inchworm ] %d degrees: %.3f cm/s (real %.1f)\n", slopes[i], v[i], real[i]);
-    EXPECT_NEAR(v[i], real[i], 0.4) << slopes[i];
-    sum2 += (v[i] - real[i]) * (v[i] - real[i]);
-  }
-  const double rms = std::sqrt(sum2 / 3);
-  std::printf("[ inchworm ] RMS %.3f cm/s against the real Table 3\n", rms);
+  double rms = 0, documented0 = 0;
+  const std::vector<double> v =
+      table_speeds("inchworm", "inchworm-", "m0.front", {0, 30, 90}, {2.5, 1.5, 0.6}, 10, 0.4, &rms);
+  ASSERT_EQ(v.size(), 3u);
   EXPECT_LT(rms, 0.30);
   EXPECT_GT(v[0], v[1]);  // slower the steeper, as the real one
   EXPECT_GT(v[1], v[2]);

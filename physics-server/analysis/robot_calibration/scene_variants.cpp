@@ -171,7 +171,8 @@ std::string SceneVariants::scene_text(size_t i, const KnobSetting& st, const std
   if (fx != 1.0 && type_text_.count("extension")) {
     YAML::Node d = YAML::Load(type_text_.at("extension"));
     for (auto a : d["actuators"])
-      if (a["type"] && a["type"].as<std::string>() == "linear_servo") a["fmax_n"] = fx * a["fmax_n"].as<double>();
+      if (a["type"] && a["type"].as<std::string>() == "linear_servo" && a["fmax_n"])
+        a["fmax_n"] = fx * a["fmax_n"].as<double>();
     const std::string file = dir + "/extension-" + tag + ".yaml";
     write_module(d, file);
     root["module_types"]["extension"] = file;

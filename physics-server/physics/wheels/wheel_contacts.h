@@ -67,10 +67,10 @@ class WheelContacts {
   // after the last add_module: fill the joint group once with a joint per
   // wheel and empty it (it keeps its arenas: steps do not allocate)
   void warm_up();
-  // before dWorldQuickStep: contact joints for the wheels on the wall;
-  // returns how many
+  // before the world steps (dWorldQuickStep or dWorldStep): contact joints
+  // for the wheels on the wall; returns how many
   int begin_step();
-  // after dWorldQuickStep: the forces; the contact joints go
+  // after the world stepped: the forces; the contact joints go
   void end_step();
   int on_count() const { return made_; }  // wheels and pads on the wall in the last step
 

@@ -252,5 +252,17 @@ TEST(RunSummary, CarriesTheRunAndEachEndpoint) {
   EXPECT_EQ(k["real_time_factor"], 0.0);
 }
 
+TEST(RunSummary, NamesTheSolverWithItsIterationsOrItsDegenerateSteps) {
+  Scene scene;
+  scene.world.solver_iterations = 45;
+  RunSummary r;
+  r.degenerate_lcp_steps = 3;  // not the QuickStep's business: not shown
+  const nlohmann::json q = summary_json(scene, r)["solver"];
+  EXPECT_EQ(q, (nlohmann::json{{"name", "quickstep"}, {"iterations", 45}})) << q.dump();
+  scene.world.solver = WorldConfig::Solver::Exact;
+  const nlohmann::json e = summary_json(scene, r)["solver"];
+  EXPECT_EQ(e, (nlohmann::json{{"name", "exact"}, {"degenerate_lcp_steps", 3}})) << e.dump();
+}
+
 }  // namespace
 }  // namespace chainsim

@@ -184,11 +184,9 @@ TEST(Scene, TheSolverIsQuickStepUnlessTheSceneAsksForTheExactOne) {
             Solver::QuickStep);
   EXPECT_EQ(load_scene_text("chain: R\nphysics: {solver: exact}\n", "s.yaml").world.solver, Solver::Exact);
   const std::string bad = scene_error_of("chain: R\nphysics: {solver: lcp}\n");
-  EXPECT_EQ(bad.rfind("s.yaml:2:", 0), 0u) << bad;
-  EXPECT_NE(bad.find("quickstep"), std::string::npos) << bad;
-  EXPECT_NE(bad.find("exact"), std::string::npos) << bad;
+  EXPECT_EQ(bad.rfind("s.yaml:2:19: 'physics.solver' 'lcp' is not known (known: quickstep, exact)", 0), 0u) << bad;
   // iterations mean nothing to the exact solver: said, not ignored
   const std::string both = scene_error_of("chain: R\nphysics: {solver: exact, solver_iterations: 50}\n");
-  EXPECT_EQ(both.rfind("s.yaml:2:", 0), 0u) << both;
+  EXPECT_EQ(both.rfind("s.yaml:2:45: ", 0), 0u) << both;
   EXPECT_NE(both.find("'physics.solver_iterations' applies to the quickstep solver only"), std::string::npos) << both;
 }
