@@ -292,26 +292,33 @@ TEST(Elbow, THRHRHRHHPassesAnElbowOf100mm) {
   EXPECT_GT(h.t_out, 0) << text(h) << "\n" << log;
 }
 
-// T + 8 in the 80 mm elbow (docs/optimize.md): T R R H R R R R R jams with the
-// bend held by every rotation module at once, and gets its tail through when
-// the bend travels down the chain (2 s per place); the tail is the last
-// module's back ring, through = 2 cm past the elbow's end (y > 0.10 m in the
-// outgoing leg)
-TEST(Elbow, ATravellingBendGetsTRRHRRRRRThroughThe80mmElbow) {
-  for (const bool travelling : {false, true}) {
-    SCOPED_TRACE(travelling ? "travelling bend" : "bend at once");
-    std::vector<std::pair<std::string, std::string>> edits = {{"chain: THRHRHRHH", "chain: TRRHRRRRR"}};
-    if (!travelling) edits.push_back({"    bend_travel_ms: 2000", "    bend_travel_ms: 0"});
-    const Outcome o = run_scene("elbow", "optimize/elbow-travelling-bend", 32, edits);
-    ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
-    auto tr = read_trace(o.dir + "/trace.csv");
-    const double tail_x = tr.at("m8.back.x").back(), tail_y = tr.at("m8.back.y").back();
-    if (travelling) {
-      EXPECT_GT(tail_y, 0.10) << "tail at x=" << tail_x << " y=" << tail_y;
-      EXPECT_NEAR(tail_x, 0.63, 0.01);  // in the outgoing leg
-    } else {
-      EXPECT_LT(tail_y, 0.01) << "tail at x=" << tail_x << " y=" << tail_y;
-      EXPECT_LT(tail_x, 0.55);  // not yet at the elbow
+// T + 8 in the 80 mm elbow (docs/optimize.md): T R R H R R R H R, the
+// travelling bend's fastest, jams with the bend held by every rotation module
+// at once, and gets its tail through when the bend travels down the chain
+// (2 s per place), with QuickStep's 30 iterations and with the exact solver
+// alike (T R R H R R R R R, which this test used before, passes only by
+// QuickStep's give). The tail is the last module's back ring, through = 2 cm
+// past the elbow's end (y > 0.10 m in the outgoing leg).
+TEST(Elbow, ATravellingBendGetsTRRHRRRHRThroughThe80mmElbow) {
+  for (const bool exact : {false, true})
+    for (const bool travelling : {false, true}) {
+      if (exact && !travelling) continue;  // (the bend at once: shown jammed under QuickStep)
+      SCOPED_TRACE(std::string(travelling ? "travelling bend" : "bend at once") + (exact ? ", exact" : ""));
+      std::vector<std::pair<std::string, std::string>> edits = {{"chain: THRHRHRHH", "chain: TRRHRRRHR"}};
+      if (!travelling) edits.push_back({"    bend_travel_ms: 2000", "    bend_travel_ms: 0"});
+      if (exact) edits.push_back({"tick_us: 1000", "tick_us: 1000\n  solver: exact"});
+      const Outcome o = run_scene("elbow", "optimize/elbow-travelling-bend", 32, edits);
+      ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+      auto tr = read_trace(o.dir + "/trace.csv");
+      const double tail_x = tr.at("m8.back.x").back(), tail_y = tr.at("m8.back.y").back();
+      std::printf("[ elbow ] TRRHRRRHR, %s%s: tail at (%.3f, %.3f) m after 32 s\n",
+                  travelling ? "travelling bend" : "bend at once", exact ? ", exact" : "", tail_x, tail_y);
+      if (travelling) {
+        EXPECT_GT(tail_y, 0.10) << "tail at x=" << tail_x << " y=" << tail_y;
+        EXPECT_NEAR(tail_x, 0.63, 0.01);  // in the outgoing leg
+      } else {
+        EXPECT_LT(tail_y, 0.01) << "tail at x=" << tail_x << " y=" << tail_y;
+        EXPECT_LT(tail_x, 0.55);  // not yet at the elbow
+      }
     }
-  }
 }
