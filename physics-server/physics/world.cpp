@@ -36,7 +36,8 @@
 // 1.24 / 1.06 / 1.29 cm/s up 0 / 30 / 90 degrees at 30
 // iterations, 1.23 / 1.18 / 1.23 at 50, 1.38 / 1.35 / 1.34 at 100, 1.47 /
 // 1.43 / 1.45 at 200, 1.48 / 1.45 / 1.45 at 300 and 1.47 / 1.46 / 1.45 at
-// 1000; exact: 1.47 / 1.46 / 1.46, at the cost of 30 iterations (a sixth of 300). The
+// 1000; exact: 1.47 / 1.46 / 1.46, at the real-time factor of 30 iterations
+// (15x; 300 iterations: 2.5x). The
 // unconverged iteration lets a gripping support creep back under the
 // extension's push (docs/firmware.md, "Inchworm").
 // Global ERP/CFM 0.2 / 1e-9 (stiff joints; a

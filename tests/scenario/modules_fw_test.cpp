@@ -47,7 +47,12 @@ std::vector<double> table_speeds(const std::string& tag, const std::string& pref
   double sum2 = 0;
   for (size_t i = 0; i < slopes.size(); ++i) {
     const Outcome o = run_scene("mfw", prefix + std::to_string(slopes[i]), duration_s);
-    EXPECT_EQ(o.exit_code, 0) << o.stderr_text;
+    if (o.exit_code != 0) {
+      ADD_FAILURE() << prefix << slopes[i] << ": exit code " << o.exit_code << "\n" << o.stderr_text;
+      v.push_back(0);
+      sum2 += real[i] * real[i];
+      continue;
+    }
     const auto tr = read_trace(o.dir + "/trace.csv");
     v.push_back(advance(tr, body, slopes[i], 1.0) / (tr.at("t_s").back() - 1.0) * 100);
     std::printf("[ %s ] %d degrees: %.3f cm/s (real %.1f)\n", tag.c_str(), slopes[i], v.back(), real[i]);
@@ -130,7 +135,7 @@ TEST(Inchworm, AdvancesInAHorizontalPipe) {
   EXPECT_GT(tail, 0.03);
   // with the exact solver (the scene's) the grip holds: the chain moves at
   // nearly its gait's speed, stroke / (2 step) = 2.5 cm/s (measured 2.20
-  // over these 0.2-5.8 s; 2.27 over 1-10 s). The stroke has 150 ms, which
+  // over these 0.2-6 s; 2.27 over 1-10 s). The stroke has 150 ms, which
   // takes the extension's whole free speed (10 cm/s), so the level speed is
   // bound by that. Under QuickStep the gripping supports crept back (1.46
   // cm/s at 300 iterations).
@@ -154,7 +159,6 @@ TEST(Inchworm, Table3SpeedsVsSlope) {
   double rms = 0, documented0 = 0;
   const std::vector<double> v =
       table_speeds("inchworm", "inchworm-", "m0.front", {0, 30, 90}, {2.5, 1.5, 0.6}, 10, 0.4, &rms);
-  ASSERT_EQ(v.size(), 3u);
   EXPECT_LT(rms, 0.30);
   EXPECT_GT(v[0], v[1]);  // slower the steeper, as the real one
   EXPECT_GT(v[1], v[2]);
