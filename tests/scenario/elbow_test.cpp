@@ -103,6 +103,9 @@ std::string text(const Head& h) {
   return s.str();
 }
 
+// the scene edit that makes an elbow scene step with the exact solver
+const std::pair<std::string, std::string> kExactSolver = {"tick_us: 1000", "tick_us: 1000\n  solver: exact"};
+
 }  // namespace
 
 // touch + two rotation + one helicoidal: the paper's minimal configuration
@@ -144,9 +147,8 @@ TEST(Elbow, TRRHPassesTheElbow) {
 // alone (next test). docs/firmware.md, "Elbow negotiation"; this pins the
 // converged verdicts so that a change to either side shows.
 TEST(Elbow, TRRHDoesNotPassWhenTheSolverConverges) {
-  const std::pair<std::string, std::string> exact = {"tick_us: 1000", "tick_us: 1000\n  solver: exact"};
   {
-    const Outcome o = run_scene("elbow", "elbow-TRRH", 35, {exact});
+    const Outcome o = run_scene("elbow", "elbow-TRRH", 35, {kExactSolver});
     ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
     EXPECT_EQ(o.summary["solver"]["name"], "exact");
     const std::string log = central_log(o, 4);
@@ -164,7 +166,7 @@ TEST(Elbow, TRRHDoesNotPassWhenTheSolverConverges) {
     EXPECT_LT(*std::max_element(hx.begin(), hx.end()), 0.56);  // the H never reached the elbow (0.547)
   }
   {
-    const Outcome o = run_scene("elbow", "elbow-TRRH", 40, {exact, {"bend_ms: 8000", "bend_ms: 12000"}});
+    const Outcome o = run_scene("elbow", "elbow-TRRH", 40, {kExactSolver, {"bend_ms: 8000", "bend_ms: 12000"}});
     ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
     const Head h = head(o, 0.55);
     const auto tr = read_trace(o.dir + "/trace.csv");
@@ -187,7 +189,7 @@ TEST(Elbow, TRRHDoesNotPassWhenTheSolverConverges) {
 TEST(Elbow, ALoneHelicoidalModuleStallsAtThe80mmElbowButCrossesOneOf120mm) {
   for (const char* radius : {"0.08", "0.12"}) {
     const Outcome o = run_scene("elbow", "elbow-TRRH", 45,
-                                {{"tick_us: 1000", "tick_us: 1000\n  solver: exact"},
+                                {kExactSolver,
                                  {"chain: TRRH", "chain: H"},
                                  {"elbow_dir_deg: 90", "elbow_dir_deg: -1"},
                                  {"bend_radius_m: 0.08", std::string("bend_radius_m: ") + radius}});
@@ -308,7 +310,7 @@ TEST(Elbow, ATravellingBendGetsTRRHRRRHRThroughThe80mmElbow) {
       SCOPED_TRACE(std::string(travelling ? "travelling bend" : "bend at once") + (exact ? ", exact" : ""));
       std::vector<std::pair<std::string, std::string>> edits = {{"chain: THRHRHRHH", "chain: TRRHRRRHR"}};
       if (!travelling) edits.push_back({"    bend_travel_ms: 2000", "    bend_travel_ms: 0"});
-      if (exact) edits.push_back({"tick_us: 1000", "tick_us: 1000\n  solver: exact"});
+      if (exact) edits.push_back(kExactSolver);
       const Outcome o = run_scene("elbow", "optimize/elbow-travelling-bend", 32, edits);
       ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
       auto tr = read_trace(o.dir + "/trace.csv");

@@ -66,8 +66,9 @@ struct RunArgs {
 
 // a run is whole ticks: a --duration shorter than one tick of the scene
 // would silently become one tick. The error, or "" when it is not shorter
+// or not given (duration <= 0)
 std::string duration_error(double duration, const Scene& scene) {
-  if (std::llround(duration * 1e6) >= scene.tick_us) return "";
+  if (duration <= 0 || std::llround(duration * 1e6) >= scene.tick_us) return "";
   return "--duration " + fixed_text(duration, 6) + " s is shorter than one tick of the scene (physics.tick_us = " +
          std::to_string(scene.tick_us) + " us)";
 }
@@ -82,7 +83,7 @@ int cmd_run(const RunArgs& a) {
   }
   if (a.duration > 0) scene.duration_s = a.duration;
   if (a.seed >= 0) scene.world.seed = static_cast<uint64_t>(a.seed);
-  if (const std::string e = a.duration > 0 ? duration_error(a.duration, scene) : ""; !e.empty()) {
+  if (const std::string e = duration_error(a.duration, scene); !e.empty()) {
     std::fprintf(stderr, "chainsim: %s\n", e.c_str());
     return kExitBadInput;
   }
@@ -201,7 +202,7 @@ int cmd_bench_lockstep(const BenchArgs& a) {
       }
     }
     for (const Scene& s : scenes)
-      if (const std::string e = a.duration > 0 ? duration_error(a.duration, s) : ""; !e.empty())
+      if (const std::string e = duration_error(a.duration, s); !e.empty())
         throw SceneError(s.source + ": " + e);
   } catch (const SceneError& e) {
     std::fprintf(stderr, "chainsim: %s\n", e.what());
