@@ -4,14 +4,16 @@
 # tools/pic-build.sh) and by the chainsim CMake package (chainsim_add_firmware
 # with CHAINSIM_PIC=ON, a user's own program).
 #
-#   chainsim_pic_program(TARGET <target> OUTPUT <dir/name>   # -> <dir/name>.hex, .cod, .map, .size
+#   chainsim_pic_program(TARGET <target> OUTPUT <dir/name>   # -> <dir/name>.hex, .cod, .map, .size, .pic.json
 #                        SOURCES <file.c>...                 # the program; one of them defines main()
 #                        [SERVOS <n>]                        # servo outputs, 0..4 (default 2)
 #                        [DEFINES <-DX=Y>...] [INCLUDE_DIRS <dir>...])
 #
 # gplink fails (naming the section) when the program does not fit at all; the
 # size check runs on every build (it is the build's report) and fails it,
-# removing the .hex, when the program is over the part's flash or RAM.
+# removing the .hex, when the program is over the part's flash or RAM. The
+# .pic.json beside it is what the simulator's PIC module process needs of the
+# build: flash, RAM and stack use and the servo outputs (tools/pic-size.py).
 #
 # Needs (set by the caller): CHAINSIM_PIC_CACHE (tools/pic-toolchain.sh's
 # cache), CHAINSIM_HAL_INCLUDE_DIR (hal/), CHAINSIM_FW_COMMON_INCLUDE_DIR and
@@ -19,13 +21,13 @@
 # sources) and CHAINSIM_PIC_SIZE_SCRIPT (tools/pic-size.py).
 include_guard(GLOBAL)
 
-set(CHAINSIM_PIC_DEVICE 18f2550)
-set(CHAINSIM_PIC_FLASH_BYTES 32768)
-set(CHAINSIM_PIC_RAM_BYTES 2048)
-
-# the toolchain's files (a missing one names the script that makes it); a
-# macro, so that its variables land in the calling function
+# the part and the toolchain's files (a missing one names the script that
+# makes it); a macro, so that its variables land in the calling function,
+# whatever scope this file was first included from
 macro(_chainsim_pic_toolchain)
+  set(CHAINSIM_PIC_DEVICE 18f2550)
+  set(CHAINSIM_PIC_FLASH_BYTES 32768)
+  set(CHAINSIM_PIC_RAM_BYTES 2048)
   set(CHAINSIM_PIC_SDCC "${CHAINSIM_PIC_CACHE}/sdcc/bin/sdcc")
   set(CHAINSIM_PIC_RT "${CHAINSIM_PIC_CACHE}/rt")
   set(CHAINSIM_PIC_LKR "/usr/share/gputils/lkr/${CHAINSIM_PIC_DEVICE}_g.lkr")
@@ -125,7 +127,8 @@ function(chainsim_pic_program)
   add_custom_target(${P_TARGET} ALL
     COMMAND "${python}" "${CHAINSIM_PIC_SIZE_SCRIPT}" "${out}.map" --name "${name}.hex"
             --flash ${CHAINSIM_PIC_FLASH_BYTES} --ram ${CHAINSIM_PIC_RAM_BYTES}
-            --report "${out}.size" --remove-on-fail "${out}.hex"
+            --report "${out}.size" --json "${out}.pic.json" --servos ${P_SERVOS}
+            --remove-on-fail "${out}.hex"
     DEPENDS "${out}.hex"
     VERBATIM)
 endfunction()

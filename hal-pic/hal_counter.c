@@ -1,14 +1,23 @@
-/* hal-pic: encoder counters (traveller wheels): pulses on a pin, counted by a
- * timer in external-clock mode, rising edges, no direction:
- *   channel 0 = Timer0 on T0CKI (RA4), channel 1 = Timer1 on T13CKI (RC0).
- * The 1 ms tick adds each 16-bit timer's change to a 32-bit count (at most
- * 65535 pulses per ms). Other channels read 0. */
+/* hal-pic: encoder counters (traveller wheels): pulses on a pin, rising
+ * edges, no direction (hal_pic_board.h):
+ *   channel 0 = Timer0 on T0CKI (RA4), channel 1 = Timer1 on T13CKI (RC0),
+ *   counted by the timers in external-clock mode; the 1 ms tick adds each
+ *   16-bit timer's change to a 32-bit count (at most 65535 pulses per ms);
+ *   channel 2, on a board without servos only = INT2 on RB2, counted by the
+ *   low-priority interrupt (a few thousand pulses per second at most).
+ * Other channels read 0. */
 #include "hal_counter.h"
 
 #include "hal_pic.h"
 
 static volatile int32_t count0, count1;
 static uint16_t last0, last1;
+#if HAL_PIC_SERVOS == 0
+static volatile int32_t count2;
+#define COUNTERS 3u
+#else
+#define COUNTERS 2u
+#endif
 
 void hp_counter_init(void)
 {
@@ -24,6 +33,24 @@ void hp_counter_init(void)
     last1 = 0;
     count0 = 0;
     count1 = 0;
+#if HAL_PIC_SERVOS == 0
+    count2 = 0;
+    TRISBbits.TRISB2 = 1;
+    INTCON2bits.INTEDG2 = 1; /* rising edge */
+    INTCON3bits.INT2IP = 0;  /* low priority */
+    INTCON3bits.INT2IF = 0;
+    INTCON3bits.INT2IE = 1;
+#endif
+}
+
+void hp_counter_isr(void)
+{
+#if HAL_PIC_SERVOS == 0
+    if (INTCON3bits.INT2IF) {
+        INTCON3bits.INT2IF = 0;
+        count2++;
+    }
+#endif
 }
 
 /* low-priority interrupt, every tick: 16-bit reads (TMRxL latches TMRxH) */
@@ -43,10 +70,14 @@ void hp_counter_tick(void)
 int32_t hal_counter_read(uint8_t channel)
 {
     int32_t v;
-    if (channel > 1u)
+    if (channel >= COUNTERS)
         return 0;
     INTCONbits.GIEL = 0;
+#if HAL_PIC_SERVOS == 0
+    v = channel == 0 ? count0 : channel == 1 ? count1 : count2;
+#else
     v = channel == 0 ? count0 : count1;
+#endif
     INTCONbits.GIEL = 1;
     return v;
 }

@@ -7,12 +7,13 @@
 
 #include <pic18f2550.h> /* generated from gputils' p18f2550.inc (tools/pic-devhdr.py) */
 
+#include "hal_pic_board.h"
 #include "hal_servo.h"
 
 /* 20 MHz crystal, HS mode, no PLL: Fosc = 20 MHz, one instruction cycle
  * (Fosc/4) = 0.2 us */
-#define HP_FOSC_HZ 20000000UL
-#define HP_FCY_HZ (HP_FOSC_HZ / 4UL)
+#define HP_FOSC_HZ HP_BOARD_FOSC_HZ
+#define HP_FCY_HZ HP_BOARD_FCY_HZ
 
 /* servo outputs present on this build of the board (RB2.. in order, at most 4) */
 #ifndef HAL_PIC_SERVOS
@@ -59,9 +60,11 @@ uint8_t hp_i2c_frame_waiting(void);
 void hp_sync_init(void);
 void hp_sync_flush(void);
 void hp_adc_init(void);
+uint16_t hp_adc_convert(uint8_t an); /* one conversion of AN<an>, counts */
 void hp_gpio_init(void);
 void hp_counter_init(void);
 void hp_counter_tick(void); /* low priority, every 1 ms */
+void hp_counter_isr(void);  /* low priority: the INT2 counter of a board without servos */
 void hp_log_init(void);
 
 #endif

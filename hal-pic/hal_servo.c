@@ -16,21 +16,19 @@
  * +/-HAL_SERVO_CDEG_MAX) are clamped to 1.0 / 2.0 ms. Beyond: HAL_ERR_ARG.
  *
  * Measured angle: the servo's potentiometer wiper on AN<servo> (RA0, RA1, ..),
- * linear between SERVO_POT_MIN_COUNTS (-90 deg) and SERVO_POT_MAX_COUNTS
- * (+90 deg); calibrate these for the servo model used. */
+ * linear between HP_BOARD_POT_MIN_COUNTS (-90 deg) and HP_BOARD_POT_MAX_COUNTS
+ * (+90 deg) (hal_pic_board.h); calibrate these for the servo model used. */
 #include "hal_servo.h"
 
-#include "hal_adc.h"
 #include "hal_pic.h"
 
-#define SERVO_CDEG_RANGE 9000      /* the servo's mechanical range (+/-) */
-#define SERVO_CENTER_COUNTS 7500u  /* 1.5 ms */
+#define SERVO_CDEG_RANGE HP_BOARD_SERVO_CDEG_RANGE          /* the servo's range (+/-) */
+#define SERVO_CENTER_COUNTS ((uint16_t)HP_BOARD_SERVO_CENTER_CYCLES) /* 1.5 ms */
 #define SLOT_COUNTS 12500u         /* 2.5 ms: 8 slots = one 20 ms frame */
 #define SLOTS 8u
 #define SERVO_PINS_MASK 0x3Cu      /* RB2..RB5 */
-
-#define SERVO_POT_MIN_COUNTS 102   /* ~0.5 V at -90 deg */
-#define SERVO_POT_MAX_COUNTS 921   /* ~4.5 V at +90 deg */
+#define SERVO_POT_MIN_COUNTS HP_BOARD_POT_MIN_COUNTS /* ~0.5 V at -90 deg */
+#define SERVO_POT_MAX_COUNTS HP_BOARD_POT_MAX_COUNTS /* ~4.5 V at +90 deg */
 
 #if HAL_PIC_SERVOS > 0
 /* widths in Timer3 counts: pending (written by setspangle), active (read by
@@ -155,7 +153,7 @@ int16_t hal_servo_angle_cdeg(uint8_t servo)
     int32_t c;
     if (servo >= HAL_PIC_SERVOS)
         return 0;
-    c = (int32_t)hal_adc_read(servo) - SERVO_POT_MIN_COUNTS;
+    c = (int32_t)hp_adc_convert(servo) - SERVO_POT_MIN_COUNTS;
     c = c * (2L * SERVO_CDEG_RANGE) / (SERVO_POT_MAX_COUNTS - SERVO_POT_MIN_COUNTS) -
         SERVO_CDEG_RANGE;
     return (int16_t)c;

@@ -23,6 +23,7 @@ void hp_isr_low(void) __interrupt(2)
      * that flag (the send then timed out and was repeated 50 ms later) */
     if (PIE1bits.SSPIE && PIR1bits.SSPIF)
         hp_i2c_isr();
+    hp_counter_isr();
     if (PIR1bits.TMR2IF) {
         PIR1bits.TMR2IF = 0;
         hp_millis++;

@@ -4,8 +4,9 @@
 #
 #   tools/pic-build.sh [outdir]
 #       every firmware/*/main.c of this tree: the standalone CMake project
-#       hal-pic/ into OUTDIR (default build-pic): OUTDIR/<program>.hex
-#       (+ .cod for gpsim, .map, .size)
+#       hal-pic/ into OUTDIR (default build/pic, where chainsim looks for
+#       the .hex of a module whose target is pic): OUTDIR/fw-<program>.hex
+#       (+ .cod for gpsim, .map, .size, .pic.json)
 #   tools/pic-build.sh --project DIR [outdir]
 #       a program of your own (a CMake project using find_package(chainsim)
 #       and chainsim_add_firmware, docs/firmware.md): configured with
@@ -24,7 +25,7 @@ if [ "${1:-}" = "--project" ]; then
   shift 2
 fi
 OUT="${1:-${PROJECT:+$PROJECT/build-pic}}"
-OUT="${OUT:-$ROOT/build-pic}"
+OUT="${OUT:-$ROOT/build/pic}"
 JOBS="${JOBS:-$(nproc 2>/dev/null || echo 2)}"
 export CHAINSIM_PIC_CACHE="${CHAINSIM_PIC_CACHE:-$HOME/.cache/chainsim-pic}"
 

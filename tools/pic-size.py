@@ -9,12 +9,16 @@ against the part's limits (PIC18F2550: 32 KB flash, 2 KB RAM).
           SDCC's temporaries, the 256-byte software stack)
 
 Usage: pic-size.py MAP_FILE [--name NAME] [--flash BYTES] [--ram BYTES]
-                   [--sfr-start ADDR] [--report FILE] [--remove-on-fail HEX]
-Prints one line (also written to --report FILE); exit status 1 when a limit
-is exceeded (or the map file has no section table; --remove-on-fail then
-deletes HEX so that a stale file cannot be used), 0 otherwise.
+                   [--sfr-start ADDR] [--report FILE] [--json FILE --servos N]
+                   [--remove-on-fail HEX]
+Prints one line (also written to --report FILE; --json FILE writes the same
+figures and the build's servo outputs for the simulator's PIC module
+process); exit status 1 when a limit is exceeded (or the map file has no
+section table; --remove-on-fail then deletes HEX so that a stale file cannot
+be used), 0 otherwise.
 """
 import argparse
+import json
 import os
 import re
 import sys
@@ -33,6 +37,8 @@ def main():
     ap.add_argument("--sfr-start", type=lambda s: int(s, 0), default=0xF60)
     ap.add_argument("--stack-section", default="stack_section")
     ap.add_argument("--report", default=None)
+    ap.add_argument("--json", default=None)
+    ap.add_argument("--servos", type=int, default=None)
     ap.add_argument("--remove-on-fail", default=None)
     a = ap.parse_args()
 
@@ -79,6 +85,11 @@ def main():
     if a.report:
         with open(a.report, "w") as f:
             f.write(line + "\n")
+    if a.json and not over:
+        with open(a.json, "w") as f:
+            json.dump({"flash_bytes": flash, "flash_total": a.flash, "ram_bytes": ram,
+                       "ram_total": a.ram, "stack_bytes": stack, "servos": a.servos}, f)
+            f.write("\n")
     if over and a.remove_on_fail:
         try:
             os.remove(a.remove_on_fail)

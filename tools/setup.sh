@@ -14,6 +14,7 @@ PACKAGES=(
   libopenmpi-dev openmpi-bin      # chainsim optimize under mpirun (MPI ranks)
   clang libclang-rt-14-dev        # libFuzzer target of the protocol decoder
   chromium                        # chainsim view --png and the viewer tests (headless)
+  gpsim gpsim-dev libglib2.0-dev  # chainsim-pic: the board's .hex in gpsim (target: pic)
 )
 # node and npm bundle the viewer (tools/viewer); a node >= 18 already installed will do
 command -v node >/dev/null && command -v npm >/dev/null || PACKAGES+=(nodejs npm)

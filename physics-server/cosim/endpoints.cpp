@@ -61,6 +61,7 @@ Endpoints::Endpoints(const Scene& scene, const RunOptions& options, RunOutput* o
     e->index = m;
     e->type = m < n ? sm.type : "central";
     e->program = sm.firmware;
+    e->target = sm.target;
     e->params = sm.params;
     ep_.push_back(std::move(e));
   }
@@ -97,6 +98,34 @@ std::string program_path(const std::string& program, const std::string& dirs) {
   return executable_dir() + "/" + program;
 }
 
+std::string pic_hex_path(const std::string& program, const std::string& dirs) {
+  auto is_file = [](const std::string& p) {
+    struct stat st {};
+    return stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+  };
+  if (program.find('/') != std::string::npos) return is_file(program + ".hex") ? program + ".hex" : "";
+  for (size_t b = 0; b < dirs.size();) {
+    const size_t e = std::min(dirs.find(':', b), dirs.size());
+    const std::string p = dirs.substr(b, e - b) + "/" + program + ".hex";
+    if (e > b && is_file(p)) return p;
+    b = e + 1;
+  }
+  for (const std::string& p : {executable_dir() + "/" + program + ".hex", executable_dir() + "/../pic/" + program + ".hex"})
+    if (is_file(p)) return p;
+  return "";
+}
+
+std::string pic_hex_missing(const std::string& program, const std::string& dirs) {
+  const std::string hex = program + ".hex";
+  if (program.find('/') != std::string::npos)
+    return hex + " not found: build it for the PIC (-DCHAINSIM_PIC=ON in its CMake project, docs/pic-in-the-loop.md)";
+  return hex + " not found (looked in " + (dirs.empty() ? "" : "--firmware-dir " + dirs + ", then ") + executable_dir() +
+         " and " + executable_dir() + "/../pic): build the shipped programs with tools/pic-build.sh, your own with "
+         "-DCHAINSIM_PIC=ON (docs/pic-in-the-loop.md)";
+}
+
+std::string pic_module_program() { return executable_dir() + "/chainsim-pic"; }
+
 void Endpoints::start() {
   remove_stale_socket_dirs();  // of servers killed outright, which could not remove their own
   socket_dir_ = make_socket_dir();
@@ -106,20 +135,34 @@ void Endpoints::start() {
   chmod(socket_path_.c_str(), 0600);
   for (auto& ep : ep_) {
     Endpoint& e = *ep;
-    const std::string prog = program_path(e.program, opt_.firmware_dir);
+    const bool pic = e.target == Target::Pic;
+    const std::string hex = pic ? pic_hex_path(e.program, opt_.firmware_dir) : "";
+    if (pic && hex.empty())
+      throw std::runtime_error("program for " + name_of(e) + " on the PIC: " + pic_hex_missing(e.program, opt_.firmware_dir));
+    const std::string prog = pic ? pic_module_program() : program_path(e.program, opt_.firmware_dir);
     e.attached = opt_.attach.count(e.index) > 0;
     if (e.attached) {
       say(opt_, "waiting for " + name_of(e) + " started by hand:\n  CHAINSIM_SOCKET=" + socket_path_ +
                     " CHAINSIM_MODULE_INDEX=" + std::to_string(e.index) + " CHAINSIM_MODULE_TYPE=" +
-                    e.type + " gdb " + prog);
+                    e.type + (pic ? " " + prog + " " + hex : " gdb " + prog));
       continue;
     }
     if (access(prog.c_str(), X_OK) != 0)
-      throw std::runtime_error("program for " + name_of(e) + " not found or not executable: " + prog);
+      throw std::runtime_error("program for " + name_of(e) + " not found or not executable: " + prog +
+                               (pic ? " (chainsim was built without libgpsim: install gpsim-dev and libglib2.0-dev, "
+                                      "then build again)" : ""));
     ChildSpec spec;
     spec.program = prog;
     spec.env = {"CHAINSIM_SOCKET=" + socket_path_, "CHAINSIM_MODULE_INDEX=" + std::to_string(e.index),
                 "CHAINSIM_MODULE_TYPE=" + e.type};
+    if (pic) {
+      e.pic_stats = out_->module_file(e.index, "pic.json");
+      spec.args = {hex};
+      spec.env.push_back("CHAINSIM_PIC_STATS=" + e.pic_stats);
+      spec.env.push_back("CHAINSIM_PIC_CPU_BUDGET_US=" + std::to_string(scene_.pic.cpu_budget_us));
+      spec.env.push_back("CHAINSIM_PIC_STALL_MS=" + std::to_string(scene_.pic.stall_ms));
+      spec.env.push_back(std::string("CHAINSIM_PIC_ON_OVERRUN=") + (opt_.overrun_warn ? "warn" : "stop"));
+    }
     spec.stdout_path = out_->module_file(e.index, "out");
     e.proc.spawn(spec);
   }

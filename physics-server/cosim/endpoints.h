@@ -26,6 +26,8 @@ struct Endpoint {
   int index = 0;
   std::string type;                 // module type, or "central"
   std::string program;              // as the scene names it
+  Target target = Target::Native;   // pic: chainsim-pic runs PROGRAM.hex
+  std::string pic_stats;            // pic: where chainsim-pic leaves its figures
   std::map<std::string, int32_t> params;
   ChildProcess proc;
   bool attached = false;            // started by hand (--attach)
@@ -43,6 +45,15 @@ std::vector<std::string> endpoint_types(const Scene& scene);
 // the first of firmware_dir's directories (DIR[:DIR...]) that holds it, else
 // beside chainsim
 std::string program_path(const std::string& program, const std::string& firmware_dir);
+
+// where a program runs from on the PIC: PROGRAM.hex (with its .cod, .map and
+// .pic.json), looked for as program_path looks, then in the tree's PIC build
+// (build/pic, tools/pic-build.sh); "" when there is none
+std::string pic_hex_path(const std::string& program, const std::string& firmware_dir);
+// why a program's .hex was not found, and how to build it
+std::string pic_hex_missing(const std::string& program, const std::string& firmware_dir);
+// the module process that runs a .hex (chainsim-pic, beside chainsim)
+std::string pic_module_program();
 
 class Endpoints {
  public:

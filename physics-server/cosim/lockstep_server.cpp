@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <memory>
 
 #include "cosim/barrier.h"
@@ -39,6 +40,17 @@ void say(const RunOptions& options, const std::string& message) {
 }
 
 namespace {
+
+// what chainsim-pic left at the end of its run (pic_module.h), or why not
+nlohmann::json read_pic_stats(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return {{"error", "chainsim-pic left no figures (" + path + "): it ended before the run did"}};
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    return {{"error", std::string("chainsim-pic's figures are not JSON: ") + e.what()}};
+  }
+}
 
 // the sensor part of a module's TickBegin
 void fill_sensors(const ModuleSample& s, cs_tick_begin* tb) {
@@ -439,6 +451,8 @@ RunSummary Server::summary(double wall_s, const Eigen::Vector3d& displacement_m)
     es.index = e.index;
     es.type = e.type;
     es.program = e.program;
+    es.target = target_name(e.target);
+    if (e.target == Target::Pic) es.pic = read_pic_stats(e.pic_stats);
     es.pid = e.pid ? e.pid : static_cast<uint32_t>(std::max(0, e.proc.pid()));
     es.fault = e.fault;
     es.exchanges = barrier_->exchanges(e.index);

@@ -17,6 +17,7 @@
 
 #include "chainsim_protocol.h"
 #include "cosim/child_process.h"
+#include "model/pic_board.h"
 #include "readers/safe_text.h"
 
 namespace chainsim {
@@ -80,7 +81,8 @@ ProgramParams parse_params_listing(const std::string& text, const std::string& p
   return out;
 }
 
-ProgramParams read_program_params(const std::string& path, const std::string& program) {
+ProgramParams read_program_params(const std::string& path, const std::string& program,
+                                  const std::vector<std::string>& args) {
   if (access(path.c_str(), X_OK) != 0) throw std::runtime_error(path + " is not an executable file");
   // the listing goes to a temporary file without a name (unlinked at once),
   // so that nothing is left behind however this process ends, SIGKILL
@@ -100,6 +102,7 @@ ProgramParams read_program_params(const std::string& path, const std::string& pr
     ChildSpec spec;
     spec.program = path;
     spec.args = {CS_PARAMS_ARG};
+    spec.args.insert(spec.args.end(), args.begin(), args.end());
     spec.stdout_fd = fd;
     child.spawn(spec);
     st = child.wait_for(kListingTimeoutMs);
@@ -124,12 +127,14 @@ ProgramParams read_program_params(const std::string& path, const std::string& pr
 }
 
 const ProgramParams& ProgramParamsCache::get(const std::string& path, const std::string& program,
-                                             const std::function<void(const std::string& why)>& on_error) {
-  auto it = by_path_.find(path);
+                                             const std::function<void(const std::string& why)>& on_error,
+                                             const std::vector<std::string>& args) {
+  const std::string key = args.empty() ? path : path + " " + args.back();
+  auto it = by_path_.find(key);
   if (it != by_path_.end()) return it->second;
   std::string why;
   try {
-    return by_path_.emplace(path, read_program_params(path, program)).first->second;
+    return by_path_.emplace(key, read_program_params(path, program, args)).first->second;
   } catch (const std::exception& ex) {
     why = ex.what();
   }
@@ -141,6 +146,24 @@ void check_scene_programs(const Scene& scene, const std::string& firmware_dir) {
   const int n = static_cast<int>(scene.modules.size());
   for (int i = 0; i <= n; ++i) {
     const SceneModule& e = i < n ? scene.modules[i] : scene.central;
+    if (e.target == Target::Pic) {
+      const std::string at = e.target_at.empty() ? e.firmware_at : e.target_at;
+      if (pic_hex_path(e.firmware, firmware_dir).empty())
+        throw SceneError(at + ": " + scene_endpoint_name(scene, i) + " runs on the PIC: " +
+                         pic_hex_missing(e.firmware, firmware_dir));
+      if (access(pic_module_program().c_str(), X_OK) != 0)
+        throw SceneError(at + ": " + scene_endpoint_name(scene, i) + " runs on the PIC, but " + pic_module_program() +
+                         " is missing: chainsim was built without libgpsim (install gpsim-dev and libglib2.0-dev, "
+                         "then build again)");
+      if (i < n) {
+        const auto misfits = pic_board_misfits(find_module_def(scene.world.module_types, e.type));
+        if (!misfits.empty())
+          throw SceneError(at + ": " + scene_endpoint_name(scene, i) + " runs on the PIC, and its module type does "
+                           "not fit the board: " + misfits.front() +
+                           (misfits.size() > 1 ? " (and " + std::to_string(misfits.size() - 1) + " more)" : ""));
+      }
+      continue;
+    }
     const std::string path = program_path(e.firmware, firmware_dir);
     if (access(path.c_str(), X_OK) != 0)
       throw SceneError(e.firmware_at + ": program '" + e.firmware + "' of " + scene_endpoint_name(scene, i) +
@@ -151,13 +174,19 @@ void check_scene_programs(const Scene& scene, const std::string& firmware_dir) {
   }
   ProgramParamsCache known;
   check_scene_params(scene, [&](const SceneModule& e, const std::string& who) -> const ProgramParams& {
-    const std::string path = program_path(e.firmware, firmware_dir);
-    return known.get(path, e.firmware, [&](const std::string& why) {
-      const std::string first = e.param_at.empty() ? e.firmware_at : e.param_at.begin()->second;
-      throw SceneError(first + ": " + who + " is given parameters, but its program " + path +
-                       " did not list the ones it declares when run with " CS_PARAMS_ARG ": " + why +
-                       " (a program linked with chainsim's hal-sim lists them)");
-    });
+    const bool pic = e.target == Target::Pic;
+    const std::string hex = pic ? pic_hex_path(e.firmware, firmware_dir) : "";
+    const std::string path = pic ? pic_module_program() : program_path(e.firmware, firmware_dir);
+    return known.get(
+        path, e.firmware,
+        [&](const std::string& why) {
+          const std::string first = e.param_at.empty() ? e.firmware_at : e.param_at.begin()->second;
+          throw SceneError(first + ": " + who + " is given parameters, but " +
+                           (pic ? "the parameter table of " + hex + " could not be read: " + why
+                                : "its program " + path + " did not list the ones it declares when run with "
+                                  CS_PARAMS_ARG ": " + why + " (a program linked with chainsim's hal-sim lists them)"));
+        },
+        pic ? std::vector<std::string>{hex} : std::vector<std::string>{});
   });
 }
 

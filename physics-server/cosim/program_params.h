@@ -10,6 +10,7 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "cosim/endpoints.h"  // program_path: where a run finds a program
 #include "scene/scene.h"
@@ -24,7 +25,9 @@ ProgramParams parse_params_listing(const std::string& text, const std::string& p
 // runs path with CS_PARAMS_ARG (at most 10 s of wall clock) and parses what
 // it prints; throws std::runtime_error saying why there is no listing
 // (`program` names it in messages)
-ProgramParams read_program_params(const std::string& path, const std::string& program);
+// (args: more arguments after CS_PARAMS_ARG, e.g. the .hex for chainsim-pic)
+ProgramParams read_program_params(const std::string& path, const std::string& program,
+                                  const std::vector<std::string>& args = {});
 
 // programs' listings by path, each program run once
 class ProgramParamsCache {
@@ -33,7 +36,8 @@ class ProgramParamsCache {
   // called with why and must throw the caller's error (if it returns, the
   // reason is thrown as std::runtime_error)
   const ProgramParams& get(const std::string& path, const std::string& program,
-                           const std::function<void(const std::string& why)>& on_error);
+                           const std::function<void(const std::string& why)>& on_error,
+                           const std::vector<std::string>& args = {});
 
  private:
   std::map<std::string, ProgramParams> by_path_;
@@ -42,7 +46,10 @@ class ProgramParamsCache {
 // before a run starts anything: every endpoint's program exists and is
 // executable, and every parameter the scene sets is one its program
 // declares, within its range (each program that is given parameters is run
-// once for its listing). Throws SceneError at the scene's file:line:column.
+// once for its listing). A module whose target is pic: its PROGRAM.hex
+// exists (its listing is read from the .hex's flash by chainsim-pic) and its
+// module type's sensors fit the board's pins (model/pic_board.h). Throws
+// SceneError at the scene's file:line:column.
 void check_scene_programs(const Scene& scene, const std::string& firmware_dir);
 
 }  // namespace chainsim

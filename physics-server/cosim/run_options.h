@@ -45,6 +45,7 @@ struct RunOptions {
   double module_timeout_s = 10.0;       // wall clock, per exchange
   std::set<int> attach;                 // endpoints the user starts by hand
   std::string firmware_dir;             // DIR[:DIR...] searched for programs first, then next to chainsim
+  bool overrun_warn = false;            // a PIC program over its CPU budget warns (--on-overrun=warn) instead of faulting
   bool progress = false;                // progress on stderr: one line rewritten on a terminal,
   bool progress_terminal = false;       // else a new line each time
   double progress_every_s = 1.0;        // wall-clock seconds between progress reports

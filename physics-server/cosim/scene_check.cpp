@@ -27,18 +27,24 @@ SceneCheck check_scene(const Scene& scene, const std::string& firmware_dir) {
     return r;
   }
   const std::vector<std::string> types = endpoint_types(scene);
+  int on_pic = 0;
   for (size_t i = 0; i < types.size(); ++i) {
     const bool central = i + 1 == types.size();
-    const std::string path = program_path(central ? scene.central.firmware : scene.modules[i].firmware, firmware_dir);
-    if (access(path.c_str(), X_OK) == 0) continue;
+    const SceneModule& e = central ? scene.central : scene.modules[i];
+    const bool pic = e.target == Target::Pic;
+    on_pic += pic;
+    const std::string path = pic ? pic_hex_path(e.firmware, firmware_dir) : program_path(e.firmware, firmware_dir);
+    if (pic ? !path.empty() : access(path.c_str(), X_OK) == 0) continue;
     r.exit_code = kExitBadInput;
     r.message = "program for " + (central ? std::string("central control") : "module " + std::to_string(i)) +
-                " (" + types[i] + ") not found or not executable: " + path;
+                " (" + types[i] + ") " +
+                (pic ? "on the PIC: " + pic_hex_missing(e.firmware, firmware_dir) : "not found or not executable: " + path);
     return r;
   }
   r.message = scene.source + ": ok: " + std::to_string(scene.modules.size()) + " modules, " +
-              std::to_string(bodies) + " bodies, " + std::to_string(types.size()) +
-              " programs found; nothing was started";
+              std::to_string(bodies) + " bodies, " + std::to_string(types.size()) + " programs found" +
+              (on_pic ? " (" + std::to_string(on_pic) + " as .hex for the PIC, their modules' sensors on the board's pins)" : "") +
+              "; nothing was started";
   return r;
 }
 

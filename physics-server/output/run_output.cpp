@@ -61,8 +61,14 @@ RunOutput::RunOutput(const std::string& dir, const std::vector<std::string>& end
   bus_ = open_or_throw(path("bus.log"));
   events_ = open_or_throw(path("events.jsonl"));
   // every endpoint's log exists from the start, empty until it logs (a
-  // missing file would look like a lost one); opened again at the first line
-  for (size_t i = 0; i < names_.size(); ++i) std::fclose(open_or_throw(module_file(static_cast<int>(i), "log")));
+  // missing file would look like a lost one); opened again at the first line.
+  // Its process's output (.out, which the process appends to) starts empty
+  // too, and no PIC figures (.pic.json) of an earlier run in this directory stay.
+  for (size_t i = 0; i < names_.size(); ++i) {
+    std::fclose(open_or_throw(module_file(static_cast<int>(i), "log")));
+    std::fclose(open_or_throw(module_file(static_cast<int>(i), "out")));
+    std::filesystem::remove(module_file(static_cast<int>(i), "pic.json"), ec);
+  }
 }
 
 RunOutput::~RunOutput() {

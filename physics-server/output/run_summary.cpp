@@ -22,10 +22,12 @@ nlohmann::json summary_json(const Scene& scene, const RunSummary& run) {
     nlohmann::json m = {{"index", e.index},
                         {"type", e.type},
                         {"program", e.program},
+                        {"target", e.target},
                         {"pid", e.pid},
                         {"fault", e.fault.empty() ? nlohmann::json(nullptr) : nlohmann::json(e.fault)},
                         {"exchanges", e.exchanges}};
     if (e.energy_j) m["energy_j"] = *e.energy_j;
+    if (!e.pic.is_null()) m["pic"] = e.pic;
     if (e.i2c_address != 0) {
       char hex[8];
       std::snprintf(hex, sizeof hex, "0x%02x", e.i2c_address);

@@ -27,6 +27,10 @@ struct EndpointSummary {
   std::optional<double> energy_j;   // modules: supply energy over the run
   uint8_t i2c_address = 0;          // at the end (a module: the one discovery gave it); 0: none
   int64_t addressed_us = -1;        // when it took that address
+  std::string target = "native";    // or "pic"
+  // pic: what chainsim-pic measured (cycles per step against the period,
+  // stack high-water marks, flash and RAM), or {"error": why} when it left none
+  nlohmann::json pic;
 };
 
 struct RunSummary {

@@ -48,6 +48,10 @@ void get_params(const Ctx& c, const YAML::Node& map, const std::string& path,
   if (params->size() > 16) c.fail(n, "'" + path + ".params' has more than 16 parameters");
 }
 
+Target load_target(const Ctx& c, const YAML::Node& n, const std::string& path) {
+  return c.choice(n, "target", "native", {"native", "pic"}, path) == "pic" ? Target::Pic : Target::Native;
+}
+
 // `programs: {all: {firmware, params}, <type>: {firmware, params}}`: the
 // program and parameters of every module, and of every module of a type. A
 // module's own firmware wins over its type's, which wins over all's; params
@@ -55,6 +59,8 @@ void get_params(const Ctx& c, const YAML::Node& map, const std::string& path,
 struct ProgramDefaults {
   std::string firmware;  // empty: not given
   std::string firmware_at;
+  std::optional<Target> target;
+  std::string target_at;
   std::optional<bool> may_stay_silent;
   std::map<std::string, int32_t> params;
   std::map<std::string, std::string> param_at;
@@ -71,8 +77,12 @@ std::map<std::string, ProgramDefaults> load_programs(const Ctx& c, const YAML::N
       c.fail(kv.first, "'programs' names module type '" + type + "', which is not known (the built-in types, "
                        "the scene's module_types, or all)");
     if (!kv.second.IsMap()) c.fail(kv.second, "'" + p + "' must be a mapping with firmware and/or params");
-    c.keys(kv.second, p, {"firmware", "params", "may_stay_silent"});
+    c.keys(kv.second, p, {"firmware", "params", "may_stay_silent", "target"});
     ProgramDefaults d;
+    if (kv.second["target"]) {
+      d.target = load_target(c, kv.second, p);
+      d.target_at = c.where(kv.second["target"]);
+    }
     if (kv.second["may_stay_silent"]) d.may_stay_silent = c.flag(kv.second, "may_stay_silent", false, p);
     d.firmware = c.string(kv.second, "firmware", "", p);
     if (kv.second["firmware"]) d.firmware_at = c.where(kv.second["firmware"]);
@@ -107,6 +117,13 @@ void apply_programs(const std::map<std::string, ProgramDefaults>& programs, cons
     m.param_at = at;
     if (!(chain.IsSequence() && chain[i]["may_stay_silent"]))
       m.may_stay_silent = type.may_stay_silent.value_or(all.may_stay_silent.value_or(false));
+    if (m.target_at.empty()) {  // the module's own target wins, then its type's, then all's
+      const ProgramDefaults& from = type.target ? type : all;
+      if (from.target) {
+        m.target = *from.target;
+        m.target_at = from.target_at;
+      }
+    }
   }
 }
 
@@ -136,9 +153,13 @@ void load_chain(const Ctx& c, const YAML::Node& root, Scene* s) {
     for (size_t i = 0; i < n.size(); ++i) {
       const YAML::Node m = n[i];
       const std::string p = "chain[" + std::to_string(i) + "]";
-      c.keys(m, p, {"type", "firmware", "params", "may_stay_silent"});
+      c.keys(m, p, {"type", "firmware", "params", "may_stay_silent", "target"});
       if (!m["type"]) c.fail(m, "'" + p + "' needs a 'type'");
       SceneModule sm;
+      if (m["target"]) {
+        sm.target = load_target(c, m, p);
+        sm.target_at = c.where(m["target"]);
+      }
       sm.type = c.string(m, "type", "", p);
       sm.firmware = c.string(m, "firmware", "", p);  // empty: apply_programs
       sm.firmware_at = c.where(m["firmware"] ? m["firmware"] : m);
@@ -188,13 +209,26 @@ SceneError::SceneError(const std::string& message) : std::runtime_error(shown_te
 
 std::string default_firmware(const std::string& type) { return "fw-" + type; }
 
+const char* target_name(Target t) { return t == Target::Pic ? "pic" : "native"; }
+
+void set_target(Scene* scene, Target t) {
+  for (SceneModule& m : scene->modules) m.target = t;
+  scene->central.target = t;
+}
+
+bool uses_pic(const Scene& scene) {
+  for (const SceneModule& m : scene.modules)
+    if (m.target == Target::Pic) return true;
+  return scene.central.target == Target::Pic;
+}
+
 Scene load_scene_text(const std::string& text, const std::string& name) {
   const Ctx c{name};
   const YAML::Node root = c.parse(text);
   if (!root || !root.IsMap()) throw SceneError(name + ": a scene must be a YAML mapping");
   c.keys(root, "scene",
              {"name", "duration_s", "seed", "physics", "environment", "contacts", "module_types",
-              "programs", "chain", "placement", "central", "output"});
+              "programs", "chain", "placement", "central", "output", "target", "pic"});
 
   Scene s;
   s.source = name;
@@ -229,7 +263,24 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
   load_scene_module_types(name, base_dir, root["module_types"], &s.world);  // scene_modules.cpp
   load_chain(c, root, &s);
   check_scene_chain_types(name, root["chain"], s);
-  apply_programs(load_programs(c, root["programs"], s), root["chain"], &s);
+  // `target`: every endpoint's, unless programs or the module say otherwise
+  std::optional<Target> scene_target;
+  std::string scene_target_at;
+  if (root["target"]) {
+    scene_target = load_target(c, root, "scene");
+    scene_target_at = c.where(root["target"]);
+  }
+  auto programs = load_programs(c, root["programs"], s);
+  if (scene_target && !programs["all"].target) {
+    programs["all"].target = scene_target;
+    programs["all"].target_at = scene_target_at;
+  }
+  apply_programs(programs, root["chain"], &s);
+  if (const YAML::Node p = root["pic"]) {
+    c.keys(p, "pic", {"cpu_budget_us", "stall_ms"});
+    s.pic.cpu_budget_us = c.integer(p, "cpu_budget_us", 0, 0, 1000000000, "pic");
+    s.pic.stall_ms = c.integer(p, "stall_ms", s.pic.stall_ms, 1, 3600000, "pic");
+  }
 
   if (const YAML::Node p = root["placement"]) {
     c.keys(p, "placement", {"position_m", "heading_deg", "at", "inset_m"});
@@ -241,8 +292,16 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
   s.central.type = "central";
   s.central.firmware = "fw-central";
   s.central.firmware_at = c.where(root);
+  if (scene_target) {
+    s.central.target = *scene_target;
+    s.central.target_at = scene_target_at;
+  }
   if (const YAML::Node ce = root["central"]) {
-    c.keys(ce, "central", {"program", "params", "discovery_s"});
+    c.keys(ce, "central", {"program", "params", "discovery_s", "target"});
+    if (ce["target"]) {
+      s.central.target = load_target(c, ce, "central");
+      s.central.target_at = c.where(ce["target"]);
+    }
     s.discovery_s = c.number(ce, "discovery_s", s.discovery_s, 0.001, 86400.0, "central");
     s.central.firmware = c.string(ce, "program", "fw-central", "central");
     s.central.firmware_at = c.where(ce["program"] ? ce["program"] : ce);

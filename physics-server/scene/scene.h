@@ -19,6 +19,12 @@ class SceneError : public std::runtime_error {
   explicit SceneError(const std::string& message);
 };
 
+// what runs a module's program: the program built for this computer, linked
+// with hal-sim (native), or the board's own binary, PROGRAM.hex, in gpsim
+// (pic: chainsim-pic, docs/pic-in-the-loop.md)
+enum class Target { Native, Pic };
+const char* target_name(Target t);
+
 // one module of the chain and the program that runs it
 struct SceneModule {
   std::string type;      // module type name, e.g. "rotation"
@@ -29,6 +35,8 @@ struct SceneModule {
   // the errors of check_scene_params (scene_params.h)
   std::map<std::string, std::string> param_at;
   std::string firmware_at;
+  Target target = Target::Native;
+  std::string target_at;  // where the scene says it ("" for the default)
   // the module may never answer discovery (its program takes no part in
   // it): no failure when it has no I2C address at discovery_s
   bool may_stay_silent = false;
@@ -51,10 +59,21 @@ struct Scene {
   // has a module without one stops with kExitSilentModule
   double discovery_s = 1.0;
   double trace_hz = 100.0;     // trace rows per simulated second
+  // the modules whose target is pic (scene key `pic`)
+  struct Pic {
+    int64_t cpu_budget_us = 0;  // most busy time a step of a program may take; 0: no budget
+    int64_t stall_ms = 2000;    // a program busy this long without a HAL wait is a fault
+  } pic;
 
   // the module types of the chain, head first (what World's constructor takes)
   std::vector<std::string> chain_types() const;
 };
+
+// every endpoint (modules and central control) runs on target t, whatever
+// the scene says (`--target` of run, test and optimize)
+void set_target(Scene* scene, Target t);
+// whether any endpoint runs on the PIC
+bool uses_pic(const Scene& scene);
 
 // letters of chain strings: T touch, R rotation, H helicoidal, S support,
 // E extension, W traveller, P passive

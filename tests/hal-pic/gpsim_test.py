@@ -345,7 +345,7 @@ def scenario_rotation(build_dir, workdir):
     times. gpsim 0.31's MSSP master keeps SDA driven through the ACK clock
     after a 0 bit, so the firmware's view of the ACKs proves little there;
     the slave's view does."""
-    cod = os.path.join(build_dir, "rotation.cod")
+    cod = os.path.join(build_dir, "fw-rotation.cod")
     log = os.path.join(workdir, "writes.log")
     ms = CYC_PER_MS
     t = {"addr": 0x21,  # chain position k = 1
@@ -404,7 +404,7 @@ def scenario_rotation(build_dir, workdir):
 
 
 def scenario_central(build_dir, workdir):
-    cod = os.path.join(build_dir, "central.cod")
+    cod = os.path.join(build_dir, "fw-central.cod")
     log = os.path.join(workdir, "writes.log")
     s = Script()
     # Sin low: no module closes the ring
@@ -433,7 +433,7 @@ def size_table(build_dir, progs):
     size_re = re.compile(r"flash (\d+) / (\d+) bytes \(([\d.]+)%\), RAM (\d+) / (\d+) bytes \(([\d.]+)%")
     rows = []
     for prog in progs:
-        with open(os.path.join(build_dir, prog + ".size")) as f:
+        with open(os.path.join(build_dir, "fw-" + prog + ".size")) as f:
             m = size_re.search(f.read())
         flash, _, fpct, ram, _, rpct = m.groups()
         rows.append((int(flash), "| %s | %s B (%s %%) | %s B (%s %%) |" % (prog, flash, fpct, ram, rpct)))
@@ -471,8 +471,8 @@ def main():
             print("FAIL: no firmware/*/main.c")
             return 1
         for prog in progs:
-            if not os.path.isfile(os.path.join(a.build_dir, prog + ".hex")):
-                print("FAIL: no %s.hex" % prog)
+            if not os.path.isfile(os.path.join(a.build_dir, "fw-" + prog + ".hex")):
+                print("FAIL: no fw-%s.hex" % prog)
                 return 1
         print("build: all programs built and fit the part")
         return check_size_table(a.repo, a.build_dir, progs)

@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -32,6 +33,8 @@
 #include "output/decimal.h"
 #include "output/run_dir.h"
 #include "scene/scene.h"
+#include "testing/run_compare.h"
+#include "testing/run_record.h"
 #include "testing/test_runner.h"
 #include "chainsim/view_command.h"
 
@@ -56,6 +59,9 @@ struct RunArgs {
   double timeout = 10.0;
   std::vector<int> attach;
   std::string firmware_dir;
+  std::string target;      // --target: every endpoint on native or pic
+  std::string compare;     // --compare A,B: the scene on both targets, compared
+  std::string overrun = "stop";
   bool quiet = false;
   bool check = false;      // --check: load and check, run nothing
   bool live = false;       // --live: serve the live view while running
@@ -73,6 +79,73 @@ std::string duration_error(double duration, const Scene& scene) {
          std::to_string(scene.tick_us) + " us)";
 }
 
+// --compare A,B: the two targets, or an error
+std::vector<Target> compare_targets(const std::string& text, std::string* error) {
+  std::vector<Target> out;
+  size_t b = 0;
+  for (;;) {
+    const size_t e = std::min(text.find(',', b), text.size());
+    const std::string t = text.substr(b, e - b);
+    if (t != "native" && t != "pic") {
+      *error = "--compare " + text + ": two targets, native and pic, separated by a comma (e.g. native,pic)";
+      return {};
+    }
+    out.push_back(t == "pic" ? Target::Pic : Target::Native);
+    if (e == text.size()) break;
+    b = e + 1;
+  }
+  if (out.size() != 2 || out[0] == out[1]) {
+    *error = "--compare " + text + ": two different targets, e.g. native,pic";
+    return {};
+  }
+  return out;
+}
+
+// the scene on both targets into OUT/<target>, then the comparison into
+// OUT/compare.txt and OUT/compare.json (testing/run_compare.h)
+int run_compare(const Scene& scene, RunOptions opt, const std::vector<Target>& targets) {
+  const std::string base = opt.out_dir;
+  int code = kExitOk;
+  std::vector<std::string> dirs;
+  for (Target t : targets) {
+    Scene s = scene;
+    set_target(&s, t);
+    opt.out_dir = base + "/" + target_name(t);
+    dirs.push_back(opt.out_dir);
+    const RunDirCheck dir = prepare_run_dir(opt.out_dir);
+    if (!dir.error.empty()) {
+      std::fprintf(stderr, "chainsim: %s\n", dir.error.c_str());
+      return kExitBadInput;
+    }
+    say(opt, std::string("running ") + s.name + " with every program " +
+                 (t == Target::Pic ? "on the PIC (gpsim)" : "native") + " into " + opt.out_dir);
+    RunResult r;
+    try {
+      r = run_scene(s, opt);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "chainsim: %s\n", e.what());
+      return kExitInternal;
+    }
+    if (r.exit_code != kExitOk) {
+      std::fprintf(stderr, "chainsim: the %s run stopped: %s\n", target_name(t), r.message.c_str());
+      if (code == kExitOk) code = r.exit_code;
+    }
+  }
+  try {
+    RunRecord a(dirs[0]), b(dirs[1]);
+    const CompareReport report = compare_runs(a, b, target_name(targets[0]), target_name(targets[1]));
+    const std::string text = compare_text(report);
+    std::ofstream(base + "/compare.txt") << text;
+    std::ofstream(base + "/compare.json") << compare_json(report).dump(1) << "\n";
+    std::printf("%s", text.c_str());
+    say(opt, "comparison: " + base + "/compare.txt, compare.json");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "chainsim: cannot compare the runs: %s\n", e.what());
+    return code != kExitOk ? code : kExitInternal;
+  }
+  return code;
+}
+
 int cmd_run(const RunArgs& a) {
   Scene scene;
   try {
@@ -83,6 +156,17 @@ int cmd_run(const RunArgs& a) {
   }
   if (a.duration > 0) scene.duration_s = a.duration;
   if (a.seed >= 0) scene.world.seed = static_cast<uint64_t>(a.seed);
+  if (!a.target.empty()) set_target(&scene, a.target == "pic" ? Target::Pic : Target::Native);
+  std::vector<Target> compare;
+  if (!a.compare.empty()) {
+    std::string error;
+    compare = compare_targets(a.compare, &error);
+    if (compare.empty() || !a.target.empty() || a.live || !a.attach.empty()) {
+      std::fprintf(stderr, "chainsim: %s\n",
+                   !error.empty() ? error.c_str() : "--compare runs the scene twice: not with --target, --live or --attach");
+      return kExitBadInput;
+    }
+  }
   if (const std::string e = duration_error(a.duration, scene); !e.empty()) {
     std::fprintf(stderr, "chainsim: %s\n", e.c_str());
     return kExitBadInput;
@@ -97,7 +181,12 @@ int cmd_run(const RunArgs& a) {
   try {
     // programs found, the parameters each is given declared and in range
     // (a program given parameters is run once, with --chainsim-params, for its list)
-    check_scene_programs(scene, a.firmware_dir);
+    if (compare.empty()) check_scene_programs(scene, a.firmware_dir);
+    for (Target t : compare) {
+      Scene s = scene;
+      set_target(&s, t);
+      check_scene_programs(s, a.firmware_dir);
+    }
   } catch (const SceneError& e) {
     std::fprintf(stderr, "chainsim: %s\n", e.what());
     return kExitBadInput;
@@ -117,10 +206,12 @@ int cmd_run(const RunArgs& a) {
   opt.on_divergence = a.divergence == "warn" ? DivergenceMode::Warn : DivergenceMode::Stop;
   opt.module_timeout_s = a.timeout;
   opt.firmware_dir = a.firmware_dir;
+  opt.overrun_warn = a.overrun == "warn";
   opt.quiet = a.quiet;
   opt.progress = !a.quiet;
   opt.progress_terminal = isatty(2);
   opt.progress_every_s = a.progress_every > 0 ? a.progress_every : opt.progress_terminal ? 1.0 : 10.0;
+  if (!compare.empty()) return run_compare(scene, opt, compare);
   // checked before any module starts: a bad --out is a bad option, not an internal error
   const RunDirCheck dir = prepare_run_dir(opt.out_dir);
   if (!dir.error.empty()) {
@@ -278,6 +369,19 @@ int main(int argc, char** argv) {
       ->expected(0, -1);
   run->add_option("--firmware-dir", ra.firmware_dir,
                   "where to look for programs first (DIR[:DIR...], e.g. your own build), then next to chainsim");
+  run->add_option("--target", ra.target,
+                  "run every module and the central control as native programs, or as the board's own .hex "
+                  "in gpsim (pic; docs/pic-in-the-loop.md), whatever the scene's target says")
+      ->check(CLI::IsMember({"native", "pic"}));
+  run->add_option("--compare", ra.compare,
+                  "run the scene on two targets (native,pic) into OUT/native and OUT/pic, and report where "
+                  "each endpoint's log lines, I2C frames, Sout edges, set-points, faults first differ, and how "
+                  "far the runs drift apart (OUT/compare.txt, compare.json)");
+  run->add_option("--on-overrun", ra.overrun,
+                  "a PIC program's step over the scene's pic.cpu_budget_us: a fault (stop), or a warning in "
+                  "the module's .out and summary.json (warn)")
+      ->check(CLI::IsMember({"stop", "warn"}))
+      ->capture_default_str();
   run->add_flag("--quiet,-q", ra.quiet, "print only errors");
   run->add_flag("--check", ra.check,
                 "check the scene and run nothing: load it and its module and mesh files, build the world, find "

@@ -58,7 +58,7 @@ TEST(ShippedModules, ServosAndSensorsPerType) {
     int servos, n_adc, n_counters;
   };
   const Want want[] = {{"rotation", 2, 2, 0},  {"helicoidal", 1, 4, 0}, {"support", 1, 4, 0},
-                       {"extension", 2, 5, 0}, {"touch", 0, 3, 0},      {"traveller", 0, 3, 3},
+                       {"extension", 2, 2, 0}, {"touch", 0, 3, 0},      {"traveller", 0, 3, 3},
                        {"passive", 0, 0, 0}};
   for (const Want& x : want) {
     WorldConfig c;

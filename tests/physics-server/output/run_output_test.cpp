@@ -217,8 +217,10 @@ TEST(RunSummary, CarriesTheRunAndEachEndpoint) {
   r.limp_mode = true;
   r.trace_sha256 = "abc";
   r.exchanges = 12;
-  r.endpoints.push_back({0, "rotation", "fw-rotation", 42, "", 7, 0.25});
-  r.endpoints.push_back({1, "central", "fw-central", 43, "crashed", 5, std::nullopt});
+  EndpointSummary m0, c;
+  m0.index = 0, m0.type = "rotation", m0.program = "fw-rotation", m0.pid = 42, m0.exchanges = 7, m0.energy_j = 0.25;
+  c.index = 1, c.type = "central", c.program = "fw-central", c.pid = 43, c.fault = "crashed", c.exchanges = 5;
+  r.endpoints = {m0, c};
   r.displacement_m = Eigen::Vector3d(0.3, 0.4, 0);
   r.exit_code = 2;
   r.stopped_by = "module 0 crashed";
