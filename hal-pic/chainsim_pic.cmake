@@ -7,8 +7,11 @@
 #   chainsim_pic_program(TARGET <target> OUTPUT <dir/name>   # -> <dir/name>.hex, .cod, .map, .size, .pic.json
 #                        SOURCES <file.c>...                 # the program; one of them defines main()
 #                        [SERVOS <n>]                        # servo outputs, 0..4 (default 2)
+#                        [STRICT]                            # SDCC's 8-bit truths are errors (tools/pic-cc.py)
 #                        [DEFINES <-DX=Y>...] [INCLUDE_DIRS <dir>...])
 #
+# gplink runs through tools/pic-link.py, which tells a RAM section that does
+# not fit a bank in words (the variables in it, their sizes).
 # gplink fails (naming the section) when the program does not fit at all; the
 # size check runs on every build (it is the build's report) and fails it,
 # removing the .hex, when the program is over the part's flash or RAM. The
@@ -18,13 +21,18 @@
 # Needs (set by the caller): CHAINSIM_PIC_CACHE (tools/pic-toolchain.sh's
 # cache), CHAINSIM_HAL_INCLUDE_DIR (hal/), CHAINSIM_FW_COMMON_INCLUDE_DIR and
 # CHAINSIM_FW_COMMON_SOURCES (firmware/common), CHAINSIM_PIC_HAL_DIR (hal-pic/
-# sources) and CHAINSIM_PIC_SIZE_SCRIPT (tools/pic-size.py).
+# sources) and CHAINSIM_PIC_TOOLS_DIR (where pic-toolchain.sh, pic-size.py,
+# pic-cc.py and pic-link.py are: tools/, or the installed share/chainsim/pic).
 include_guard(GLOBAL)
 
 # the part and the toolchain's files (a missing one names the script that
 # makes it); a macro, so that its variables land in the calling function,
 # whatever scope this file was first included from
 macro(_chainsim_pic_toolchain)
+  set(CHAINSIM_PIC_TOOLCHAIN_SCRIPT "${CHAINSIM_PIC_TOOLS_DIR}/pic-toolchain.sh")
+  set(CHAINSIM_PIC_SIZE_SCRIPT "${CHAINSIM_PIC_TOOLS_DIR}/pic-size.py")
+  set(CHAINSIM_PIC_CC_SCRIPT "${CHAINSIM_PIC_TOOLS_DIR}/pic-cc.py")
+  set(CHAINSIM_PIC_LINK_SCRIPT "${CHAINSIM_PIC_TOOLS_DIR}/pic-link.py")
   set(CHAINSIM_PIC_DEVICE 18f2550)
   set(CHAINSIM_PIC_FLASH_BYTES 32768)
   set(CHAINSIM_PIC_RAM_BYTES 2048)
@@ -43,7 +51,7 @@ macro(_chainsim_pic_toolchain)
 endmacro()
 
 function(chainsim_pic_program)
-  cmake_parse_arguments(PARSE_ARGV 0 P "" "TARGET;OUTPUT;SERVOS" "SOURCES;DEFINES;INCLUDE_DIRS")
+  cmake_parse_arguments(PARSE_ARGV 0 P "STRICT" "TARGET;OUTPUT;SERVOS" "SOURCES;DEFINES;INCLUDE_DIRS")
   if(NOT P_TARGET OR NOT P_OUTPUT OR NOT P_SOURCES)
     message(FATAL_ERROR "chainsim_pic_program: TARGET, OUTPUT and SOURCES are required")
   endif()
@@ -53,6 +61,10 @@ function(chainsim_pic_program)
   _chainsim_pic_toolchain()
   set(rt "${CHAINSIM_PIC_RT}")
   set(python "${Python3_EXECUTABLE}")
+  set(sdcc "${CHAINSIM_PIC_SDCC}")
+  if(P_STRICT)
+    set(sdcc "${python}" "${CHAINSIM_PIC_CC_SCRIPT}" -- "${CHAINSIM_PIC_SDCC}")
+  endif()
 
   # the same flags as SDCC's own pic16 library build; -Wa,-q keeps gpasm quiet
   set(cflags -mpic16 -p${CHAINSIM_PIC_DEVICE} --std-c99 --no-warn-non-free
@@ -108,7 +120,7 @@ function(chainsim_pic_program)
     add_custom_command(
       OUTPUT "${obj}"
       COMMAND "${CMAKE_COMMAND}" -E make_directory "${objdir}"
-      COMMAND "${CHAINSIM_PIC_SDCC}" ${cflags} ${extra} -c "${src}" -o "${obj}"
+      COMMAND ${sdcc} ${cflags} ${extra} -c "${src}" -o "${obj}"
       DEPENDS "${src}" ${headers}
       COMMENT "SDCC ${name}: ${base}.c"
       VERBATIM)
@@ -119,7 +131,8 @@ function(chainsim_pic_program)
   set(rtobjs "${rt}/crt0i.o" "${rt}/stack.o")
   add_custom_command(
     OUTPUT "${out}.hex" "${out}.cod" "${out}.map"
-    COMMAND "${CHAINSIM_GPLINK}" -w -r -s "${CHAINSIM_PIC_LKR}" -m -o "${out}.hex"
+    COMMAND "${python}" "${CHAINSIM_PIC_LINK_SCRIPT}" --asm-dir "${objdir}" --
+            "${CHAINSIM_GPLINK}" -w -r -s "${CHAINSIM_PIC_LKR}" -m -o "${out}.hex"
             ${rtobjs} ${objs} "${rt}/pic${CHAINSIM_PIC_DEVICE}.o" "${rt}/libsdcc.lib"
     DEPENDS ${objs} ${rtobjs} "${rt}/pic${CHAINSIM_PIC_DEVICE}.o" "${rt}/libsdcc.lib"
     COMMENT "gplink ${name}.hex"

@@ -12,6 +12,9 @@
 #       and chainsim_add_firmware, docs/firmware.md): configured with
 #       -DCHAINSIM_PIC=ON into OUTDIR (default DIR/build-pic), against this
 #       tree's build/ unless chainsim_DIR is set: OUTDIR/<program>.hex
+#   --strict (before the rest): SDCC's warnings that mean the board computes
+#       something else than a PC (integer overflow, a shift wider than int)
+#       fail the build (tools/pic-cc.py; CHAINSIM_PIC_STRICT)
 #
 # Prints each program's flash/RAM use; fails when one is over the part's
 # limits.
@@ -19,6 +22,11 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 PROJECT=""
+STRICT=OFF
+if [ "${1:-}" = "--strict" ]; then
+  STRICT=ON
+  shift
+fi
 if [ "${1:-}" = "--project" ]; then
   [ -n "${2:-}" ] && [ -f "$2/CMakeLists.txt" ] || { echo "[pic-build] --project needs a folder with a CMakeLists.txt" >&2; exit 2; }
   PROJECT="$(cd "$2" && pwd)"
@@ -39,10 +47,11 @@ if [ -n "$PROJECT" ]; then
   pkg="${chainsim_DIR:-$ROOT/build}"
   [ -f "$pkg/chainsimConfig.cmake" ] || { echo "[pic-build] no chainsimConfig.cmake in $pkg: build chainsim first, or set chainsim_DIR" >&2; exit 2; }
   echo "[pic-build] building $PROJECT into $OUT (chainsim package: $pkg)"
-  cmake -S "$PROJECT" -B "$OUT" -Dchainsim_DIR="$pkg" -DCHAINSIM_PIC=ON -DCHAINSIM_PIC_CACHE="$CHAINSIM_PIC_CACHE" >/dev/null
+  cmake -S "$PROJECT" -B "$OUT" -Dchainsim_DIR="$pkg" -DCHAINSIM_PIC=ON -DCHAINSIM_PIC_CACHE="$CHAINSIM_PIC_CACHE" \
+    -DCHAINSIM_PIC_STRICT=$STRICT >/dev/null
 else
   echo "[pic-build] building the firmware into $OUT"
-  cmake -S "$ROOT/hal-pic" -B "$OUT" -DCHAINSIM_PIC_CACHE="$CHAINSIM_PIC_CACHE" >/dev/null
+  cmake -S "$ROOT/hal-pic" -B "$OUT" -DCHAINSIM_PIC_CACHE="$CHAINSIM_PIC_CACHE" -DCHAINSIM_PIC_STRICT=$STRICT >/dev/null
 fi
 cmake --build "$OUT" -j "$JOBS"
 

@@ -5,20 +5,24 @@
 #include "hal.h"
 
 #define ENUM_REPLY_TIMEOUT_MS 200u
+#define ENUM_REOFFER_MS 20u /* a module ignores an offer that came as its Sin rose: offer again */
 #define SYNC_SETTLE_MS 2u /* let Sout reach module 0's Sin before the first offer */
 
 uint8_t chain_n_modules;
 uint8_t chain_module_type[CHAIN_MAX_MODULES];
 
-/* wait up to ENUM_REPLY_TIMEOUT_MS for ENUM_REPLY from addr; 1 = got it
- * (type stored), 0 = no reply. *closed is set when our Sin is high. */
-static uint8_t await_enum_reply(uint8_t addr, uint8_t *closed)
+/* wait up to ENUM_REPLY_TIMEOUT_MS for ENUM_REPLY from addr, offering again
+ * every ENUM_REOFFER_MS; 1 = got it (type stored), 0 = no reply. *closed
+ * is set when our Sin is high. */
+static uint8_t await_enum_reply(const uint8_t *offer, uint8_t *closed)
 {
+    uint8_t addr = offer[1];
     uint32_t deadline = hal_millis() + ENUM_REPLY_TIMEOUT_MS;
+    uint32_t reoffer = hal_millis() + ENUM_REOFFER_MS;
     uint8_t len, to;
 
     for (;;) {
-        uint32_t now;
+        uint32_t now, until;
         while (hal_i2c_receive(cio_rx, sizeof cio_rx, &len, &to) == HAL_OK) {
             if (len == CC_ENUM_REPLY_LEN && cio_rx[0] == CC_ENUM_REPLY && cio_rx[1] == addr) {
                 chain_module_type[chain_n_modules] = cio_rx[2];
@@ -31,7 +35,12 @@ static uint8_t await_enum_reply(uint8_t addr, uint8_t *closed)
         now = hal_millis();
         if ((int32_t)(now - deadline) >= 0)
             return 0;
-        (void)cio_wait_event((uint16_t)(deadline - now), HAL_EV_I2C | HAL_EV_SIN_EDGE);
+        if ((int32_t)(now - reoffer) >= 0) {
+            cio_send(HAL_I2C_GENERAL_CALL, offer, CC_ENUM_OFFER_LEN);
+            reoffer = now + ENUM_REOFFER_MS;
+        }
+        until = (int32_t)(reoffer - deadline) < 0 ? reoffer : deadline;
+        (void)cio_wait_event((uint16_t)(until - now), HAL_EV_I2C | HAL_EV_SIN_EDGE);
     }
 }
 
@@ -80,7 +89,7 @@ void discovery_run(void)
         offer[0] = CC_ENUM_OFFER;
         offer[1] = addr;
         cio_send(HAL_I2C_GENERAL_CALL, offer, CC_ENUM_OFFER_LEN);
-        if (await_enum_reply(addr, &closed)) {
+        if (await_enum_reply(offer, &closed)) {
             chain_n_modules++;
             continue;
         }

@@ -7,18 +7,25 @@
 #       an executable <name> linked with hal-sim and the firmware common
 #       library: C99, no extensions, -Wall -Wextra. With the option
 #       CHAINSIM_PIC=ON the same sources are also cross-built for the
-#       PIC18F2550: target <name>-pic makes <name>.hex (+ .cod, .map, .size)
-#       in the build folder with the SDCC toolchain cached by
-#       pic-toolchain.sh, and fails when the program is over the part's
-#       flash or RAM. PIC_SERVOS: the board's servo outputs (default 2).
+#       PIC18F2550: target <name>-pic makes <name>.hex (+ .cod, .map, .size,
+#       .pic.json) beside the executable, where chainsim finds it for a
+#       module whose target is pic, with the SDCC toolchain cached by
+#       pic-toolchain.sh; it fails when the program is over the part's flash
+#       or RAM, and says why when a variable does not fit a RAM bank.
+#       PIC_SERVOS: the board's servo outputs (default 2: the module type's
+#       servos). With CHAINSIM_PIC_STRICT=ON, SDCC's warnings that mean the
+#       board computes something else than a PC (integer overflow, a shift
+#       wider than int, ...) are errors (docs/pic-in-the-loop.md).
 #
-#   chainsim_add_test(NAME <test> TESTS <file.test.yaml or folder>... [ARGS <more chainsim test options>...])
+#   chainsim_add_test(NAME <test> TESTS <file.test.yaml or folder>... [TARGET native|pic] [ARGS <more chainsim test options>...])
 #       a ctest that runs `chainsim test` on the files, finding the programs
 #       of chainsim_add_firmware first (--firmware-dir), and writes a JUnit
-#       report <build folder>/<test>.junit.xml
+#       report <build folder>/<test>.junit.xml. TARGET pic runs every
+#       module on its .hex in gpsim (--target pic; needs CHAINSIM_PIC=ON).
 include_guard(GLOBAL)
 
 option(CHAINSIM_PIC "also cross-build every chainsim_add_firmware program for the PIC18F2550 (.hex)" OFF)
+option(CHAINSIM_PIC_STRICT "the PIC build fails on SDCC's warnings that mean the board computes something else" OFF)
 
 # the shipped programs' language level and warnings
 set(CHAINSIM_FIRMWARE_C_OPTIONS -Wall -Wextra)
@@ -54,16 +61,36 @@ function(chainsim_add_firmware name)
       list(APPEND srcs "${s}")
     endforeach()
     include("${CHAINSIM_PIC_CMAKE}")
-    chainsim_pic_program(TARGET ${name}-pic OUTPUT "${CMAKE_CURRENT_BINARY_DIR}/${name}"
+    # beside the executable: found by --firmware-dir as the native program is
+    set(out_dir "${CMAKE_CURRENT_BINARY_DIR}")
+    if(CMAKE_RUNTIME_OUTPUT_DIRECTORY)
+      set(out_dir "${CMAKE_RUNTIME_OUTPUT_DIRECTORY}")
+    endif()
+    set(strict "")
+    if(CHAINSIM_PIC_STRICT)
+      set(strict STRICT)
+    endif()
+    chainsim_pic_program(TARGET ${name}-pic OUTPUT "${out_dir}/${name}" ${strict}
                          SOURCES ${srcs} SERVOS ${F_PIC_SERVOS} DEFINES ${F_PIC_DEFINES}
                          INCLUDE_DIRS ${CMAKE_CURRENT_SOURCE_DIR})
   endif()
 endfunction()
 
 function(chainsim_add_test)
-  cmake_parse_arguments(PARSE_ARGV 0 T "" "NAME" "TESTS;ARGS")
+  cmake_parse_arguments(PARSE_ARGV 0 T "" "NAME;TARGET" "TESTS;ARGS")
   if(NOT T_NAME OR NOT T_TESTS)
     message(FATAL_ERROR "chainsim_add_test: NAME and TESTS are required")
+  endif()
+  set(target_args "")
+  if(T_TARGET)
+    if(NOT T_TARGET MATCHES "^(native|pic)$")
+      message(FATAL_ERROR "chainsim_add_test(${T_NAME}): TARGET ${T_TARGET}: native or pic")
+    endif()
+    if(T_TARGET STREQUAL "pic" AND NOT CHAINSIM_PIC)
+      message(FATAL_ERROR "chainsim_add_test(${T_NAME}): TARGET pic runs the programs' .hex: configure with "
+                          "-DCHAINSIM_PIC=ON")
+    endif()
+    set(target_args --target ${T_TARGET})
   endif()
   set(tests "")
   foreach(t ${T_TESTS})
@@ -83,7 +110,7 @@ function(chainsim_add_test)
     set(fw_args --firmware-dir "${firmware_dirs}")
   endif()
   add_test(NAME ${T_NAME}
-           COMMAND chainsim::chainsim test ${tests} ${fw_args}
+           COMMAND chainsim::chainsim test ${tests} ${fw_args} ${target_args}
                    --junit "${CMAKE_CURRENT_BINARY_DIR}/${T_NAME}.junit.xml"
                    --keep "${CMAKE_CURRENT_BINARY_DIR}/${T_NAME}-runs" ${T_ARGS}
            WORKING_DIRECTORY "${CMAKE_CURRENT_BINARY_DIR}")

@@ -57,6 +57,15 @@ std::string individual_scene_yaml(const Problem& pr, const Phenotype& p, uint64_
     for (auto kv : pg)
       if (kv.second.IsMap()) absolute_program(kv.second["firmware"], dir);
 
+  // --target: every endpoint on it, whatever the scene says module by module
+  if (!pr.evaluation.target.empty()) {
+    root["target"] = pr.evaluation.target;
+    if (YAML::Node c = root["central"]; c && c.IsMap()) c.remove("target");
+    if (YAML::Node pg = root["programs"]; pg && pg.IsMap())
+      for (auto kv : pg)
+        if (kv.second.IsMap()) kv.second.remove("target");
+  }
+
   // the chain: the genome's letters, or the base scene's
   bool module_params = false;
   for (const auto& g : pr.genome.params) module_params |= g.scope != ParamGene::Scope::Central;
@@ -74,7 +83,10 @@ std::string individual_scene_yaml(const Problem& pr, const Phenotype& p, uint64_
   }
   if (chain.IsSequence())
     for (size_t i = 0; i < chain.size(); ++i)
-      if (chain[i].IsMap()) absolute_program(chain[i]["firmware"], dir);
+      if (chain[i].IsMap()) {
+        absolute_program(chain[i]["firmware"], dir);
+        if (!pr.evaluation.target.empty()) chain[i].remove("target");
+      }
 
   for (size_t k = 0; k < pr.genome.params.size() && k < p.values.size(); ++k) {
     const ParamGene& g = pr.genome.params[k];

@@ -39,6 +39,7 @@ struct EvaluationSettings {
   double duration_s = -1;            // < 0: the base scene's
   double module_timeout_s = 10;      // chainsim run --module-timeout
   int repeats = 1;                   // runs per individual, each with its own seed; the mean is scored
+  std::string target;                // "": as the scene says; native or pic for every endpoint (--target)
 };
 
 struct Problem {

@@ -30,7 +30,8 @@ std::string fingerprint(const Problem& pr) {
                 static_cast<unsigned long long>(g.seed), g.population, pr.exhaustive ? 1 : 0, g.crossover.c_str(),
                 g.crossover_probability, g.mutation.c_str(), g.mutation_probability, g.mutation_width,
                 g.selection.c_str(), g.selection_size);
-  const std::string data = pr.text + '\0' + pr.scene_text + '\0' + settings;
+  std::string data = pr.text + '\0' + pr.scene_text + '\0' + settings;
+  if (!pr.evaluation.target.empty()) data += std::string(1, '\0') + "target=" + pr.evaluation.target;
   Sha256 sha;
   sha.update(data.data(), data.size());
   return sha.hex();

@@ -99,10 +99,13 @@ void compare_setpoint(RunRecord& a, RunRecord& b, const std::string& col, double
   ec->tally.push_back(tally);
 }
 
-// the shift of b's column against a's that fits best, within max_rows rows
+// the shift of b's column against a's that fits best, within max_rows rows:
+// of the shifts that fit nearly as well as the best (a periodic gait fits
+// every period), the smallest
 SetpointLag best_lag(const std::string& col, const std::vector<double>& a, const std::vector<double>& b, size_t rows,
                      long max_rows, double dt) {
   SetpointLag out{col, 0, 0, 0};
+  std::vector<std::pair<long, double>> fits;
   double best = std::numeric_limits<double>::infinity();
   for (long lag = -max_rows; lag <= max_rows; ++lag) {
     double s = 0;
@@ -116,12 +119,16 @@ SetpointLag best_lag(const std::string& col, const std::vector<double>& a, const
     if (n < rows / 2 || n == 0) continue;  // too little overlap to judge
     const double rms = std::sqrt(s / static_cast<double>(n));
     if (lag == 0) out.rms_unshifted = rms;
-    if (rms < best - 1e-12) {
-      best = rms;
-      out.lag_s = static_cast<double>(lag) * dt;
-      out.rms = rms;
-    }
+    fits.emplace_back(lag, rms);
+    best = std::min(best, rms);
   }
+  long chosen = max_rows + 1;
+  for (const auto& [lag, rms] : fits) {
+    if (rms > 1.5 * best + 1e-9 || std::labs(lag) >= std::labs(chosen)) continue;
+    chosen = lag;
+    out.rms = rms;
+  }
+  out.lag_s = chosen <= max_rows ? static_cast<double>(chosen) * dt : 0.0;
   return out;
 }
 
@@ -283,7 +290,10 @@ CompareReport compare_runs(RunRecord& a, RunRecord& b, const std::string& label_
       for (const auto& [col, t] : setpoint_columns(a, m, tol)) {
         const auto* va = a.trace_column(col);
         const auto* vb = b.trace_column(col);
-        if (va && vb) r.lags.push_back(best_lag(col, *va, *vb, rows, max_rows, dt));
+        if (!va || !vb) continue;
+        // a set-point that stays put fits every shift: nothing to learn from it
+        const auto [lo, hi] = std::minmax_element(va->begin(), va->begin() + static_cast<long>(rows));
+        if (*hi - *lo > 2 * t) r.lags.push_back(best_lag(col, *va, *vb, rows, max_rows, dt));
       }
   }
   return r;
@@ -330,7 +340,7 @@ std::string compare_text(const CompareReport& r) {
       if (l.rms > worst->rms) worst = &l;
     }
     std::sort(shifts.begin(), shifts.end());
-    s += "set-points: " + r.label_b + "'s follow " + r.label_a + "'s " + fixed(shifts[shifts.size() / 2] * 1000, 0) +
+    s += "set-points that move: " + r.label_b + "'s follow " + r.label_a + "'s " + fixed(shifts[shifts.size() / 2] * 1000, 0) +
          " ms later (median of " + std::to_string(shifts.size()) + " servos, from " +
          fixed(shifts.front() * 1000, 0) + " to " + fixed(shifts.back() * 1000, 0) +
          " ms); shifted so, they differ by at most " + fixed(worst->rms, 3) + " RMS (" + worst->column + ")\n";
@@ -340,6 +350,27 @@ std::string compare_text(const CompareReport& r) {
        " ms; Sout edges within " + fixed(r.tol.sout_s * 1000, 0) + " ms; the last " +
        fixed(r.tol.end_slack_s * 1000, 0) + " ms of the shorter run are not compared\n";
   return s;
+}
+
+std::vector<Target> parse_compare_targets(const std::string& text, std::string* error) {
+  std::vector<Target> out;
+  size_t b = 0;
+  for (;;) {
+    const size_t e = std::min(text.find(',', b), text.size());
+    const std::string t = text.substr(b, e - b);
+    if (t != "native" && t != "pic") {
+      *error = "--compare " + text + ": two targets, native and pic, separated by a comma (e.g. native,pic)";
+      return {};
+    }
+    out.push_back(t == "pic" ? Target::Pic : Target::Native);
+    if (e == text.size()) break;
+    b = e + 1;
+  }
+  if (out.size() != 2 || out[0] == out[1]) {
+    *error = "--compare " + text + ": two different targets, e.g. native,pic";
+    return {};
+  }
+  return out;
 }
 
 nlohmann::json compare_json(const CompareReport& r) {

@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "scene/scene.h"
 #include "testing/run_record.h"
 
 namespace chainsim {
@@ -68,7 +69,7 @@ struct CompareReport {
   double angle_rms_deg = 0;         // over every rotary servo's measured angle, the rows both have
   std::string angle_worst;          // the servo column with the largest RMS difference
   double angle_worst_rms_deg = 0;
-  std::vector<SetpointLag> lags;    // every set-point column, searched within +-1 s
+  std::vector<SetpointLag> lags;    // every set-point column that moves, searched within +-1 s
   double distance_a_m = 0, distance_b_m = 0;  // each run's chain displacement (summary.json)
   double rtf_a = 0, rtf_b = 0;                // real-time factors
   int exit_a = 0, exit_b = 0;
@@ -83,6 +84,10 @@ CompareReport compare_runs(RunRecord& a, RunRecord& b, const std::string& label_
                            const CompareTolerances& tol = {});
 
 std::string compare_text(const CompareReport& r);
+
+// `--compare A,B` of run and test: two different targets (native, pic), or
+// an empty list and *error saying what is wrong with text
+std::vector<Target> parse_compare_targets(const std::string& text, std::string* error);
 nlohmann::json compare_json(const CompareReport& r);
 
 }  // namespace chainsim

@@ -22,6 +22,7 @@
 #include "cosim/lockstep_server.h"
 #include "cosim/program_params.h"
 #include "testing/junit.h"
+#include "testing/run_compare.h"
 #include "testing/run_record.h"
 #include "testing/test_file.h"
 
@@ -36,6 +37,7 @@ volatile sig_atomic_t g_interrupted = 0;
 struct Case {
   const TestFile* test = nullptr;
   std::optional<Scene> scene;
+  int partner = -1;  // --compare: the index of the same test and seed on the other target
   std::string dir;
   pid_t pid = 0;
   Clock::time_point started;
@@ -92,6 +94,7 @@ std::string tail_of(const std::string& path, size_t n) {
   opt.on_fault = c.test->on_module_fault == "limp" ? FaultMode::Limp : FaultMode::Stop;
   opt.module_timeout_s = o.module_timeout_s;
   opt.firmware_dir = o.firmware_dir;
+  opt.overrun_warn = o.overrun_warn;
   opt.quiet = true;
   int rc = kExitInternal;
   try {
@@ -193,26 +196,45 @@ int run_tests(const TestRunOptions& o, const FailureViewer& viewer, FILE* out) {
     if (o.seeds) seeds.assign(o.seeds->begin(), o.seeds->end());
     else if (!t.seeds.empty()) seeds.assign(t.seeds.begin(), t.seeds.end());
     else seeds.push_back(std::nullopt);
+    // the targets each test and seed runs on: as the scene says, --target, or both of --compare
+    std::vector<std::optional<Target>> targets;
+    if (!o.compare.empty()) targets.assign(o.compare.begin(), o.compare.end());
+    else targets.push_back(o.target);
+    bool bad = false;
     for (const auto& seed : seeds) {
-      Case c;
-      c.test = &t;
-      c.result.file = t.file;
-      c.result.name = t.name;
-      try {
-        // programs found, their parameters declared and in range, before any run
-        c.scene = load_test_scene(t, seed, [&](const Scene& s) { check_scene_programs(s, o.firmware_dir); });
-        c.result.seed = c.scene->world.seed;
-      } catch (const TestFileError& e) {
-        c.result.error = e.what();
-        c.result.seed = seed.value_or(0);
-        errors.push_back(c.result);
-        break;
+      for (const auto& target : targets) {
+        Case c;
+        c.test = &t;
+        c.result.file = t.file;
+        c.result.name = t.name + (o.compare.empty() ? "" : std::string(" on ") + target_name(*target));
+        try {
+          // programs found, their parameters declared and in range, before any run
+          c.scene = load_test_scene(t, seed, [&](const Scene& s) {
+            Scene on = s;
+            if (target) set_target(&on, *target);
+            check_scene_programs(on, o.firmware_dir);
+          });
+          if (target) set_target(&*c.scene, *target);
+          c.result.seed = c.scene->world.seed;
+        } catch (const TestFileError& e) {
+          c.result.error = e.what();
+          c.result.seed = seed.value_or(0);
+          errors.push_back(c.result);
+          bad = true;
+          break;
+        }
+        const std::string base = safe_name(t.name) + (o.compare.empty() ? "" : "-" + std::string(target_name(*target)));
+        std::string dir = root + "/" + base + "-seed" + std::to_string(c.result.seed);
+        for (int k = 2; dirs.count(dir); ++k) dir = root + "/" + base + "-" + std::to_string(k) + "-seed" + std::to_string(c.result.seed);
+        dirs.insert(dir);
+        c.dir = dir;
+        if (!o.compare.empty() && target == targets.back()) {
+          c.partner = static_cast<int>(cases.size()) - 1;
+          cases.back().partner = static_cast<int>(cases.size());
+        }
+        cases.push_back(std::move(c));
       }
-      std::string dir = root + "/" + safe_name(t.name) + "-seed" + std::to_string(c.result.seed);
-      for (int k = 2; dirs.count(dir); ++k) dir = root + "/" + safe_name(t.name) + "-" + std::to_string(k) + "-seed" + std::to_string(c.result.seed);
-      dirs.insert(dir);
-      c.dir = dir;
-      cases.push_back(std::move(c));
+      if (bad) break;
     }
   }
   if (!errors.empty()) {
@@ -284,6 +306,31 @@ int run_tests(const TestRunOptions& o, const FailureViewer& viewer, FILE* out) {
   }
   sigaction(SIGINT, &old_int, nullptr);
   sigaction(SIGTERM, &old_term, nullptr);
+
+  // --compare: each test and seed, one target against the other
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const Case& a = cases[i];
+    if (a.partner <= static_cast<int>(i) || g_interrupted) continue;
+    const Case& b = cases[static_cast<size_t>(a.partner)];
+    if (a.started == Clock::time_point{} || b.started == Clock::time_point{}) continue;
+    const std::string file = root + "/" + safe_name(a.test->name) + "-seed" + std::to_string(a.result.seed) +
+                             "-compare.txt";
+    try {
+      RunRecord ra(a.dir), rb(b.dir);
+      const CompareReport rep = compare_runs(ra, rb, target_name(o.compare[0]), target_name(o.compare[1]));
+      std::ofstream(file) << compare_text(rep);
+      const Divergence* d = rep.first();
+      std::fprintf(out, "COMPARE %s seed %llu: %s (%s)\n", a.test->name.c_str(),
+                   static_cast<unsigned long long>(a.result.seed),
+                   d ? ("first divergence: " + d->who + ", " + d->channel + ": \"" + d->a + "\" against \"" + d->b + "\"")
+                           .c_str()
+                     : "no divergence",
+                   file.c_str());
+    } catch (const std::exception& e) {
+      std::fprintf(out, "COMPARE %s seed %llu: not compared: %s\n", a.test->name.c_str(),
+                   static_cast<unsigned long long>(a.result.seed), e.what());
+    }
+  }
 
   // the failed runs: a replay and a picture of the failure; passed runs go
   // unless kept

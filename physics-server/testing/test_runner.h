@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "scene/scene.h"
 #include "testing/test_result.h"
 
 namespace chainsim {
@@ -28,6 +29,12 @@ struct TestRunOptions {
   std::string keep_dir;             // keep every run here; "" = runs/test-<date>-<time>, failed runs only
   std::string firmware_dir;         // as chainsim run --firmware-dir
   double module_timeout_s = 10.0;
+  bool overrun_warn = false;        // as chainsim run --on-overrun=warn
+  std::optional<Target> target;     // every endpoint of every run on this target (--target)
+  // every test and seed on both targets (--compare native,pic): two results,
+  // the expectations held by each, and the comparison of the two runs
+  // (testing/run_compare.h) in <root>/<name>-seed<S>-compare.txt
+  std::vector<Target> compare;
 };
 
 // writes a failed run's replay.html and a picture at t_s into run_dir;

@@ -79,28 +79,6 @@ std::string duration_error(double duration, const Scene& scene) {
          std::to_string(scene.tick_us) + " us)";
 }
 
-// --compare A,B: the two targets, or an error
-std::vector<Target> compare_targets(const std::string& text, std::string* error) {
-  std::vector<Target> out;
-  size_t b = 0;
-  for (;;) {
-    const size_t e = std::min(text.find(',', b), text.size());
-    const std::string t = text.substr(b, e - b);
-    if (t != "native" && t != "pic") {
-      *error = "--compare " + text + ": two targets, native and pic, separated by a comma (e.g. native,pic)";
-      return {};
-    }
-    out.push_back(t == "pic" ? Target::Pic : Target::Native);
-    if (e == text.size()) break;
-    b = e + 1;
-  }
-  if (out.size() != 2 || out[0] == out[1]) {
-    *error = "--compare " + text + ": two different targets, e.g. native,pic";
-    return {};
-  }
-  return out;
-}
-
 // the scene on both targets into OUT/<target>, then the comparison into
 // OUT/compare.txt and OUT/compare.json (testing/run_compare.h)
 int run_compare(const Scene& scene, RunOptions opt, const std::vector<Target>& targets) {
@@ -160,7 +138,7 @@ int cmd_run(const RunArgs& a) {
   std::vector<Target> compare;
   if (!a.compare.empty()) {
     std::string error;
-    compare = compare_targets(a.compare, &error);
+    compare = parse_compare_targets(a.compare, &error);
     if (compare.empty() || !a.target.empty() || a.live || !a.attach.empty()) {
       std::fprintf(stderr, "chainsim: %s\n",
                    !error.empty() ? error.c_str() : "--compare runs the scene twice: not with --target, --live or --attach");

@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "cosim/lockstep_server.h"
+#include "cosim/program_params.h"
 #include "optimize/local_pool.h"
 #include "optimize/mpi_pool.h"
 #include "optimize/problem_params.h"
@@ -34,6 +35,7 @@ struct OptimizeArgs {
   bool no_replay = false;
   double rank_timeout = 60;
   bool quiet = false;
+  std::string target;         // every evaluation's programs native or on the PIC
 };
 
 OptimizeArgs g_args;
@@ -124,6 +126,17 @@ int run_optimize(const OptimizeArgs& a) {
   if (a.population > 0) pr.ga.population = a.population;
   if (a.generations >= 0) pr.ga.generations = a.generations;
   if (a.exhaustive) pr.exhaustive = true;
+  if (!a.target.empty()) {
+    pr.evaluation.target = a.target;
+    try {  // the .hex of the base scene's programs are there
+      Scene s = load_scene_text(pr.scene_text, pr.scene_file);
+      set_target(&s, a.target == "pic" ? Target::Pic : Target::Native);
+      check_scene_programs(s, "");
+    } catch (const std::exception& e) {
+      if (rank == 0) std::fprintf(stderr, "chainsim: --target %s: %s\n", a.target.c_str(), e.what());
+      return leave(kExitBadInput, false);
+    }
+  }
   if (pr.ga.selection_size > pr.ga.population) {
     if (rank == 0)
       std::fprintf(stderr, "chainsim: --population %d is smaller than the problem's ga.selection_size %d\n",
@@ -228,6 +241,10 @@ void add_optimize_command(CLI::App& app) {
   sub->add_option("--rank-timeout", g_args.rank_timeout,
                   "under mpirun: seconds of silence after which a rank holding work is given up")
       ->check(CLI::PositiveNumber);
+  sub->add_option("--target", g_args.target,
+                  "every evaluation's programs native, or the board's own .hex in gpsim (pic: about 1 CPU second "
+                  "per simulated second per module; for checking a few designs, docs/pic-in-the-loop.md)")
+      ->check(CLI::IsMember({"native", "pic"}));
   sub->add_flag("--quiet,-q", g_args.quiet, "print only errors");
   sub->callback([] { g_exit_code = run_optimize(g_args); });
 }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "chainsim/view_command.h"
+#include "testing/run_compare.h"
 #include "testing/test_file.h"
 #include "testing/test_runner.h"
 
@@ -17,6 +18,7 @@ namespace {
 struct TestArgs {
   TestRunOptions run;
   std::string seeds;
+  std::string target, compare, overrun = "stop";
 };
 
 TestArgs g_args;
@@ -53,6 +55,16 @@ int run() {
       return kTestExitMalformed;
     }
   }
+  if (!g_args.target.empty()) g_args.run.target = g_args.target == "pic" ? Target::Pic : Target::Native;
+  if (!g_args.compare.empty()) {
+    std::string error;
+    g_args.run.compare = parse_compare_targets(g_args.compare, &error);
+    if (g_args.run.compare.empty() || !g_args.target.empty()) {
+      std::fprintf(stderr, "chainsim: %s\n", error.empty() ? "--compare runs every test on both targets: not with --target" : error.c_str());
+      return kTestExitMalformed;
+    }
+  }
+  g_args.run.overrun_warn = g_args.overrun == "warn";
   return run_tests(g_args.run, view_failure, stdout);
 }
 
@@ -71,6 +83,15 @@ void add_test_command(CLI::App& app) {
                   "where to look for programs first (DIR[:DIR...]), before next to chainsim");
   sub->add_option("--module-timeout", g_args.run.module_timeout_s, "wall-clock seconds a module may take to answer")
       ->check(CLI::PositiveNumber);
+  sub->add_option("--target", g_args.target,
+                  "every run's programs native, or the board's own .hex in gpsim (pic), whatever the scenes say")
+      ->check(CLI::IsMember({"native", "pic"}));
+  sub->add_option("--compare", g_args.compare,
+                  "every test and seed on both targets (native,pic): each run's expectations, then where the two "
+                  "runs first differ (a COMPARE line, <runs>/<name>-seed<S>-compare.txt)");
+  sub->add_option("--on-overrun", g_args.overrun, "a PIC program's step over its CPU budget: stop (a fault) or warn")
+      ->check(CLI::IsMember({"stop", "warn"}))
+      ->capture_default_str();
   sub->callback([] { g_exit = run(); });
   g_sub = sub;
 }

@@ -32,7 +32,7 @@ struct CpuStats {
 
 class CpuMeter {
  public:
-  enum : uint8_t { kIdle = 1, kWaitEntry = 2, kOutside = 4 };
+  enum : uint8_t { kIdle = 1, kWaitEntry = 2, kOutside = 4, kOverrun = 8 };
 
   // flags of every instruction word of the program memory (kIdle inside the
   // idle loop, kWaitEntry at a wait's first instruction, kOutside where the
@@ -50,8 +50,9 @@ class CpuMeter {
   void set_budget(uint64_t cycles) { budget_ = cycles; }
 
   // one instruction cycle, executed at pc with `depth` return addresses on
-  // the hardware stack, ending at cycle now. Returns the word's flags (the
-  // caller stops on kOutside).
+  // the hardware stack, ending at cycle now. Returns the word's flags, with
+  // kOverrun when this cycle took the step over its budget (the caller stops
+  // on kOutside and kOverrun).
   uint8_t cycle(uint32_t pc, uint64_t now, int depth) {
     const uint32_t w = pc >> 1;
     const uint8_t f = w < flags_.size() ? flags_[w] : static_cast<uint8_t>(kOutside);
@@ -71,13 +72,11 @@ class CpuMeter {
     if (budget_ && started_ && busy_ > budget_ && !over_) {
       over_ = true;
       ++s_.overruns;
-      overrun_pending_ = true;
+      return f | kOverrun;
     }
     return f;
   }
 
-  // a step just went over the budget (cleared by reading)
-  bool take_overrun() { return overrun_pending_ ? (overrun_pending_ = false, true) : false; }
   uint64_t step_busy() const { return busy_; }
   uint64_t step_began() const { return step_start_; }
   bool started() const { return started_; }
@@ -95,7 +94,7 @@ class CpuMeter {
   uint64_t busy_ = 0;
   bool idle_ = false;    // the main line idles in a wait
   int wait_depth_ = 0;   // return addresses on the stack in the wait's own code
-  bool over_ = false, overrun_pending_ = false;
+  bool over_ = false;
   CpuStats s_;
 };
 

@@ -151,9 +151,10 @@ GpsimChip::Stop GpsimChip::run(uint64_t until, CpuMeter* meter) {
     }
     if (after != now) {  // an interrupt's capture takes a step without a cycle
       now = after;
-      if (meter->cycle(at, now, depth) & CpuMeter::kOutside) {
+      const uint8_t f = meter->cycle(at, now, depth);
+      if (f & (CpuMeter::kOutside | CpuMeter::kOverrun)) {
         last_pc_ = at;
-        return Stop::Outside;
+        return (f & CpuMeter::kOutside) ? Stop::Outside : Stop::Overrun;
       }
     }
     if (edge_) return Stop::Edge;

@@ -30,7 +30,7 @@ class PinLine;
 
 class GpsimChip {
  public:
-  enum class Stop { Reached, Edge, Reset, Outside };
+  enum class Stop { Reached, Edge, Reset, Outside, Overrun };
   // why the chip reset, from its STKPTR and RCON bits
   struct ResetCause {
     std::string what;         // "stack overflow (more than 31 nested calls)", ...
@@ -50,8 +50,8 @@ class GpsimChip {
   PinLine* line(int pin, int id, EdgeSink* sink, bool pull_up = false);
 
   // execute until the cycle counter reaches `until`, or stop early at the
-  // first edge on a watched line, a reset or execution outside the program
-  // (then pc_at_stop() is where)
+  // first edge on a watched line, a reset, execution outside the program or
+  // a step over its CPU budget (then pc_at_stop() is where)
   Stop run(uint64_t until, CpuMeter* meter);
   uint64_t cycle() const;
   uint32_t pc_at_stop() const { return last_pc_; }

@@ -41,10 +41,17 @@ int64_t PicBuild::code_at(const std::string& name) const {
 std::string PicBuild::function_at(uint32_t pc) const {
   auto it = functions.upper_bound(pc);
   if (it == functions.begin()) return "?";
-  return std::prev(it)->second;
+  return std::prev(it)->second.name;
+}
+
+std::string PicBuild::asm_file_at(uint32_t pc) const {
+  auto it = functions.upper_bound(pc);
+  if (it == functions.begin()) return "";
+  return std::prev(it)->second.asm_file;
 }
 
 void parse_gplink_map(const std::string& text, PicBuild* b) {
+  std::vector<std::pair<uint32_t, PicBuild::Label>> labels;
   std::istringstream in(text);
   std::string line;
   enum { None, Sections, Symbols } part = None;
@@ -64,13 +71,19 @@ void parse_gplink_map(const std::string& text, PicBuild* b) {
       const uint32_t at = std::stoul(b2, nullptr, 16);
       if (c == "program") {
         b->code.emplace(a, at);
-        // C functions are _name; SDCC's local labels (_00106_DS_), the
-        // runtime's (__entry) and the interrupt vectors' stubs are not
-        if (a.size() > 1 && a[0] == '_' && a[1] != '_' && !std::isdigit(static_cast<unsigned char>(a[1])))
-          b->functions.emplace(at, a.substr(1));
+        std::string storage, file;
+        f >> storage >> file;
+        labels.emplace_back(at, PicBuild::Label{a, file});
       }
       else if (c == "data") b->data.emplace(a, at);
     }
+  }
+  // a function is a label that starts a code section (SDCC gives each
+  // function its own, S_<file>__<name>); the others are inside one
+  for (auto& [at, l] : labels) {
+    if (!b->section_size.count(at) || b->functions.count(at)) continue;
+    if (l.name.size() > 1 && l.name[0] == '_' && l.name[1] != '_') l.name.erase(0, 1);  // a C name
+    b->functions.emplace(at, l);
   }
 }
 

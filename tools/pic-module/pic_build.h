@@ -25,14 +25,22 @@ struct PicBuild {
   uint32_t ram_bytes = 0, ram_total = 0, stack_bytes = 0;
   int servos = 0;                           // HAL_PIC_SERVOS of the build
   std::map<std::string, uint32_t> code;     // program-memory symbols: name -> byte address
-  std::map<uint32_t, std::string> functions;  // C functions by address (SDCC's "_name")
+  // code labels by address, as a backtrace names them: a C function's "_name"
+  // as name, the runtime's labels (__startup, __mulint) as they are; with
+  // the SDCC assembly file the map says each comes from
+  struct Label {
+    std::string name, asm_file;
+  };
+  std::map<uint32_t, Label> functions;
   std::map<std::string, uint32_t> data;     // data-memory symbols: name -> address
   std::map<uint32_t, uint32_t> section_size;  // program-memory section: address -> bytes
 
   // the address of a code symbol, or -1
   int64_t code_at(const std::string& name) const;
-  // "main.c's name" of the function that holds byte address pc ("?" if none)
+  // the label at or before byte address pc: a function's name ("?" if none)
   std::string function_at(uint32_t pc) const;
+  // the assembly file of that label ("" if none)
+  std::string asm_file_at(uint32_t pc) const;
 };
 
 // the build beside hex_path (PROG.hex -> PROG.cod, PROG.map, PROG.pic.json)

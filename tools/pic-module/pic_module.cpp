@@ -170,16 +170,33 @@ std::string PicModule::run_until(uint64_t end) {
     if (stop == GpsimChip::Stop::Reset) {
       const GpsimChip::ResetCause r = chip_->reset_cause();
       std::string s = fault_at("the chip reset: " + r.what, r.pc);
-      if (r.calls.size() > 1) {
-        s += "; calls, innermost first:";
-        for (size_t i = r.calls.size(); i-- > 0 && r.calls.size() - i <= 6;) s += " " + build_->function_at(r.calls[i]);
+      if (!r.calls.empty()) {
+        // the return addresses, innermost first, a run of one function told once with its count
+        s += "; called from";
+        std::string last;
+        int n = 0;
+        auto flush = [&] {
+          if (n) s += (s.back() == 'm' ? " " : ", ") + last + "()" + (n > 1 ? " x" + std::to_string(n) : "");
+        };
+        for (size_t i = r.calls.size(); i-- > 0;) {
+          // a return address follows its call: the caller holds the word before it
+          const std::string f = build_->function_at(r.calls[i] - 2);
+          if (f == last) {
+            ++n;
+            continue;
+          }
+          flush();
+          last = f;
+          n = 1;
+        }
+        flush();
       }
       return s;
     }
     if (stop == GpsimChip::Stop::Outside)
       return fault_at("the chip executed outside its program (a jump through a bad pointer, or a return to a "
                       "corrupted address)", chip_->pc_at_stop());
-    if (meter_.take_overrun()) {
+    if (stop == GpsimChip::Stop::Overrun) {
       const std::string what = "a step of the program took more than its CPU budget of " +
                                std::to_string(opt_.budget_us) + " us of busy time (the step began at t=" +
                                fixed(static_cast<double>(meter_.step_began()) / HP_BOARD_FCY_HZ, 6) + " s)";
@@ -197,8 +214,13 @@ std::string PicModule::where(uint32_t pc) {
   std::string file;
   int line = 0;
   chip_->asm_line(pc, &file, &line);
+  // the .cod keeps 63 characters of a file name (a deep build folder's are
+  // cut): the map names the assembly file in full
+  const std::string from_map = build_->asm_file_at(pc);
+  if (!from_map.empty()) file = from_map;
   SourceLines::Where w;
-  if (!file.empty() && source_.find(file, line, &w)) s += ", " + w.file + ":" + std::to_string(w.line) + " (" + w.text + ")";
+  if (line > 0 && !file.empty() && source_.find(file, line, &w))
+    s += ", " + w.file + ":" + std::to_string(w.line) + " (" + w.text + ")";
   return s;
 }
 

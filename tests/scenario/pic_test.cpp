@@ -1,0 +1,210 @@
+// The board's own binaries in the loop (docs/pic-in-the-loop.md): the
+// shipped scenes with every program's .hex in gpsim (chainsim-pic), against
+// the same scenes with the programs built for this computer. They need the
+// PIC build (tools/pic-build.sh, which the test command runs first); without
+// it they are skipped with the reason.
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "scenario_util.h"
+
+using namespace scenario;
+
+namespace {
+
+std::string pic_dir() {
+  const std::string exe = CHAINSIM_EXE;
+  return exe.substr(0, exe.rfind('/')) + "/../pic";
+}
+
+bool pic_built() {
+  struct stat st {};
+  return stat((pic_dir() + "/fw-rotation.hex").c_str(), &st) == 0 && stat(CHAINSIM_PIC_EXE, &st) == 0;
+}
+
+#define REQUIRE_PIC_BUILD()                                                                               \
+  if (!pic_built())                                                                                       \
+  GTEST_SKIP() << "the PIC build is missing (" << pic_dir()                                               \
+               << "/fw-rotation.hex): run tools/pic-build.sh, as tools/test-all.sh does"
+
+nlohmann::json read_json(const std::string& path) {
+  std::ifstream f(path);
+  return nlohmann::json::parse(f);
+}
+
+double speed(const Outcome& o) { return o.summary["chain"]["speed_m_s"].get<double>(); }
+
+}  // namespace
+
+TEST(PicInTheLoop, TheDefaultSnakeOnTheBoardsBinariesMovesAsTheNativeOneAndComparesChannelByChannel) {
+  REQUIRE_PIC_BUILD();
+  const std::string dir = temp_dir("pic-default");
+  const auto [text, code] = chainsim_stdout("run --compare native,pic --duration 6 -q --out " + dir);
+  ASSERT_EQ(code, 0) << text;
+  const nlohmann::json n = read_json(dir + "/native/summary.json"), p = read_json(dir + "/pic/summary.json");
+  // every module on the PIC took its address in discovery, and ran its steps
+  for (const auto& m : p["modules"]) {
+    EXPECT_EQ(m["target"], "pic");
+    EXPECT_FALSE(m["i2c_address"].is_null()) << m.dump();
+    EXPECT_GT(m["pic"]["cpu"]["steps"].get<int>(), 10) << m.dump();
+    EXPECT_GT(m["pic"]["stack"]["hardware_levels_high"].get<int>(), 2);
+    EXPECT_LT(m["pic"]["stack"]["hardware_levels_high"].get<int>(), 31);
+    EXPECT_GT(m["pic"]["stack"]["software_bytes_high"].get<int>(), 8);
+    EXPECT_EQ(m["pic"]["memory"]["flash_total"], 32768);
+  }
+  for (const auto& m : n["modules"]) EXPECT_EQ(m["target"], "native");
+  // a rotation module's gait step takes a few ms of its 10 ms period on the board
+  const auto& cpu = p["modules"][3]["pic"]["cpu"];
+  EXPECT_GT(cpu["busy_mean_us"].get<double>(), 1000.0);
+  EXPECT_LT(cpu["busy_worst_us"].get<double>(), 10000.0);
+  EXPECT_NEAR(cpu["period_mean_us"].get<double>(), 10000.0, 200.0);
+  // the same gait, so nearly the same motion (measured over 10 s: 0.3002
+  // against 0.2979 m, the board's gait starting 80 ms later)
+  const double dn = n["chain"]["distance_m"].get<double>(), dp = p["chain"]["distance_m"].get<double>();
+  EXPECT_GT(dn, 0.1);
+  EXPECT_NEAR(dp, dn, 0.05 * dn);
+  EXPECT_NE(read_file(dir + "/pic/modules/08-central.log").find("chain: RRRRRRRR (8 modules)"), std::string::npos);
+
+  const nlohmann::json c = read_json(dir + "/compare.json");
+  // the board starts the gait later: discovery and the commands take longer
+  // on its I2C (a 40-byte send queue, each frame 1.7 ms on the wire)
+  const auto& central = c["endpoints"][8];
+  ASSERT_FALSE(central["divergences"].empty());
+  EXPECT_EQ(central["divergences"][0]["channel"], "log");
+  EXPECT_EQ(central["divergences"][0]["a"].get<std::string>().rfind("start at ms ", 0), 0u);
+  EXPECT_GE(central["channels"]["log"]["agreed"].get<int>(), 2) << "the chain and the gait lines agree";
+  EXPECT_GE(central["channels"]["i2c"]["agreed"].get<int>(), 16) << "discovery and SET_GAIT frames agree";
+  // and then every set-point follows the native one, some 80 ms later
+  ASSERT_EQ(c["setpoint_lags"].size(), 16u);
+  for (const auto& l : c["setpoint_lags"]) {
+    EXPECT_GT(l["lag_s"].get<double>(), 0.03) << l.dump();
+    EXPECT_LT(l["lag_s"].get<double>(), 0.15) << l.dump();
+    EXPECT_LT(l["rms"].get<double>(), l["rms_unshifted"].get<double>() / 3) << l.dump();
+  }
+  EXPECT_NE(read_file(dir + "/compare.txt").find("first divergence of each endpoint"), std::string::npos);
+}
+
+TEST(PicInTheLoop, SameSceneAndSeedGiveTheSameBytesOnThePicToo) {
+  REQUIRE_PIC_BUILD();
+  const std::string dir = temp_dir("pic-det");
+  const Outcome a = run({"--target", "pic", "--duration", "1", "--seed", "3", "-q"}, dir + "/a");
+  const Outcome b = run({"--target", "pic", "--duration", "1", "--seed", "3", "-q"}, dir + "/b");
+  ASSERT_EQ(a.exit_code, 0) << a.stderr_text;
+  ASSERT_EQ(b.exit_code, 0) << b.stderr_text;
+  EXPECT_EQ(a.summary["trace_sha256"], b.summary["trace_sha256"]);
+  EXPECT_EQ(read_file(a.dir + "/bus.log"), read_file(b.dir + "/bus.log"));
+  EXPECT_EQ(read_file(a.dir + "/modules/08-central.log"), read_file(b.dir + "/modules/08-central.log"));
+  EXPECT_EQ(a.summary["modules"][0]["pic"]["cpu"], b.summary["modules"][0]["pic"]["cpu"]);
+}
+
+TEST(PicInTheLoop, TheInchwormOnTheBoardsBinariesCrawlsAsFast) {
+  REQUIRE_PIC_BUILD();
+  const Outcome p = run_scene("pic-inchworm", "inchworm-0", 6.0, {{"chain: SES", "chain: SES\ntarget: pic"}});
+  const Outcome n = run_scene("native-inchworm", "inchworm-0", 6.0);
+  ASSERT_EQ(p.exit_code, 0) << p.stderr_text;
+  ASSERT_EQ(n.exit_code, 0) << n.stderr_text;
+  for (const auto& m : p.summary["modules"]) EXPECT_EQ(m["target"], "pic");
+  // measured over 10 s: 2.283 cm/s on the board's binaries, 2.264 native
+  EXPECT_GT(speed(n), 0.015);
+  EXPECT_NEAR(speed(p), speed(n), 0.05 * speed(n));
+}
+
+TEST(PicInTheLoop, TheElbowWithTouchAndHelicoidalModulesOnTheBoardsBinaries) {
+  REQUIRE_PIC_BUILD();
+  const Outcome p = run_scene("pic-elbow", "elbow-TRRH", 30.0, {{"chain: TRRH", "chain: TRRH\ntarget: pic"}});
+  ASSERT_EQ(p.exit_code, 0) << p.stderr_text;
+  const std::string log = central_log(p, 4);
+  EXPECT_NE(log.find("chain: TRRH (4 modules)"), std::string::npos) << log;
+  EXPECT_NE(log.find("touch 0x20: contact"), std::string::npos) << "the touch module's board saw the wall:\n" << log;
+  // the screw drive's command through the board's servo pulse: the firmware
+  // asks for full speed, the 0.2 us pulse steps give it 0.972
+  const auto tr = read_trace(p.dir + "/trace.csv");
+  const auto& cmd = tr.at("m3.s0.command");
+  EXPECT_NEAR(*std::max_element(cmd.begin(), cmd.end()), 0.972, 0.001);
+  EXPECT_GT(speed(p), 0.005);
+}
+
+TEST(PicInTheLoop, NativeAndPicModulesMixInOneChain) {
+  REQUIRE_PIC_BUILD();
+  const std::string dir = temp_dir("pic-mixed");
+  const std::string scene = write_file(dir, "mixed.yaml",
+                                       "name: mixed\nduration_s: 2\nchain:\n"
+                                       "  - {type: rotation, target: pic}\n  - {type: rotation}\n"
+                                       "  - {type: rotation, target: pic}\n  - {type: rotation}\n"
+                                       "central: {target: pic}\n");
+  const Outcome o = run({scene, "-q"}, dir);
+  ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+  const char* want[] = {"pic", "native", "pic", "native", "pic"};
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_EQ(o.summary["modules"][i]["target"], want[i]);
+    EXPECT_EQ(o.summary["modules"][i].contains("pic"), std::string(want[i]) == "pic");
+    EXPECT_FALSE(o.summary["modules"][i]["i2c_address"].is_null());
+  }
+  EXPECT_NE(central_log(o, 4).find("chain: RRRR (4 modules)"), std::string::npos);
+}
+
+TEST(PicInTheLoop, AStepOverTheCpuBudgetIsANamedFaultOrAWarning) {
+  REQUIRE_PIC_BUILD();
+  const std::string dir = temp_dir("pic-budget");
+  // a rotation module's gait step takes about 4 ms: a 2 ms budget is
+  // overrun (the central control, native here, has no budget)
+  const std::string scene = write_file(dir, "tight.yaml",
+                                       "name: tight\nduration_s: 1\nchain: RR\ntarget: pic\n"
+                                       "central: {target: native}\npic: {cpu_budget_us: 2000}\n");
+  const Outcome stop = run({scene, "-q"}, dir);
+  EXPECT_EQ(stop.exit_code, 2) << stop.stderr_text;
+  EXPECT_NE(stop.stderr_text.find("took more than its CPU budget of 2000 us of busy time"), std::string::npos)
+      << stop.stderr_text;
+  EXPECT_NE(stop.stderr_text.find("module 0 (rotation"), std::string::npos) << stop.stderr_text;
+  EXPECT_NE(stop.stderr_text.find("hal-pic/hal_time.c:"), std::string::npos) << "where it was: " << stop.stderr_text;
+  const Outcome warn = run({scene, "-q", "--on-overrun", "warn"}, temp_dir("pic-budget-warn"));
+  ASSERT_EQ(warn.exit_code, 0) << warn.stderr_text;
+  const auto& cpu = warn.summary["modules"][0]["pic"]["cpu"];
+  EXPECT_EQ(cpu["budget_us"], 2000);
+  EXPECT_GT(cpu["overruns"].get<int>(), 10);
+  EXPECT_GT(cpu["busy_worst_us"].get<double>(), 2000.0);
+  EXPECT_NE(read_file(warn.dir + "/modules/00-rotation.out").find("warning: a step of the program took more than"),
+            std::string::npos);
+}
+
+TEST(PicInTheLoop, AMissingHexIsNamedWithHowToBuildIt) {
+  REQUIRE_PIC_BUILD();
+  const std::string dir = temp_dir("pic-missing");
+  const std::string scene = write_file(dir, "s.yaml",
+                                       "name: s\nduration_s: 1\nchain: R\ntarget: pic\n"
+                                       "programs: {rotation: {firmware: fw-nothing}}\n");
+  const Outcome o = run({scene, "-q", "--firmware-dir", dir}, dir);
+  EXPECT_EQ(o.exit_code, 1);
+  EXPECT_NE(o.stderr_text.find("s.yaml:4:9: module 0 (rotation) runs on the PIC: fw-nothing.hex not found "
+                               "(looked in --firmware-dir " + dir),
+            std::string::npos)
+      << o.stderr_text;
+  EXPECT_NE(o.stderr_text.find("build the shipped programs with tools/pic-build.sh"), std::string::npos);
+}
+
+TEST(PicInTheLoop, CheckRefusesASensorChannelTheBoardLacks) {
+  REQUIRE_PIC_BUILD();
+  const std::string dir = temp_dir("pic-check");
+  const std::string scene = write_file(
+      dir, "s.yaml",
+      "name: s\nduration_s: 1\nchain: [{type: probe, may_stay_silent: true}]\n"
+      "programs: {probe: {firmware: fw-passive}}\n"
+      "module_types: {probe: probe.yaml}\n");
+  write_file(dir, "probe.yaml",
+             "type: probe\n"
+             "bodies: [{name: a, shape: box, size_m: [0.02, 0.02, 0.02], mass_kg: 0.01}]\n"
+             "sensors: [{name: accel, type: accelerometer, body: a, channel: 5}]\n"
+             "docking: {front: {body: a, position_m: [0.01, 0, 0]}, back: {body: a, position_m: [-0.01, 0, 0]}}\n");
+  const auto native = chainsim_stdout("run " + scene + " --check");
+  EXPECT_EQ(native.second, 0) << native.first;
+  const auto pic = chainsim_stdout("run " + scene + " --check --target pic");
+  EXPECT_EQ(pic.second, 1) << pic.first;
+  EXPECT_NE(pic.first.find("module 0 (probe) runs on the PIC, and its module type does not fit the board: sensor "
+                           "'accel' reads ADC channels 5..7"),
+            std::string::npos)
+      << pic.first;
+}
