@@ -208,3 +208,29 @@ TEST(PicInTheLoop, CheckRefusesASensorChannelTheBoardLacks) {
             std::string::npos)
       << pic.first;
 }
+
+TEST(PicInTheLoop, ChainsimTestRunsEachTestOnBothTargetsAndComparesThem) {
+  REQUIRE_PIC_BUILD();
+  const std::string dir = temp_dir("pic-test-compare");
+  const std::string scene = write_file(dir, "s.yaml", "name: s\nduration_s: 1.5\nchain: RRRR\n");
+  write_file(dir, "crawl.test.yaml",
+             "name: crawl\nscene: s.yaml\nexpect:\n  - no_faults\n"
+             "  - \"log central /chain: RRRR \\\\(4 modules\\\\)/ before 0.2\"\n");
+  (void)scene;
+  const auto [text, code] = chainsim_stdout("test " + dir + "/crawl.test.yaml --compare native,pic --keep " + dir +
+                                            "/runs --junit " + dir + "/j.xml");
+  EXPECT_EQ(code, 0) << text;
+  EXPECT_NE(text.find("PASS  crawl on native seed 1"), std::string::npos) << text;
+  EXPECT_NE(text.find("PASS  crawl on pic seed 1"), std::string::npos) << text;
+  EXPECT_NE(text.find("COMPARE crawl seed 1: first divergence: central control (central), log: \"start at ms"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(read_file(dir + "/runs/crawl-seed1-compare.txt").find("first divergence of each endpoint"),
+            std::string::npos);
+  const std::string junit = read_file(dir + "/j.xml");
+  EXPECT_NE(junit.find("crawl on pic"), std::string::npos) << junit;
+  // --target pic runs every test on the board's binaries only
+  const auto [t2, c2] = chainsim_stdout("test " + dir + "/crawl.test.yaml --target pic --keep " + dir + "/runs2");
+  EXPECT_EQ(c2, 0) << t2;
+  EXPECT_EQ(read_json(dir + "/runs2/crawl-seed1/summary.json")["modules"][0]["target"], "pic");
+}

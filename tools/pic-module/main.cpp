@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <map>
 #include <string>
@@ -145,26 +146,41 @@ int main(int argc, char** argv) {
 
   cs_tick_begin tb{};
   cs_tick_end te{};
+  double tick_cpu = 0, wait = 0;
+  auto wall = [] {
+    timespec t{};
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) * 1e-9;
+  };
+  auto finish = [&] { board->host_times(tick_cpu, wait); };
   try {
-    while (link.next_tick(&tb)) {
+    for (;;) {
+      const double w0 = wall();
+      if (!link.next_tick(&tb)) break;
+      wait += wall() - w0;
       std::string fault;
+      const double c0 = thread_cpu_s();
       try {
         fault = board->tick(tb, w.tick_us, &te);
       } catch (const std::runtime_error& e) {  // the build does not fit the module
         die(kExitConfig, e.what());
       }
+      tick_cpu += thread_cpu_s() - c0;
       for (const auto& note : board->take_notes())
         std::fprintf(stderr, "chainsim pic: t=%.6f s: %s\n", static_cast<double>(tb.time_us) * 1e-6, note.c_str());
       link.send_tick_end(te);  // with a fault, the module's last words
       if (!fault.empty()) {
+        finish();
         write_stats(stats_path, *board);
         die(kExitFault, fault);
       }
     }
   } catch (const LinkError& e) {
+    finish();
     write_stats(stats_path, *board);
     die(kExitProtocol, e.what());
   }
+  finish();
   write_stats(stats_path, *board);
   return 0;
 }

@@ -3,11 +3,18 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <ctime>
 
 #include "hal_pic_board.h"
 #include "pic-module/param_table.h"
 
 namespace chainsim::pic {
+
+double thread_cpu_s() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec) * 1e-9;
+}
 
 namespace {
 
@@ -166,7 +173,9 @@ std::string PicModule::run_until(uint64_t end) {
     if (now >= end) return "";
     uint64_t until = std::min(end, i2c_.next_action());
     for (int c = 0; c < counters_; ++c) until = std::min(until, trains_[c].next_action());
+    const double cpu0 = thread_cpu_s();
     const GpsimChip::Stop stop = chip_->run(until, &meter_);
+    gpsim_cpu_s_ += thread_cpu_s() - cpu0;
     if (stop == GpsimChip::Stop::Reset) {
       const GpsimChip::ResetCause r = chip_->reset_cause();
       std::string s = fault_at("the chip reset: " + r.what, r.pc);
@@ -310,7 +319,11 @@ nlohmann::json PicModule::stats() const {
       {"pins", {{"frames_to_chip", i2c_.delivered()}, {"frames_from_chip", frames_from_chip_},
                 {"log_lines", log_lines_}, {"uart_framing_errors", uart_.framing_errors()},
                 {"servo_glitches", [this] { uint64_t g = 0; for (const auto& p : pulses_) g += p.glitches(); return g; }()},
-                {"overrun_warnings", overrun_warnings_}}}};
+                {"overrun_warnings", overrun_warnings_}}},
+      // wall-clock and CPU figures of this machine: they vary from run to run
+      {"host", {{"gpsim_cpu_s", gpsim_cpu_s_}, {"bridge_cpu_s", std::max(0.0, tick_cpu_s_ - gpsim_cpu_s_)},
+                {"server_wait_s", server_wait_s_},
+                {"cycles_per_cpu_s", gpsim_cpu_s_ > 0 ? static_cast<double>(chip_->cycle()) / gpsim_cpu_s_ : 0.0}}}};
   return j;
 }
 

@@ -30,6 +30,9 @@
 
 namespace chainsim::pic {
 
+// CPU seconds of the calling thread
+double thread_cpu_s();
+
 struct PicOptions {
   uint64_t budget_us = 0;     // most busy time a step may take (0: no budget)
   bool overrun_warn = false;  // an overrun is a warning on stderr, not a fault
@@ -49,6 +52,13 @@ class PicModule : public EdgeSink {
   std::string tick(const cs_tick_begin& tb, uint32_t tick_us, cs_tick_end* te);
   // what the run measured, for summary.json
   nlohmann::json stats() const;
+  // the host's side, for the benchmark: CPU seconds in tick() (gpsim's
+  // instruction loop is measured inside it) and wall seconds waiting for the
+  // server's next TICK_BEGIN
+  void host_times(double tick_cpu_s, double server_wait_s) {
+    tick_cpu_s_ = tick_cpu_s;
+    server_wait_s_ = server_wait_s;
+  }
   // the bus's and the bridge's remarks since the last call, for stderr
   std::vector<std::string> take_notes();
 
@@ -96,6 +106,7 @@ class PicModule : public EdgeSink {
   uint64_t overrun_warnings_ = 0;
   uint64_t frames_from_chip_ = 0, log_lines_ = 0;
   uint32_t stack_lo_ = 0, stack_hi_ = 0;       // the software stack's RAM, painted
+  double gpsim_cpu_s_ = 0, tick_cpu_s_ = 0, server_wait_s_ = 0;
 };
 
 }  // namespace chainsim::pic

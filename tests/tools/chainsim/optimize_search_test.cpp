@@ -360,3 +360,29 @@ TEST(Optimize, ARankKilledUnderMpirunIsNamedAndItsWorkDoneByAnother) {
   EXPECT_NE(err.find(" goes to another rank"), std::string::npos) << err;
   EXPECT_EQ(history_without_wall(out + "/history.csv"), uninterrupted);
 }
+
+// --target pic: every evaluation on the board's binaries (docs/pic-in-the-loop.md)
+TEST(Optimize, TargetPicEvaluatesOnTheBoardsBinaries) {
+  const std::string exe = CHAINSIM_EXE;
+  const std::string pic = exe.substr(0, exe.rfind('/')) + "/../pic/fw-rotation.hex";
+  if (access(pic.c_str(), R_OK) != 0 || access((exe.substr(0, exe.rfind('/')) + "/chainsim-pic").c_str(), X_OK) != 0)
+    GTEST_SKIP() << "the PIC build is missing (" << pic << "): run tools/pic-build.sh, as tools/test-all.sh does";
+  const std::string d = scenario::temp_dir("opt-pic");
+  const std::string p = write_problem(d, "gait");
+  search(optimize_args(p, d + "/pic", {"--workers", "2", "--population", "4", "--generations", "0", "--target", "pic",
+                                       "--keep-runs"}),
+         d + "/pic.txt");
+  const auto rows = lines(history_without_wall(d + "/pic/history.csv"));
+  ASSERT_EQ(rows.size(), 1u + 4u);
+  EXPECT_NE(scenario::read_file(d + "/pic/best.yaml").find("target: pic"), std::string::npos);
+  // every evaluation ran its programs on the PIC
+  int runs = 0;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(d + "/pic/work")) {
+    if (e.path().filename() != "summary.json") continue;
+    std::ifstream f(e.path());
+    const auto s = nlohmann::json::parse(f);
+    for (const auto& m : s["modules"]) EXPECT_EQ(m["target"], "pic") << e.path();
+    ++runs;
+  }
+  EXPECT_EQ(runs, 4);
+}
