@@ -113,7 +113,7 @@ typedef struct {
     uint16_t digital_in;  /* digital input pins, bit n = pin n (touch sensors) */
     uint8_t n_servos;
     int32_t servo_pos[CS_SERVOS_MAX]; /* measured: millidegrees (rotary), micrometres (linear),
-                                         the echoed per mille command (screw drive) */
+                                         the echoed command (screw drive, DC motor) */
     uint8_t n_adc;
     uint16_t adc[CS_ADC_MAX];         /* counts, 0..CS_ADC_COUNTS_MAX */
     uint8_t n_counters;
@@ -130,7 +130,8 @@ typedef struct {
     uint8_t n_servos;
     uint8_t servo_enable;  /* bit n: servo n is driven (0 = set-point ignored) */
     int32_t servo_setpoint[CS_SERVOS_MAX]; /* millidegrees (rotary), micrometres (linear),
-                                              per mille of drive (screw drive) */
+                                              a screw drive's or DC motor's command as a
+                                              servo pulse: +-90000 = full reverse/forward */
     uint8_t n_i2c;
     cs_i2c_frame i2c[CS_I2C_FRAMES_MAX];   /* frames to put on the bus */
     uint8_t n_log;

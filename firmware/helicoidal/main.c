@@ -1,7 +1,10 @@
 /* Helicoidal module firmware (paper 3.3.2): a pig body pushed along its axis
  * by a screw drive. Servo 0 = the screw drive: its set-point is the drive
- * command -1..1, which setspangle carries as cdeg / 100 (1 cdeg = 10 per
- * mille on the wire; 100 = full speed forward).
+ * command -1..1, which setspangle carries as a servo pulse for the drive's
+ * speed controller: -9000..9000 cdeg (1.0 .. 2.0 ms) = full reverse .. full
+ * forward, the per mille command x 9. (It was the per mille / 10, a pulse
+ * 5.6 us either side of 1.5 ms: on the board the 0.2 us pulse steps gave
+ * 97.2 % of full speed, and a real controller's dead band would stop it.)
  *
  * Gait 9 (helicoidal drive): SET_GAIT carries the command in per mille
  * (CC_GAIT_OFF_DRIVE); from START until STOP (or SET_GAIT gait 0) the screw
@@ -29,7 +32,7 @@ static void set_drive(int16_t pm)
         pm = 1000;
     if (pm < -1000)
         pm = -1000;
-    chain_app_servo(SERVO_SCREW, (int16_t)(pm / 10));
+    chain_app_servo(SERVO_SCREW, (int16_t)(pm * 9));
 }
 
 int main(void)

@@ -120,11 +120,12 @@ TEST(PicInTheLoop, TheElbowWithTouchAndHelicoidalModulesOnTheBoardsBinaries) {
   const std::string log = central_log(p, 4);
   EXPECT_NE(log.find("chain: TRRH (4 modules)"), std::string::npos) << log;
   EXPECT_NE(log.find("touch 0x20: contact"), std::string::npos) << "the touch module's board saw the wall:\n" << log;
-  // the screw drive's command through the board's servo pulse: the firmware
-  // asks for full speed, the 0.2 us pulse steps give it 0.972
+  // the drive's command through the board's servo pulse: full speed is a
+  // 2.0 ms pulse, exactly 1 (it was 0.972 when the firmware used 5.6 us of
+  // the pulse's range)
   const auto tr = read_trace(p.dir + "/trace.csv");
   const auto& cmd = tr.at("m3.s0.command");
-  EXPECT_NEAR(*std::max_element(cmd.begin(), cmd.end()), 0.972, 0.001);
+  EXPECT_EQ(*std::max_element(cmd.begin(), cmd.end()), 1.0);
   EXPECT_GT(speed(p), 0.005);
 }
 

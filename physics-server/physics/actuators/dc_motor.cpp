@@ -30,7 +30,7 @@ DcMotor::DcMotor(const Params& params, dWorldID world, dJointID hinge, dBodyID c
   dJointSetAMotorParam(ode_.motor, dParamFMax, 0.0);
 }
 
-double DcMotor::setpoint_from_wire(int32_t per_mille) { return ScrewDrive::setpoint_from_wire(per_mille); }
+double DcMotor::setpoint_from_wire(int32_t millideg) { return ScrewDrive::setpoint_from_wire(millideg); }
 int32_t DcMotor::to_wire(double command) { return ScrewDrive::to_wire(command); }
 
 void DcMotor::set_setpoint(double command) {

@@ -9,7 +9,8 @@
 //
 // Unit: the signed drive command u, -1..1, clamped (as the screw drive). It
 // has no position sensor: its "measured position" echoes the command. Wire
-// unit: per mille (-1000..1000).
+// unit: the screw drive's, a servo pulse in millidegrees, -90000..90000 =
+// full reverse .. full forward.
 #pragma once
 
 #include <ode/ode.h>
@@ -52,7 +53,7 @@ class DcMotor {
           const Eigen::Vector3d& axis_world);
 
   // the wire <-> command conversion of every DC motor (the screw drive's)
-  static double setpoint_from_wire(int32_t per_mille);
+  static double setpoint_from_wire(int32_t millideg);
   static int32_t to_wire(double command);
 
   const Params& params() const { return params_; }

@@ -30,9 +30,10 @@ ScrewDrive::ScrewDrive(const Params& params, dWorldID world, dBodyID body) : par
   dJointSetLMotorParam(ode_.motor, dParamFMax, 0.0);
 }
 
-double ScrewDrive::setpoint_from_wire(int32_t per_mille) { return per_mille * 1e-3; }
+// a servo pulse of +-90 degrees (1.0 .. 2.0 ms) is full reverse .. full forward
+double ScrewDrive::setpoint_from_wire(int32_t millideg) { return millideg / 90000.0; }
 
-int32_t ScrewDrive::to_wire(double command) { return round_to_wire(command * 1e3); }
+int32_t ScrewDrive::to_wire(double command) { return round_to_wire(command * 90000.0); }
 
 void ScrewDrive::set_setpoint(double command) {
   if (std::isnan(command)) return;

@@ -6,7 +6,9 @@
 //
 // Unit: the signed drive command u, -1..1 (a fraction of the supply voltage,
 // like a PWM duty cycle), clamped. It has no position sensor: its "measured
-// position" echoes the command. Wire unit: per mille (-1000..1000).
+// position" echoes the command. Wire unit: the servo pulse its speed
+// controller takes, in millidegrees as a servo's: -90000..90000 (1.0 .. 2.0
+// ms) = full reverse .. full forward (setspangle's -9000..9000 cdeg).
 #pragma once
 
 #include <ode/ode.h>
@@ -51,7 +53,7 @@ class ScrewDrive {
   ScrewDrive(const Params& params, dWorldID world, dBodyID body);
 
   // the wire <-> command conversion of every screw drive
-  static double setpoint_from_wire(int32_t per_mille);
+  static double setpoint_from_wire(int32_t millideg);
   static int32_t to_wire(double command);
 
   const Params& params() const { return params_; }

@@ -34,12 +34,12 @@ TEST(WireUnits, EveryKindRoundTripsWireValues) {
 TEST(WireUnits, EachKindHasItsOwnUnit) {
   EXPECT_NEAR(RotaryServo::setpoint_from_wire(90000), kPi / 2, 1e-15);  // millidegrees
   EXPECT_NEAR(LinearServo::setpoint_from_wire(12345), 0.012345, 1e-17);  // micrometres
-  EXPECT_NEAR(ScrewDrive::setpoint_from_wire(-250), -0.25, 1e-17);       // per mille
+  EXPECT_NEAR(ScrewDrive::setpoint_from_wire(-22500), -0.25, 1e-17);     // a servo pulse: +-90 degrees = full
   EXPECT_EQ(RotaryServo::to_wire(-kPi / 4), -45000);
   EXPECT_EQ(LinearServo::to_wire(0.0071), 7100);
-  EXPECT_EQ(ScrewDrive::to_wire(1.0), 1000);
-  EXPECT_NEAR(DcMotor::setpoint_from_wire(-250), -0.25, 1e-17);          // per mille, as the screw drive
-  EXPECT_EQ(DcMotor::to_wire(-0.5), -500);
+  EXPECT_EQ(ScrewDrive::to_wire(1.0), 90000);
+  EXPECT_NEAR(DcMotor::setpoint_from_wire(-22500), -0.25, 1e-17);        // as the screw drive
+  EXPECT_EQ(DcMotor::to_wire(-0.5), -45000);
   // the dispatch by kind is the same conversion
   EXPECT_EQ(setpoint_from_wire(ServoKind::Rotary, 1234), RotaryServo::setpoint_from_wire(1234));
   EXPECT_EQ(to_wire(ServoKind::Linear, 0.5), LinearServo::to_wire(0.5));
@@ -82,9 +82,9 @@ TEST(WireUnits, WireSetPointsAreClampedToTheActuatorsRange) {
   EXPECT_EQ(w.servo_setpoint(1, 0), slider.hi);
   w.set_servo_setpoint_wire(1, 0, -kWireMax);
   EXPECT_EQ(w.servo_setpoint(1, 0), slider.lo);
-  w.set_servo_setpoint_wire(2, 0, 5000);
+  w.set_servo_setpoint_wire(2, 0, 450000);  // five times full scale
   EXPECT_EQ(w.servo_setpoint(2, 0), 1.0);
-  w.set_servo_setpoint_wire(2, 0, -1001);
+  w.set_servo_setpoint_wire(2, 0, -90001);
   EXPECT_EQ(w.servo_setpoint(2, 0), -1.0);
 }
 

@@ -229,7 +229,7 @@ TEST(ScrewDrive, PushesABodyAlongItsAxisUpToTheNoLoadSpeed) {
   EXPECT_NEAR(w.body_state(0, 0).linear_velocity.dot(axis), -0.015, 1e-5);
   ModuleSample s;
   w.sample(0, &s);
-  EXPECT_EQ(s.servo_position_wire[0], -500);   // no sensor: echoes the command, per mille
+  EXPECT_EQ(s.servo_position_wire[0], -45000);  // no sensor: echoes the command (-0.5 of full scale)
   // commands are clamped to -1..1
   w.set_servo_setpoint(0, 0, 7.0);
   EXPECT_DOUBLE_EQ(w.servo_setpoint(0, 0), 1.0);
@@ -341,7 +341,7 @@ TEST(LinearServo, MovingUsesEnergyAndUnpoweredNone) {
 
 // set-points from the wire and what firmware reads back, each kind in its
 // wire unit: a rotary servo in millidegrees, a linear servo in micrometres,
-// a screw drive's per mille command echoed
+// a screw drive's command echoed
 TEST(ForceActuators, SetPointsAndSamplesUseEachKindsWireUnit) {
   ModuleSample s;
   {
@@ -373,11 +373,11 @@ TEST(ForceActuators, SetPointsAndSamplesUseEachKindsWireUnit) {
   {
     World w(config_for(screw_def(Eigen::Vector3d::UnitX(), 0.02, 0.5, 0.03), 0.0), {"screw_test"});
     EXPECT_EQ(w.servo_kind(0, 0), ServoKind::Screw);
-    w.set_servo_setpoint_wire(0, 0, -250);  // a quarter reverse
+    w.set_servo_setpoint_wire(0, 0, -22500);  // a quarter reverse (full: 90 degrees of servo pulse)
     EXPECT_NEAR(w.servo_setpoint(0, 0), -0.25, 1e-15);
     run(w, 0.1);
     w.sample(0, &s);
-    EXPECT_EQ(s.servo_position_wire[0], -250);
+    EXPECT_EQ(s.servo_position_wire[0], -22500);
     EXPECT_LT(w.servo_rate(0, 0), 0.0);  // and it drives backwards
   }
 }
