@@ -40,11 +40,11 @@
 #define HP_BOARD_DIGITAL_PIN(i) ((i) == 0u ? 27u : (i) == 1u ? 28u : (i) == 2u ? 16u : 13u)
 
 /* ---- encoder counters ------------------------------------------------------ */
-/* channel 0 = Timer0 on T0CKI (RA4, pin 6), 1 = Timer1 on T13CKI (RC0, pin
- * 11); on a board without servos, channel 2 = INT2 on RB2 (pin 23), counted
- * by the interrupt. Rising edges, no direction. */
-#define HP_BOARD_COUNTERS(servos) ((servos) == 0u ? 3u : 2u)
-#define HP_BOARD_COUNTER_PIN(i) ((i) == 0u ? 6u : (i) == 1u ? 11u : 23u)
+/* channel 0 = Timer1 on T13CKI (RC0, pin 11); on a board with at most 2
+ * servos channel 1 = RB4 (pin 25, interrupt on change), and without servos
+ * channel 2 = INT2 on RB2 (pin 23). Rising edges, no direction. */
+#define HP_BOARD_COUNTERS(servos) ((servos) == 0u ? 3u : (servos) <= 2u ? 2u : 1u)
+#define HP_BOARD_COUNTER_PIN(i) ((i) == 0u ? 11u : (i) == 1u ? 25u : 23u)
 
 /* ---- synchronism lines, UART, I2C ----------------------------------------- */
 #define HP_BOARD_SIN_PIN 15u  /* RC4, input only while USB is off */

@@ -27,6 +27,9 @@
 #define SLOT_COUNTS 12500u         /* 2.5 ms: 8 slots = one 20 ms frame */
 #define SLOTS 8u
 #define SERVO_PINS_MASK 0x3Cu      /* RB2..RB5 */
+/* the pins of this build's servos: only those are outputs (a board with
+ * fewer servos counts encoder pulses on RB2 and RB4, hal_counter.c) */
+#define SERVO_OUTPUTS_MASK ((uint8_t)(((1u << HAL_PIC_SERVOS) - 1u) << 2))
 #define SERVO_POT_MIN_COUNTS HP_BOARD_POT_MIN_COUNTS /* ~0.5 V at -90 deg */
 #define SERVO_POT_MAX_COUNTS HP_BOARD_POT_MAX_COUNTS /* ~4.5 V at +90 deg */
 
@@ -79,7 +82,7 @@ void hp_isr_high(void) __interrupt(1)
 void hp_servo_init(void)
 {
     LATB &= (uint8_t)~SERVO_PINS_MASK;
-    TRISB &= (uint8_t)~SERVO_PINS_MASK; /* RB2..RB5 outputs */
+    TRISB &= (uint8_t)~SERVO_OUTPUTS_MASK; /* RB2.. of the servos it has: outputs */
 
     /* Timer3: internal clock Fcy, 1:1, 16-bit reads, clock source of both CCPs */
     T3CON = 0xC0; /* RD16 | T3CCP2, stopped */

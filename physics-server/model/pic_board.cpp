@@ -36,7 +36,7 @@ std::vector<std::string> pic_board_misfits(const ModuleDef& def) {
         if (s.channel >= static_cast<int>(counters))
           out.push_back("sensor '" + s.name + "' counts on counter " + std::to_string(s.channel) + ", but on the board " +
                         with + " has counters 0.." + std::to_string(counters - 1) +
-                        " only (T0CKI, T13CKI, and INT2 on a board without servos)");
+                        " only (T13CKI; RB4 with at most 2 servos; INT2 without servos)");
         break;
     }
   }

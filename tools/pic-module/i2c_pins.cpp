@@ -83,6 +83,16 @@ void I2cPins::act(uint64_t cycle) {
       next_ = cycle + (kHalfBit - kHalfBit / 2);
       break;
     case Phase::Release:
+      // after an acknowledge the chip may stretch the clock (bit 0: the
+      // next byte's first bit comes)
+      if (bit_ == 0 && byte_ > 0 && clock_held_ && clock_held_()) {
+        if (!held_since_) held_since_ = cycle;
+        if (cycle - held_since_ < kStretchMax) {
+          next_ = cycle + 5;
+          break;
+        }
+      }
+      held_since_ = 0;
       scl_low_ = false;
       phase_ = Phase::WaitHigh;
       next_ = cycle + kStretchMax;  // the line's rise (lines()) moves on
@@ -121,6 +131,14 @@ void I2cPins::act(uint64_t cycle) {
       next_ = cycle + (kHalfBit - kHalfBit / 2);
       break;
     case Phase::StopRelease:
+      if (clock_held_ && clock_held_()) {
+        if (!held_since_) held_since_ = cycle;
+        if (cycle - held_since_ < kStretchMax) {
+          next_ = cycle + 5;
+          break;
+        }
+      }
+      held_since_ = 0;
       scl_low_ = false;
       phase_ = Phase::StopWaitHigh;
       next_ = cycle + kStretchMax;

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,10 @@ class I2cPins {
 
   // a frame the server delivered to this module, to write to the chip
   void deliver(const cs_i2c_frame& f);
+  // whether the chip holds the clock low after a byte it received (its MSSP
+  // stretches SCL until its program has read the byte): asked before each
+  // release of SCL after an acknowledge; while true the engine waits
+  void set_clock_held(std::function<bool()> held) { clock_held_ = std::move(held); }
   // the lines changed (or may have): their levels on the wire now
   void lines(uint64_t cycle, bool scl, bool sda);
   // the cycle the engine wants act() called at next (kNever: only on a line change)
@@ -81,6 +86,8 @@ class I2cPins {
   uint64_t bus_free_at_ = 0;        // the last stop on the bus + the bus free time
   std::vector<cs_i2c_frame> sent_;
   std::vector<std::string> notes_;
+  std::function<bool()> clock_held_;
+  uint64_t held_since_ = 0;
 };
 
 }  // namespace chainsim::pic

@@ -20,7 +20,7 @@ namespace {
 
 constexpr uint64_t kCyclesPerUs = HP_BOARD_FCY_HZ / 1000000;
 constexpr uint8_t kPaint = 0xA5;  // the software stack's RAM before the program runs
-constexpr uint32_t kSSPCON1 = 0xFC6, kSSPADD = 0xFC8;
+constexpr uint32_t kSSPCON1 = 0xFC6, kSSPSTAT = 0xFC7, kSSPADD = 0xFC8;
 
 std::string fixed(double v, int decimals) {
   char b[64];
@@ -49,6 +49,16 @@ PicModule::PicModule(GpsimChip* chip, const PicBuild* build, const PicOptions& o
       meter_(CpuMeter::flags_for(*build, chip->flash_bytes(), [chip](uint32_t a) { return chip->programmed(a); })),
       uart_(static_cast<double>(HP_BOARD_FCY_HZ) / HP_BOARD_BAUD, CS_LOG_LINE_MAX - 1) {
   meter_.set_budget(opt_.budget_us * kCyclesPerUs);
+  // gpsim 0.31's MSSP (the PIC18F2550's) does not stretch the clock after a
+  // byte it receives as a slave, as the part does with SEN set (hal-pic sets
+  // it): the bus beside it holds the clock instead while the byte sits
+  // unread (SSPSTAT.BF). Without it an interrupt that came late read the
+  // frame's last byte after the stop, as an address, and lost it.
+  i2c_.set_clock_held([chip] {
+    const unsigned mode = chip->ram(kSSPCON1) & 0x0Fu;
+    const bool slave = mode == 0x6 || mode == 0x7 || mode == 0xE || mode == 0xF;
+    return slave && (chip->ram(kSSPSTAT) & 0x01u);
+  });
   meter_.set_metering(build->code_at("_next_tick") >= 0 && build->code_at("_hal_tick_wait") >= 0);
   // paint the software stack: how much of it the program ever used shows at the end
   const auto lo = build->data.find("_stack"), hi = build->data.find("_stack_end");
