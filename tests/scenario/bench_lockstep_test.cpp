@@ -18,7 +18,7 @@ using namespace scenario;
 namespace {
 
 struct Row {
-  std::string scene, same_trace;
+  std::string scene, target, same_trace;
   int modules = -1;
   double sim_s = 0, cosim_rtf = 0, physics_rtf = 0, ratio = 0, cpu_ratio = 0, modules_cpu_s = -1, exch_per_tick = -1;
 };
@@ -31,7 +31,7 @@ Row row_of(const std::string& out, const std::string& scene) {
     std::istringstream f(line);
     Row r;
     if (f >> r.scene && r.scene == scene &&
-        f >> r.modules >> r.sim_s >> r.cosim_rtf >> r.physics_rtf >> r.ratio >> r.cpu_ratio >> r.modules_cpu_s >>
+        f >> r.target >> r.modules >> r.sim_s >> r.cosim_rtf >> r.physics_rtf >> r.ratio >> r.cpu_ratio >> r.modules_cpu_s >>
             r.exch_per_tick >> r.same_trace)
       return r;
   }
@@ -51,6 +51,7 @@ TEST(BenchLockstep, ScenesAreMeasuredAndTheirReplaysGiveTheirTraces) {
   EXPECT_EQ(h.modules, 1);
   EXPECT_EQ(w.modules, 3);
   for (const Row& r : {h, w}) {
+    EXPECT_EQ(r.target, "native");
     EXPECT_DOUBLE_EQ(r.sim_s, 0.5);
     EXPECT_GT(r.cosim_rtf, 0);
     EXPECT_GT(r.physics_rtf, 0);
