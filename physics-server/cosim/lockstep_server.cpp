@@ -17,6 +17,7 @@
 #include <memory>
 
 #include "cosim/barrier.h"
+#include "cosim/early_stop.h"
 #include "cosim/endpoints.h"
 #include "output/decimal.h"
 #include "output/run_events.h"
@@ -25,6 +26,7 @@
 #include "output/scene_json.h"
 #include "output/touch_edges.h"
 #include "output/trace_writer.h"
+#include "environment/pipe_path.h"
 #include "physics/divergence.h"
 #include "physics/world.h"
 
@@ -76,7 +78,10 @@ class Server : public BarrierSink {
         trace_(world_, TraceWriter::interval_for(world_, scene.trace_hz), columns_),
         touch_(n_modules_, columns_),
         discovery_us_(std::llround(scene.discovery_s * 1e6)),
-        energy_j_(n_modules_, 0.0) {
+        energy_j_(n_modules_, 0.0),
+        early_(scene.stop_when, scene.world.environment.type == EnvironmentType::Pipe
+                                    ? std::make_shared<PipeProgress>(layout_pipe(scene.world.environment.pipe))
+                                    : nullptr) {
     std::vector<int> servos;
     for (int m = 0; m < n_modules_; ++m) servos.push_back(world_.servo_count(m));
     barrier_ = std::make_unique<Barrier>(servos, scene.tick_us);
@@ -152,6 +157,8 @@ class Server : public BarrierSink {
   bool discovery_judged_ = false;
   std::vector<int> silent_, allowed_silent_;
   std::vector<double> energy_j_;
+  EarlyStop early_;          // the scene's stop_when
+  std::string early_why_;    // set when one fired: the run ends after this tick
   int64_t now_us_ = 0;
   std::string stop_message_;
   int stop_code_ = kExitOk;
@@ -310,6 +317,14 @@ void Server::write_trace_row_if_due() {
   if (!trace_.row_due(&row_)) return;
   out_->trace(row_);
   if (opt_.observer) opt_.observer->trace_row(row_);
+  if (!early_.empty() && early_why_.empty() && n_modules_ > 0) {
+    const int last = n_modules_ - 1;
+    if (early_.check(world_.time_us(), world_.body_state(0, 0).position,
+                     world_.body_state(last, world_.body_count(last) - 1).position)) {
+      early_why_ = early_.why();
+      if (!opt_.quiet) std::fprintf(stderr, "%schainsim: %s\n", opt_.progress_terminal ? "\n" : "", early_why_.c_str());
+    }
+  }
 }
 
 void Server::step_tick() {
@@ -396,6 +411,7 @@ RunResult Server::run() {
       ok = false;
       break;
     }
+    if (!early_why_.empty()) break;  // stop_when: the run ends here, finished
     if (now - last_flush > std::chrono::seconds(1)) {
       out_->flush();
       last_flush = now;
@@ -468,6 +484,7 @@ RunSummary Server::summary(double wall_s, const Eigen::Vector3d& displacement_m)
   s.allowed_silent = allowed_silent_;
   s.exit_code = stop_code_;
   s.stopped_by = stop_message_;
+  s.early_stop = early_why_;
   return s;
 }
 

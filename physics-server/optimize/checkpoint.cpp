@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -14,14 +15,21 @@ namespace chainsim {
 
 void write_checkpoint(const std::string& path, const Checkpoint& c) {
   nlohmann::json best = {{"valid", c.best.valid},     {"generation", c.best.generation},
+                         {"island", c.best.island},
                          {"individual", c.best.individual}, {"key", c.best.key},
                          {"genes", c.best.genes},     {"fitness", c.best.fitness},
                          {"failed", c.best.failed}};
-  const nlohmann::json j = {{"format", 1},
+  nlohmann::json islands = nlohmann::json::array();
+  for (const auto& i : c.islands) {
+    nlohmann::json f = nlohmann::json::array();
+    for (double v : i.f) f.push_back(std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(v > 0 ? "inf" : "-inf"));
+    islands.push_back({{"genes", i.genes}, {"f", f}});
+  }
+  const nlohmann::json j = {{"format", 2},
                             {"fingerprint", c.fingerprint},
                             {"generation", c.generation},
-                            {"genes", c.genes},
-                            {"f", c.f},
+                            {"islands", islands},
+                            {"trials", c.trials},
                             {"cache_keys", c.cache_keys},
                             {"history_bytes", c.history_bytes},
                             {"best", best},
@@ -47,16 +55,31 @@ Checkpoint read_checkpoint(const std::string& path) {
   Checkpoint c;
   try {
     const nlohmann::json j = nlohmann::json::parse(s.str());
-    if (j.at("format").get<int>() != 1) throw CheckpointError(path + ": unknown checkpoint format");
+    const int format = j.at("format").get<int>();
+    if (format == 1)
+      throw CheckpointError(path + ": written by an older chainsim (format 1): cannot resume; start the search "
+                                   "again in another directory");
+    if (format != 2) throw CheckpointError(path + ": unknown checkpoint format " + std::to_string(format));
     c.fingerprint = j.at("fingerprint").get<std::string>();
     c.generation = j.at("generation").get<int>();
-    c.genes = j.at("genes").get<std::vector<std::vector<int64_t>>>();
-    c.f = j.at("f").get<std::vector<double>>();
+    for (const auto& i : j.at("islands")) {
+      Checkpoint::Island is;
+      is.genes = i.at("genes").get<std::vector<std::vector<int64_t>>>();
+      for (const auto& v : i.at("f")) {
+        if (v.is_string()) is.f.push_back(v.get<std::string>() == "inf" ? HUGE_VAL : -HUGE_VAL);
+        else is.f.push_back(v.get<double>());
+      }
+      if (is.genes.size() != is.f.size())
+        throw CheckpointError(path + ": damaged: population and fitness differ in size");
+      c.islands.push_back(is);
+    }
+    c.trials = j.at("trials").get<int>();
     c.cache_keys = j.at("cache_keys").get<std::vector<std::string>>();
     c.history_bytes = j.at("history_bytes").get<uint64_t>();
     const auto& b = j.at("best");
     c.best.valid = b.at("valid").get<bool>();
     c.best.generation = b.at("generation").get<int>();
+    c.best.island = b.at("island").get<int>();
     c.best.individual = b.at("individual").get<size_t>();
     c.best.key = b.at("key").get<std::string>();
     c.best.genes = b.at("genes").get<std::vector<int64_t>>();
@@ -68,7 +91,6 @@ Checkpoint read_checkpoint(const std::string& path) {
   } catch (const nlohmann::json::exception& e) {
     throw CheckpointError(path + ": damaged: " + e.what());
   }
-  if (c.genes.size() != c.f.size()) throw CheckpointError(path + ": damaged: population and fitness differ in size");
   return c;
 }
 

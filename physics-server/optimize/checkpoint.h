@@ -18,6 +18,7 @@ struct CheckpointError : std::runtime_error {
 struct BestSoFar {
   bool valid = false;
   int generation = 0;
+  int island = 0;
   size_t individual = 0;
   std::string key;
   std::vector<int64_t> genes;
@@ -27,9 +28,13 @@ struct BestSoFar {
 
 struct Checkpoint {
   std::string fingerprint;                     // of the problem, base scene, seed and population
-  int generation = -1;                         // the last one completed (0: the initial population)
-  std::vector<std::vector<int64_t>> genes;     // the population, in pagmo's order
-  std::vector<double> f;                       // pagmo's fitness (minimised) of each
+  int generation = -1;                         // the last one every island completed (0: the initial population)
+  struct Island {
+    std::vector<std::vector<int64_t>> genes;   // the population after `generation`, in pagmo's order
+    std::vector<double> f;                     // pagmo's fitness (minimised) of each
+  };
+  std::vector<Island> islands;
+  int trials = 0;                              // runs per individual from generation 1 on (0: not decided yet)
   std::vector<std::string> cache_keys;
   uint64_t history_bytes = 0;
   BestSoFar best;

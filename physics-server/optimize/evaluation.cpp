@@ -51,6 +51,9 @@ std::string last_lines(const std::string& path, size_t max_chars) {
 
 bool EvalResult::operator==(const EvalResult& o) const {
   if (!same_number(fitness, o.fitness) || failed != o.failed || why != o.why || wall_s != o.wall_s) return false;
+  if (early_stop != o.early_stop || trials != o.trials || !same_number(fitness_sd, o.fitness_sd) ||
+      !same_number(fitness_min, o.fitness_min) || !same_number(fitness_max, o.fitness_max))
+    return false;
   if (measures.size() != o.measures.size()) return false;
   for (size_t i = 0; i < measures.size(); ++i)
     if (!same_number(measures[i], o.measures[i])) return false;
@@ -60,8 +63,31 @@ bool EvalResult::operator==(const EvalResult& o) const {
 nlohmann::json eval_result_to_json(const EvalResult& r) {
   nlohmann::json m = nlohmann::json::array();
   for (double v : r.measures) m.push_back(number_json(v));
-  return {{"fitness", number_json(r.fitness)}, {"measures", m},  {"failed", r.failed},
-          {"why", r.why},                     {"wall_s", r.wall_s}};
+  return {{"fitness", number_json(r.fitness)},
+          {"measures", m},
+          {"failed", r.failed},
+          {"why", r.why},
+          {"early_stop", r.early_stop},
+          {"trials", r.trials},
+          {"fitness_sd", number_json(r.fitness_sd)},
+          {"fitness_min", number_json(r.fitness_min)},
+          {"fitness_max", number_json(r.fitness_max)},
+          {"wall_s", r.wall_s}};
+}
+
+EvalResult eval_result_of(const Score& s, double wall_s) {
+  EvalResult r;
+  r.fitness = s.fitness;
+  r.measures = s.measures;
+  r.failed = s.failed;
+  r.why = deterministic_fault_text(s.why);
+  r.early_stop = s.early_stop;
+  r.trials = s.trials;
+  r.fitness_sd = s.fitness_sd;
+  r.fitness_min = s.fitness_min;
+  r.fitness_max = s.fitness_max;
+  r.wall_s = wall_s;
+  return r;
 }
 
 EvalResult eval_result_from_json(const nlohmann::json& j) {
@@ -70,14 +96,19 @@ EvalResult eval_result_from_json(const nlohmann::json& j) {
   for (const auto& v : j.at("measures")) r.measures.push_back(number_from_json(v));
   r.failed = j.at("failed").get<bool>();
   r.why = j.at("why").get<std::string>();
+  r.early_stop = j.value("early_stop", std::string());
+  r.trials = j.value("trials", 1);
+  if (j.contains("fitness_sd")) r.fitness_sd = number_from_json(j["fitness_sd"]);
+  if (j.contains("fitness_min")) r.fitness_min = number_from_json(j["fitness_min"]);
+  if (j.contains("fitness_max")) r.fitness_max = number_from_json(j["fitness_max"]);
   r.wall_s = j.at("wall_s").get<double>();
   return r;
 }
 
-uint64_t repeat_seed(uint64_t seed, int repeat) {
-  if (repeat == 0) return seed;
-  // the repeat-th output of splitmix64's sequence from seed
-  return splitmix64(seed + 0x9E3779B97F4A7C15ull * static_cast<uint64_t>(repeat - 1)) >> 2;
+uint64_t trial_seed(uint64_t seed, int trial) {
+  if (trial == 0) return seed;
+  // the trial-th output of splitmix64's sequence from seed
+  return splitmix64(seed + 0x9E3779B97F4A7C15ull * static_cast<uint64_t>(trial - 1)) >> 2;
 }
 
 std::string deterministic_fault_text(const std::string& text) {
@@ -94,8 +125,7 @@ Evaluation::Evaluation(const EvalContext& ctx, EvalTask task, const std::string&
   std::filesystem::remove_all(dir_, ec);
   std::filesystem::create_directories(dir_, ec);
   auto fail_now = [&](const std::string& why) {
-    const Score s = failed_score(pr.measures.size(), pr.objective, why);
-    result_ = {s.fitness, s.measures, true, s.why, 0.0};
+    result_ = eval_result_of(failed_score(pr.measures.size(), pr.objective, why), 0.0);
     done_ = true;
   };
   if (ec) {
@@ -103,9 +133,10 @@ Evaluation::Evaluation(const EvalContext& ctx, EvalTask task, const std::string&
     return;
   }
   try {
-    // every repeat's scene, checked here: a scene the genome spoils fails here, not in a child
-    for (int r = 0; r < pr.evaluation.repeats; ++r) {
-      const std::string text = individual_scene_yaml(pr, task_.phenotype, repeat_seed(task_.seed, r));
+    // every trial's scene, checked here: a scene the genome spoils fails here, not in a child
+    for (int r = 0; r < std::max(1, task_.trials); ++r) {
+      const std::string text = individual_scene_yaml(pr, task_.phenotype, trial_seed(task_.seed, task_.first_trial + r),
+                                                     task_.solver, task_.target);
       load_scene_text(text, scene_path(r));
       std::ofstream(scene_path(r)) << text;
     }
@@ -113,7 +144,7 @@ Evaluation::Evaluation(const EvalContext& ctx, EvalTask task, const std::string&
     fail_now(std::string("scene: ") + e.what());
     return;
   }
-  start_repeat();
+  start_trial();
 }
 
 std::string Evaluation::scene_path(int r) const {
@@ -122,7 +153,7 @@ std::string Evaluation::scene_path(int r) const {
 
 std::string Evaluation::run_dir(int r) const { return dir_ + (r == 0 ? "/run" : "/run-" + std::to_string(r)); }
 
-void Evaluation::start_repeat() {
+void Evaluation::start_trial() {
   const Problem& pr = *ctx_.problem;
   const int r = static_cast<int>(scores_.size());
   ChildSpec spec;
@@ -134,9 +165,9 @@ void Evaluation::start_repeat() {
   try {
     child_.spawn(spec);
   } catch (const std::exception& e) {
-    const Score s = failed_score(pr.measures.size(), pr.objective,
-                                 std::string("cannot start " + ctx_.evaluator_exe + ": ") + e.what());
-    result_ = {s.fitness, s.measures, true, s.why, 0.0};
+    result_ = eval_result_of(failed_score(pr.measures.size(), pr.objective,
+                                          std::string("cannot start " + ctx_.evaluator_exe + ": ") + e.what()),
+                             0.0);
     done_ = true;
   }
 }
@@ -165,14 +196,14 @@ void Evaluation::finish(const ExitStatus& st) {
                      "the run ended with " + st.text() + ": " + last_lines(dir_ + "/chainsim.out", 600));
   }
   scores_.push_back(s);
-  // a failed repeat fails the individual: no need to run the others
-  if (!s.failed && static_cast<int>(scores_.size()) < pr.evaluation.repeats) {
-    start_repeat();
+  // a failed trial fails the individual: no need to run the others
+  if (!s.failed && static_cast<int>(scores_.size()) < task_.trials) {
+    start_trial();
     return;
   }
-  const Score all = combine_repeats(scores_, pr.objective);
+  const Score all = combine_trials(scores_, pr.objective, pr.evaluation.fitness, pr.evaluation.quantile);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
-  result_ = {all.fitness, all.measures, all.failed, deterministic_fault_text(all.why), wall};
+  result_ = eval_result_of(all, wall);
   done_ = true;
   if (!ctx_.keep_runs) {
     std::error_code ec;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <chrono>
+#include <limits>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -26,7 +27,14 @@ struct EvalTask {
   Phenotype phenotype;
   std::string key;
   uint64_t seed = 0;
+  int trials = 1;          // runs, one after the other: trials first_trial .. first_trial + trials - 1
+  int first_trial = 0;     // the search's trials count from 0, verification's fresh ones from kFreshTrial
+  std::string solver;      // "exact": the converged solver (verification); "": the scene's
+  std::string target;      // "native" or "pic" for every endpoint (verification); "": the problem's
 };
+
+// verification's trials: seeds the search never uses (it runs at most 1000 trials)
+constexpr int kFreshTrial = 1000;
 
 // what an evaluation gives; the same for the same task wherever it runs,
 // except wall_s
@@ -35,17 +43,25 @@ struct EvalResult {
   std::vector<double> measures;   // one per measure; NaN when not measured, inf when never reached
   bool failed = false;
   std::string why;                // the fault or the broken constraint
+  std::string early_stop;         // a stop_when rule ended a run early: what it saw
+  int trials = 1;                 // runs scored (fewer than asked when one failed)
+  double fitness_sd = std::numeric_limits<double>::quiet_NaN();   // over the trials; NaN for one
+  double fitness_min = std::numeric_limits<double>::quiet_NaN();
+  double fitness_max = std::numeric_limits<double>::quiet_NaN();
   double wall_s = 0;              // wall-clock seconds of the simulation
   bool operator==(const EvalResult& o) const;
 };
+
+// the result of a score (combine_trials, failed_score)
+EvalResult eval_result_of(const Score& s, double wall_s);
 
 // JSON (non-finite numbers as the strings "inf", "-inf", "nan"); from_json
 // throws nlohmann::json::exception on a malformed object
 nlohmann::json eval_result_to_json(const EvalResult& r);
 EvalResult eval_result_from_json(const nlohmann::json& j);
 
-// the seed of repeat r of an individual whose run seed is seed (r = 0: seed itself)
-uint64_t repeat_seed(uint64_t seed, int repeat);
+// the seed of trial r of an individual whose run seed is seed (r = 0: seed itself)
+uint64_t trial_seed(uint64_t seed, int trial);
 
 // "module 1 (rotation, pid 4242) closed ..." -> "module 1 (rotation) closed ...":
 // a fault's words without what changes from run to run
@@ -58,9 +74,10 @@ struct EvalContext {
   bool keep_runs = false;     // keep each run directory (else removed once scored)
 };
 
-// a running evaluation: construct to start it, poll until done. With
-// evaluation.repeats > 1 it runs the individual that many times, one after
-// the other, each with its own seed (repeat_seed), and scores the mean.
+// a running evaluation: construct to start it, poll until done. It runs the
+// individual task.trials times, one after the other, each with its own seed
+// (trial_seed) and start pose (evaluation.perturb), and scores them with
+// combine_trials; a failed trial ends it.
 class Evaluation {
  public:
   // dir: where to run (default: a fresh directory under ctx.work_dir)
@@ -75,12 +92,12 @@ class Evaluation {
   const EvalTask& task() const { return task_; }
   const EvalResult& result() const { return result_; }
   pid_t pid() const { return child_.pid(); }
-  // the run directory of repeat r (removed once scored unless kept)
+  // the run directory of the task's r-th trial (removed once scored unless kept)
   std::string run_dir(int r = 0) const;
 
  private:
   std::string scene_path(int r) const;
-  void start_repeat();
+  void start_trial();
   void finish(const ExitStatus& st);
 
   const EvalContext& ctx_;
@@ -89,7 +106,7 @@ class Evaluation {
   ChildProcess child_;
   std::chrono::steady_clock::time_point t0_;
   bool done_ = false;
-  std::vector<Score> scores_;   // of the repeats run so far
+  std::vector<Score> scores_;   // of the trials run so far
   EvalResult result_;
 };
 

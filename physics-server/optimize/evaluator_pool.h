@@ -1,11 +1,14 @@
-// Who evaluates a generation: local worker processes (local_pool.h) or MPI
-// ranks (mpi_pool.h). Either runs the tasks of a batch in parallel and hands
-// the results back by task index, so the search never sees which worker ran
-// what or in which order they finished.
+// Who evaluates: local worker processes (local_pool.h) or MPI ranks
+// (mpi_pool.h). Tasks are submitted one by one under an id of the caller's
+// and come back, as they finish, under that id: the search never sees which
+// worker ran what, and keeps as many tasks queued as it has ready (several
+// islands' generations at once).
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "optimize/evaluation.h"
@@ -15,15 +18,24 @@ namespace chainsim {
 class EvaluatorPool {
  public:
   virtual ~EvaluatorPool() = default;
-  // evaluates every task; (*results)[i] is task i's result. on_done(i, r) is
-  // called as each ends (progress, the journal). false when interrupted
-  // (SIGINT/SIGTERM): the results are then incomplete.
-  virtual bool evaluate(const std::vector<EvalTask>& tasks, std::vector<EvalResult>* results,
-                        const std::function<void(size_t, const EvalResult&)>& on_done) = 0;
+  // queues a task; its result comes back from poll() under id
+  virtual void submit(uint64_t id, const EvalTask& task) = 0;
+  // runs the workers for up to wait_s seconds of wall time, or until at
+  // least one task has finished; appends the finished ones to *done. false
+  // when interrupted (SIGINT/SIGTERM): the running evaluations are ended and
+  // the queue is left as it is.
+  virtual bool poll(double wait_s, std::vector<std::pair<uint64_t, EvalResult>>* done) = 0;
+  // tasks submitted and not yet handed back
+  virtual size_t pending() const = 0;
   // how many evaluations run at once
   virtual int parallelism() const = 0;
   // "2 local workers", "2 MPI worker ranks"
   virtual std::string describe() const = 0;
+
+  // a batch, blocking: (*results)[i] is tasks[i]'s; on_done(i, r) as each
+  // ends. false when interrupted. Needs an idle pool (nothing pending).
+  bool evaluate(const std::vector<EvalTask>& tasks, std::vector<EvalResult>* results,
+                const std::function<void(size_t, const EvalResult&)>& on_done = nullptr);
 };
 
 // SIGINT and SIGTERM set a flag the pools and the search poll (and no longer

@@ -1,5 +1,7 @@
 #include "optimize/genome.h"
 
+#include <stdexcept>
+
 #include <limits>
 
 namespace chainsim {
@@ -121,6 +123,44 @@ std::string phenotype_key(const GenomeSpec& spec, const Phenotype& p) {
     k += spec.params[i].target + "=" + std::to_string(p.values[i]);
   }
   return k;
+}
+
+}  // namespace chainsim
+
+namespace chainsim {
+
+Phenotype phenotype_from_key(const GenomeSpec& spec, const std::string& key) {
+  std::vector<std::string> words;
+  size_t a = 0;
+  while (a < key.size()) {
+    const size_t b = key.find(' ', a);
+    words.push_back(key.substr(a, b == std::string::npos ? std::string::npos : b - a));
+    if (b == std::string::npos) break;
+    a = b + 1;
+  }
+  Phenotype p;
+  size_t w = 0;
+  if (spec.has_chain) {
+    if (words.empty()) throw GenomeError("'" + key + "': no chain");
+    p.chain = words[w++];
+  }
+  if (words.size() - w != spec.params.size())
+    throw GenomeError("'" + key + "': " + std::to_string(words.size() - w) + " parameters, the genome has " +
+                      std::to_string(spec.params.size()));
+  for (const ParamGene& g : spec.params) {
+    const std::string& word = words[w++];
+    const std::string head = g.target + "=";
+    if (word.compare(0, head.size(), head) != 0) throw GenomeError("'" + key + "': expected " + head + "...");
+    try {
+      size_t used = 0;
+      p.values.push_back(std::stoll(word.substr(head.size()), &used));
+      if (used != word.size() - head.size()) throw std::invalid_argument("trailing");
+    } catch (const std::exception&) {
+      throw GenomeError("'" + key + "': '" + word + "' is not " + head + "<integer>");
+    }
+  }
+  if (phenotype_key(spec, p) != key) throw GenomeError("'" + key + "' is not a key of this genome");
+  return p;
 }
 
 }  // namespace chainsim

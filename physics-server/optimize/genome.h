@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <exception>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -71,5 +72,8 @@ Phenotype decode_genes(const GenomeSpec& spec, const std::vector<int64_t>& genes
 std::vector<int64_t> encode_phenotype(const GenomeSpec& spec, const Phenotype& p);
 // "THRH central.bend_ms=1500 chain[*].control_ms=10": the chain, then target=value
 std::string phenotype_key(const GenomeSpec& spec, const Phenotype& p);
+// the individual of a key (history.csv's genome column); throws GenomeError
+// when the key is not one this genome makes
+Phenotype phenotype_from_key(const GenomeSpec& spec, const std::string& key);
 
 }  // namespace chainsim

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -13,6 +14,8 @@
 namespace chainsim {
 
 namespace {
+
+constexpr size_t kFixedColumns = 13;  // every column but the measures
 
 std::vector<std::string> split_csv(const std::string& line) {
   std::vector<std::string> out;
@@ -68,18 +71,22 @@ std::string history_number(double v) {
 }
 
 std::string history_header(const std::vector<std::string>& measure_names) {
-  std::string h = "generation,individual,genome,fitness";
+  std::string h = "generation,island,individual,genome,fitness,trials,fitness_sd,fitness_min,fitness_max";
   for (const auto& m : measure_names) h += "," + m;
-  return h + ",fault,cached,wall_s\n";
+  return h + ",fault,early_stop,cached,wall_s\n";
 }
 
 std::string history_line(const HistoryRow& r) {
-  std::string l = std::to_string(r.generation) + "," + std::to_string(r.individual) + "," + csv_field(r.genome) +
-                  "," + history_number(r.result.fitness);
-  for (double m : r.result.measures) l += "," + history_number(m);
+  const EvalResult& e = r.result;
+  std::string l = std::to_string(r.generation) + "," + std::to_string(r.island) + "," + std::to_string(r.individual) +
+                  "," + csv_field(r.genome) + "," + history_number(e.fitness) + "," + std::to_string(e.trials) + "," +
+                  history_number(e.fitness_sd) + "," + history_number(e.fitness_min) + "," +
+                  history_number(e.fitness_max);
+  for (double m : e.measures) l += "," + history_number(m);
   char wall[32];
-  std::snprintf(wall, sizeof wall, "%.3f", r.result.wall_s);
-  return l + "," + csv_field(r.result.why) + "," + (r.cached ? "yes" : "no") + "," + wall + "\n";
+  std::snprintf(wall, sizeof wall, "%.3f", e.wall_s);
+  return l + "," + csv_field(e.why) + "," + csv_field(e.early_stop) + "," + (r.cached ? "yes" : "no") + "," + wall +
+         "\n";
 }
 
 std::vector<HistoryRow> parse_history(const std::string& text, size_t n_measures, const std::string& source) {
@@ -91,19 +98,25 @@ std::vector<HistoryRow> parse_history(const std::string& text, size_t n_measures
     ++line_no;
     if (line_no == 1 || line.empty()) continue;
     const std::vector<std::string> f = split_csv(line);
-    if (f.size() != 7 + n_measures)
+    if (f.size() != kFixedColumns + n_measures)
       throw std::runtime_error(source + ":" + std::to_string(line_no) + ": " + std::to_string(f.size()) +
-                               " fields, expected " + std::to_string(7 + n_measures));
+                               " fields, expected " + std::to_string(kFixedColumns + n_measures));
     HistoryRow r;
     r.generation = std::atoi(f[0].c_str());
-    r.individual = static_cast<size_t>(std::atoll(f[1].c_str()));
-    r.genome = f[2];
-    r.result.fitness = parse_number(f[3]);
-    for (size_t k = 0; k < n_measures; ++k) r.result.measures.push_back(parse_number(f[4 + k]));
-    r.result.why = f[4 + n_measures];
+    r.island = std::atoi(f[1].c_str());
+    r.individual = static_cast<size_t>(std::atoll(f[2].c_str()));
+    r.genome = f[3];
+    r.result.fitness = parse_number(f[4]);
+    r.result.trials = std::atoi(f[5].c_str());
+    r.result.fitness_sd = parse_number(f[6]);
+    r.result.fitness_min = parse_number(f[7]);
+    r.result.fitness_max = parse_number(f[8]);
+    for (size_t k = 0; k < n_measures; ++k) r.result.measures.push_back(parse_number(f[9 + k]));
+    r.result.why = f[9 + n_measures];
     r.result.failed = !r.result.why.empty();
-    r.cached = f[5 + n_measures] == "yes";
-    r.result.wall_s = parse_number(f[6 + n_measures]);
+    r.result.early_stop = f[10 + n_measures];
+    r.cached = f[11 + n_measures] == "yes";
+    r.result.wall_s = parse_number(f[12 + n_measures]);
     rows.push_back(r);
   }
   return rows;
@@ -117,6 +130,14 @@ HistoryFile::HistoryFile(const std::string& path, const std::vector<std::string>
     if (stat(path.c_str(), &st) != 0 || static_cast<uint64_t>(st.st_size) < keep_bytes)
       throw std::runtime_error(path + ": shorter than the checkpoint says (" + std::to_string(keep_bytes) +
                                " bytes): cannot resume");
+    {
+      std::ifstream in(path);
+      std::string first;
+      std::getline(in, first);
+      if (first + "\n" != history_header(measure_names))
+        throw std::runtime_error(path + ": its columns are not this chainsim's (written by an older one?): "
+                                 "cannot resume; start the search again in another directory");
+    }
     if (truncate(path.c_str(), static_cast<off_t>(keep_bytes)) != 0)
       throw std::runtime_error(path + ": cannot cut to the checkpoint: " + std::strerror(errno));
     f_ = std::fopen(path.c_str(), "ab");

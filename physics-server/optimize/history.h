@@ -1,6 +1,8 @@
-// history.csv: one row per individual of every generation, in generation and
-// index order: generation, individual, genome, fitness, the measures, the
-// fault or broken constraint, whether the cache answered, wall seconds.
+// history.csv: one row per individual of every generation, in generation,
+// island and index order: generation, island, individual, genome, fitness,
+// the trials and their fitness's spread (sd, min, max), the measures, the
+// fault or broken constraint, the early stop, whether the cache answered,
+// wall seconds.
 // Everything but wall_s is the same for the same problem and seed, whatever
 // the workers or ranks and whether the search was resumed.
 #pragma once
@@ -16,13 +18,14 @@ namespace chainsim {
 
 struct HistoryRow {
   int generation = 0;
+  int island = 0;
   size_t individual = 0;
   std::string genome;        // the individual's key
   EvalResult result;
   bool cached = false;       // answered by the cache, not simulated in this row
 };
 
-// "generation,individual,genome,fitness,<measures>,fault,cached,wall_s"
+// "generation,island,individual,genome,fitness,trials,fitness_sd,fitness_min,fitness_max,<measures>,fault,early_stop,cached,wall_s"
 std::string history_header(const std::vector<std::string>& measure_names);
 std::string history_line(const HistoryRow& row);
 // a CSV field, quoted when it needs to be
@@ -36,7 +39,8 @@ std::vector<HistoryRow> parse_history(const std::string& text, size_t n_measures
 class HistoryFile {
  public:
   // creates the file with its header, or (resume) opens it and cuts it to
-  // keep_bytes: the rows of the generations the checkpoint holds
+  // keep_bytes: the rows of the generations the checkpoint holds (a file
+  // with another header, from an older chainsim, is an error)
   HistoryFile(const std::string& path, const std::vector<std::string>& measure_names, bool resume,
               uint64_t keep_bytes);
   ~HistoryFile();

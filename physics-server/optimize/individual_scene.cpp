@@ -2,10 +2,14 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
 #include <filesystem>
+
+#include <Eigen/Core>
 
 #include "optimize/problem.h"
 #include "scene/scene.h"
+#include "scene/scene_stop.h"
 #include "physics/splitmix64.h"
 
 namespace chainsim {
@@ -26,6 +30,36 @@ void absolute_program(YAML::Node n, const std::filesystem::path& dir) {
     n = absolute_from(n.as<std::string>(), dir);
 }
 
+double number_or(const YAML::Node& n, double dflt) { return n && n.IsScalar() ? n.as<double>() : dflt; }
+
+// the trial's start pose: the base scene's placement moved and turned by
+// start_perturbation (the scene's own checks then apply to the result)
+void perturb_placement(const Problem& pr, uint64_t seed, YAML::Node* root) {
+  YAML::Node pl = (*root)["placement"];
+  if (!pl || !pl.IsMap()) pl = YAML::Node(YAML::NodeType::Map);
+  const bool pipe_entry = static_cast<bool>(pl["at"]);
+  const StartPerturbation d = start_perturbation(pr, seed, pipe_entry);
+  if (d.roll_deg != 0) pl["roll_deg"] = number_or(pl["roll_deg"], 0) + d.roll_deg;
+  if (pipe_entry) {
+    if (d.along_m != 0) pl["inset_m"] = number_or(pl["inset_m"], 0.005) + d.along_m;
+  } else {
+    Eigen::Vector3d pos(0, 0, 0.02);
+    if (const YAML::Node q = pl["position_m"]; q && q.IsSequence() && q.size() == 3)
+      pos = Eigen::Vector3d(q[0].as<double>(), q[1].as<double>(), q[2].as<double>());
+    const double h = number_or(pl["heading_deg"], 0) * M_PI / 180;
+    const Eigen::Vector3d dir(std::cos(h), std::sin(h), 0), side(-std::sin(h), std::cos(h), 0);
+    pos += d.along_m * dir + d.lateral_m * side;
+    if (d.along_m != 0 || d.lateral_m != 0) {
+      YAML::Node v(YAML::NodeType::Sequence);
+      for (int i = 0; i < 3; ++i) v.push_back(std::round(pos[i] * 1e6) / 1e6);
+      v.SetStyle(YAML::EmitterStyle::Flow);
+      pl["position_m"] = v;
+    }
+    if (d.heading_deg != 0) pl["heading_deg"] = number_or(pl["heading_deg"], 0) + d.heading_deg;
+  }
+  (*root)["placement"] = pl;
+}
+
 }  // namespace
 
 uint64_t evaluation_seed(uint64_t search_seed, const std::string& key) {
@@ -34,7 +68,25 @@ uint64_t evaluation_seed(uint64_t search_seed, const std::string& key) {
   return splitmix64(h ^ splitmix64(search_seed)) >> 2;
 }
 
-std::string individual_scene_yaml(const Problem& pr, const Phenotype& p, uint64_t seed) {
+StartPerturbation start_perturbation(const Problem& pr, uint64_t seed, bool pipe_entry) {
+  const PerturbSettings& b = pr.evaluation.perturb;
+  // four uniform numbers in [-1, 1) from the seed alone
+  auto u = [&](uint64_t k) {
+    const uint64_t x = splitmix64(seed ^ splitmix64(0x70E7B0A7u + k));
+    return static_cast<double>(x >> 11) * 0x1.0p-52 - 1.0;
+  };
+  auto round_to = [](double v, double grain) { return std::round(v / grain) * grain; };
+  StartPerturbation s;
+  s.along_m = round_to(pipe_entry ? b.along_m * 0.5 * (u(0) + 1.0) : b.along_m * u(0), 1e-6);
+  s.lateral_m = round_to(b.lateral_m * u(1), 1e-6);
+  s.heading_deg = round_to(b.heading_deg * u(2), 1e-3);
+  s.roll_deg = round_to(b.roll_deg * u(3), 1e-3);
+  return s;
+}
+
+std::string individual_scene_yaml(const Problem& pr, const Phenotype& p, uint64_t seed, const std::string& solver,
+                                  const std::string& target_override) {
+  const std::string& target = !target_override.empty() ? target_override : pr.evaluation.target;
   YAML::Node root;
   try {
     root = YAML::Load(pr.scene_text);
@@ -44,6 +96,17 @@ std::string individual_scene_yaml(const Problem& pr, const Phenotype& p, uint64_
   const std::filesystem::path dir = std::filesystem::path(pr.scene_file).parent_path();
   root["seed"] = seed;
   if (pr.evaluation.duration_s > 0) root["duration_s"] = pr.evaluation.duration_s;
+  if (solver == "exact") {
+    root["physics"]["solver"] = "exact";
+    root["physics"].remove("solver_iterations");
+  }
+  if (!pr.evaluation.stop_when.empty()) {
+    YAML::Node rules = root["stop_when"];
+    if (!rules || !rules.IsSequence()) rules = YAML::Node(YAML::NodeType::Sequence);
+    for (const StopRule& r : pr.evaluation.stop_when) rules.push_back(stop_rule_yaml(r));
+    root["stop_when"] = rules;
+  }
+  if (pr.evaluation.perturb.any()) perturb_placement(pr, seed, &root);
 
   // files the scene names, absolute
   if (YAML::Node mt = root["module_types"]; mt && mt.IsMap())
@@ -58,8 +121,8 @@ std::string individual_scene_yaml(const Problem& pr, const Phenotype& p, uint64_
       if (kv.second.IsMap()) absolute_program(kv.second["firmware"], dir);
 
   // --target: every endpoint on it, whatever the scene says module by module
-  if (!pr.evaluation.target.empty()) {
-    root["target"] = pr.evaluation.target;
+  if (!target.empty()) {
+    root["target"] = target;
     if (YAML::Node c = root["central"]; c && c.IsMap()) c.remove("target");
     if (YAML::Node pg = root["programs"]; pg && pg.IsMap())
       for (auto kv : pg)
@@ -85,7 +148,7 @@ std::string individual_scene_yaml(const Problem& pr, const Phenotype& p, uint64_
     for (size_t i = 0; i < chain.size(); ++i)
       if (chain[i].IsMap()) {
         absolute_program(chain[i]["firmware"], dir);
-        if (!pr.evaluation.target.empty()) chain[i].remove("target");
+        if (!target.empty()) chain[i].remove("target");
       }
 
   for (size_t k = 0; k < pr.genome.params.size() && k < p.values.size(); ++k) {

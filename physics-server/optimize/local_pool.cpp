@@ -3,8 +3,7 @@
 #include <signal.h>
 
 #include <chrono>
-#include <list>
-#include <memory>
+#include <map>
 #include <thread>
 
 namespace chainsim {
@@ -27,41 +26,71 @@ void install_interrupt_handlers() {
 
 int interrupt_signal() { return g_interrupt; }
 
+bool EvaluatorPool::evaluate(const std::vector<EvalTask>& tasks, std::vector<EvalResult>* results,
+                             const std::function<void(size_t, const EvalResult&)>& on_done) {
+  results->assign(tasks.size(), EvalResult{});
+  // ids past anything a caller of submit() uses for its own tasks
+  const uint64_t base = uint64_t{1} << 62;
+  for (size_t i = 0; i < tasks.size(); ++i) submit(base + i, tasks[i]);
+  size_t left = tasks.size();
+  std::vector<std::pair<uint64_t, EvalResult>> done;
+  while (left > 0) {
+    done.clear();
+    if (!poll(1.0, &done)) return false;
+    for (auto& [id, r] : done) {
+      const size_t i = static_cast<size_t>(id - base);
+      (*results)[i] = std::move(r);
+      --left;
+      if (on_done) on_done(i, (*results)[i]);
+    }
+  }
+  return true;
+}
+
 LocalPool::LocalPool(const EvalContext& ctx, int workers) : ctx_(ctx), workers_(workers < 1 ? 1 : workers) {}
+
+LocalPool::~LocalPool() {
+  for (auto& r : running_) r.second->terminate();
+}
 
 std::string LocalPool::describe() const {
   return std::to_string(workers_) + " local worker" + (workers_ == 1 ? "" : "s");
 }
 
-bool LocalPool::evaluate(const std::vector<EvalTask>& tasks, std::vector<EvalResult>* results,
-                         const std::function<void(size_t, const EvalResult&)>& on_done) {
-  results->assign(tasks.size(), EvalResult{});
-  std::list<std::pair<size_t, std::unique_ptr<Evaluation>>> running;
-  size_t next = 0, done = 0;
-  while (done < tasks.size()) {
+void LocalPool::submit(uint64_t id, const EvalTask& task) { queue_.emplace_back(id, task); }
+
+bool LocalPool::poll(double wait_s, std::vector<std::pair<uint64_t, EvalResult>>* done) {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(wait_s);
+  for (;;) {
     if (interrupt_signal()) {
-      for (auto& r : running) r.second->terminate();
+      for (auto& r : running_) r.second->terminate();
+      running_.clear();
       return false;
     }
-    while (next < tasks.size() && static_cast<int>(running.size()) < workers_) {
-      running.emplace_back(next, std::make_unique<Evaluation>(ctx_, tasks[next]));
-      ++next;
+    while (!queue_.empty() && static_cast<int>(running_.size()) < workers_) {
+      running_.emplace_back(queue_.front().first, std::make_unique<Evaluation>(ctx_, queue_.front().second));
+      queue_.pop_front();
     }
     bool any = false;
-    for (auto it = running.begin(); it != running.end();) {
+    for (auto it = running_.begin(); it != running_.end();) {
       if (it->second->poll()) {
-        (*results)[it->first] = it->second->result();
-        ++done;
-        if (on_done) on_done(it->first, (*results)[it->first]);
-        it = running.erase(it);
+        done->emplace_back(it->first, it->second->result());
+        it = running_.erase(it);
         any = true;
       } else {
         ++it;
       }
     }
-    if (!any) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (any) {  // the freed workers take the next tasks before the caller looks
+      while (!queue_.empty() && static_cast<int>(running_.size()) < workers_) {
+        running_.emplace_back(queue_.front().first, std::make_unique<Evaluation>(ctx_, queue_.front().second));
+        queue_.pop_front();
+      }
+      return true;
+    }
+    if (running_.empty() || std::chrono::steady_clock::now() >= until) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
-  return true;
 }
 
 }  // namespace chainsim

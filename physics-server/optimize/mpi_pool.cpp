@@ -122,7 +122,7 @@ struct MpiPool::Impl {
     std::string host;
     pid_t pid = 0;
     int capacity = 1;
-    std::set<size_t> holding;        // task indices of the current batch
+    std::set<uint64_t> holding;      // ids of the tasks it runs
     Clock::time_point last_heard = Clock::now();
     Clock::time_point last_ping = Clock::now();
   };
@@ -130,8 +130,9 @@ struct MpiPool::Impl {
   double timeout_s = 30;
   bool quiet = false;
   int lost = 0;
-  uint64_t batch = 0;
   Clock::time_point started = Clock::now();
+  std::map<uint64_t, EvalTask> tasks;  // submitted, not yet handed back
+  std::deque<uint64_t> queue;          // not yet given to a rank
   std::string my_host = host_name();
   Outbox out;
 
@@ -179,23 +180,21 @@ void MpiPool::stop_workers(bool finalize) {
   }
 }
 
-bool MpiPool::evaluate(const std::vector<EvalTask>& tasks, std::vector<EvalResult>* results,
-                       const std::function<void(size_t, const EvalResult&)>& on_done) {
+void MpiPool::submit(uint64_t id, const EvalTask& task) {
+  impl_->tasks[id] = task;
+  impl_->queue.push_back(id);
+}
+
+size_t MpiPool::pending() const { return impl_->tasks.size(); }
+
+bool MpiPool::poll(double wait_s, std::vector<std::pair<uint64_t, EvalResult>>* done) {
   Impl& I = *impl_;
-  ++I.batch;
-  results->assign(tasks.size(), EvalResult{});
-  std::deque<size_t> queue;
-  for (size_t i = 0; i < tasks.size(); ++i) queue.push_back(i);
-  std::vector<bool> done(tasks.size(), false);
-  size_t n_done = 0;
-  for (auto& r : I.ranks) {
-    r.holding.clear();
-    r.last_heard = Clock::now();
-  }
+  const auto until = Clock::now() + std::chrono::duration<double>(wait_s);
   auto by_rank = [&](int rank) -> Impl::Rank* {
     return rank >= 1 && rank <= static_cast<int>(I.ranks.size()) ? &I.ranks[static_cast<size_t>(rank - 1)] : nullptr;
   };
-  while (n_done < tasks.size()) {
+  const size_t done_before = done->size();
+  for (;;) {
     if (interrupt_signal()) return false;
     bool busy = false;
     // hand out work
@@ -203,15 +202,17 @@ bool MpiPool::evaluate(const std::vector<EvalTask>& tasks, std::vector<EvalResul
       // only to a rank that said hello: one that dies holding work is then
       // known by its pid (a rank killed before its hello left it was once
       // found only by the silence timeout)
-      while (r.live && r.greeted && !queue.empty() && static_cast<int>(r.holding.size()) < r.capacity) {
-        const size_t i = queue.front();
-        queue.pop_front();
-        const EvalTask& t = tasks[i];
-        const nlohmann::json j = {{"batch", I.batch}, {"index", i},      {"chain", t.phenotype.chain},
-                                  {"values", t.phenotype.values}, {"key", t.key}, {"seed", t.seed}};
+      while (r.live && r.greeted && !I.queue.empty() && static_cast<int>(r.holding.size()) < r.capacity) {
+        const uint64_t id = I.queue.front();
+        I.queue.pop_front();
+        const EvalTask& t = I.tasks.at(id);
+        const nlohmann::json j = {{"id", id},           {"chain", t.phenotype.chain}, {"values", t.phenotype.values},
+                                  {"key", t.key},       {"seed", t.seed},             {"trials", t.trials},
+                                  {"first_trial", t.first_trial}, {"solver", t.solver}, {"target", t.target},
+                                  {"index", t.index}};
         I.out.send(r.rank, kTask, j.dump());
         if (r.holding.empty()) r.last_heard = Clock::now();  // its silence counts from now
-        r.holding.insert(i);
+        r.holding.insert(id);
         busy = true;
       }
     }
@@ -233,18 +234,18 @@ bool MpiPool::evaluate(const std::vector<EvalTask>& tasks, std::vector<EvalResul
         }
       } else if (tag == kResult) {
         const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
-        if (!j.is_object() || j.value("batch", uint64_t{0}) != I.batch) continue;  // stale
-        const size_t i = j.value("index", size_t{0});
-        if (i >= tasks.size() || done[i] || !r->holding.count(i)) continue;
+        if (!j.is_object()) continue;
+        const uint64_t id = j.value("id", uint64_t{0});
+        if (!r->holding.count(id) || !I.tasks.count(id)) continue;  // stale
+        EvalResult res;
         try {
-          (*results)[i] = eval_result_from_json(j.at("result"));
+          res = eval_result_from_json(j.at("result"));
         } catch (const nlohmann::json::exception& e) {
           throw std::runtime_error(I.name(*r) + " sent a malformed result: " + e.what());
         }
-        r->holding.erase(i);
-        done[i] = true;
-        ++n_done;
-        if (on_done) on_done(i, (*results)[i]);
+        r->holding.erase(id);
+        I.tasks.erase(id);
+        done->emplace_back(id, std::move(res));
       }
     }
     // who is lost
@@ -271,13 +272,14 @@ bool MpiPool::evaluate(const std::vector<EvalTask>& tasks, std::vector<EvalResul
       r.live = false;
       ++I.lost;
       std::string which;
-      for (size_t i : r.holding) {
-        which += (which.empty() ? "" : ", ") + std::to_string(i);
-        queue.push_front(i);
+      for (uint64_t id : r.holding) {
+        const EvalTask& t = I.tasks.at(id);
+        which += (which.empty() ? "" : ", ") + t.key;
+        I.queue.push_front(id);
       }
       std::fprintf(stderr, "\noptimize: %s %s; %s\n", I.name(r).c_str(), why.c_str(),
                    which.empty() ? "it held no evaluation"
-                                 : ("its evaluation of individual " + which + " goes to another rank").c_str());
+                                 : ("its evaluation of " + which + " goes to another rank").c_str());
       r.holding.clear();
     }
     bool any_live = false;
@@ -286,9 +288,9 @@ bool MpiPool::evaluate(const std::vector<EvalTask>& tasks, std::vector<EvalResul
       throw std::runtime_error("every worker rank is lost; the search stops after its last complete generation "
                                "(continue it with --resume)");
     I.out.tidy();
+    if (done->size() > done_before || I.tasks.empty() || Clock::now() >= until) return true;
     if (!busy) std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
-  return true;
 }
 
 int mpi_worker_main(const EvalContext& ctx, int rank, int workers, double rank_timeout_s, bool* finalize) {
@@ -301,8 +303,7 @@ int mpi_worker_main(const EvalContext& ctx, int rank, int workers, double rank_t
     bool busy = false;
     for (auto it = running.begin(); it != running.end();) {
       if (it->second->poll()) {
-        const nlohmann::json j = {{"batch", it->first["batch"]}, {"index", it->first["index"]},
-                                  {"result", eval_result_to_json(it->second->result())}};
+        const nlohmann::json j = {{"id", it->first["id"]}, {"result", eval_result_to_json(it->second->result())}};
         out.send(0, kResult, j.dump());
         it = running.erase(it);
         busy = true;
@@ -329,6 +330,10 @@ int mpi_worker_main(const EvalContext& ctx, int rank, int workers, double rank_t
       t.phenotype.values = j.at("values").get<std::vector<int64_t>>();
       t.key = j.at("key").get<std::string>();
       t.seed = j.at("seed").get<uint64_t>();
+      t.trials = j.at("trials").get<int>();
+      t.first_trial = j.at("first_trial").get<int>();
+      t.solver = j.at("solver").get<std::string>();
+      t.target = j.at("target").get<std::string>();
       running.emplace_back(j, std::make_unique<Evaluation>(ctx, t));
     }
     if (!running.empty() && since(last_beat) > 1.0) {

@@ -46,8 +46,9 @@ class MpiPool : public EvaluatorPool {
   // holding work is given up
   MpiPool(int size, double rank_timeout_s, bool quiet);
   ~MpiPool() override;
-  bool evaluate(const std::vector<EvalTask>& tasks, std::vector<EvalResult>* results,
-                const std::function<void(size_t, const EvalResult&)>& on_done) override;
+  void submit(uint64_t id, const EvalTask& task) override;
+  bool poll(double wait_s, std::vector<std::pair<uint64_t, EvalResult>>* done) override;
+  size_t pending() const override;
   int parallelism() const override;
   std::string describe() const override;
   // ranks given up so far

@@ -80,6 +80,7 @@ Score score_run(const std::vector<MeasureSpec>& measures, const ObjectiveSpec& o
     s.fitness = objective.failed_fitness;
     return s;
   };
+  s.early_stop = run.early_stop;
   if (!run.finished) return fail(run.fault.empty() ? "the run did not finish" : run.fault);
   for (const auto& c : constraints) {
     const double v = s.measures[static_cast<size_t>(c.measure)];
@@ -99,19 +100,52 @@ Score score_run(const std::vector<MeasureSpec>& measures, const ObjectiveSpec& o
 
 namespace chainsim {
 
-Score combine_repeats(const std::vector<Score>& repeats, const ObjectiveSpec& objective) {
-  if (repeats.size() == 1) return repeats[0];
-  for (size_t r = 0; r < repeats.size(); ++r)
-    if (repeats[r].failed) {
-      Score s = repeats[r];
-      s.why = "repeat " + std::to_string(r + 1) + " of " + std::to_string(repeats.size()) + ": " + s.why;
+Score combine_trials(const std::vector<Score>& trials, const ObjectiveSpec& objective, TrialFitness how, double q) {
+  const size_t n = trials.size();
+  for (size_t r = 0; r < n; ++r)
+    if (trials[r].failed) {
+      Score s = trials[r];
+      if (n > 1) s.why = "trial " + std::to_string(r + 1) + " of " + std::to_string(n) + ": " + s.why;
+      s.trials = static_cast<int>(n);
       return s;
     }
   Score s;
-  s.measures.assign(repeats[0].measures.size(), 0.0);
-  for (const auto& r : repeats)
-    for (size_t k = 0; k < s.measures.size(); ++k) s.measures[k] += r.measures[k] / static_cast<double>(repeats.size());
-  for (const auto& [k, w] : objective.weights) s.fitness += w * s.measures[static_cast<size_t>(k)];
+  if (n == 1) {
+    s = trials[0];
+  } else {
+    s.measures.assign(trials[0].measures.size(), 0.0);
+    for (const auto& r : trials)
+      for (size_t k = 0; k < s.measures.size(); ++k) s.measures[k] += r.measures[k] / static_cast<double>(n);
+    for (const auto& [k, w] : objective.weights) s.fitness += w * s.measures[static_cast<size_t>(k)];
+  }
+  for (size_t r = 0; r < n; ++r)
+    if (!trials[r].early_stop.empty()) {
+      s.early_stop = n > 1 ? "trial " + std::to_string(r + 1) + " of " + std::to_string(n) + ": " + trials[r].early_stop
+                           : trials[r].early_stop;
+      break;
+    }
+  // the trials' fitnesses, worst first
+  std::vector<double> f;
+  for (const auto& r : trials) f.push_back(r.fitness);
+  std::sort(f.begin(), f.end());
+  if (objective.maximize == false) std::reverse(f.begin(), f.end());
+  s.trials = static_cast<int>(n);
+  s.fitness_min = *std::min_element(f.begin(), f.end());
+  s.fitness_max = *std::max_element(f.begin(), f.end());
+  if (n > 1) {
+    double mean = 0, ss = 0;
+    for (double v : f) mean += v / static_cast<double>(n);
+    for (double v : f) ss += (v - mean) * (v - mean);
+    s.fitness_sd = std::sqrt(ss / static_cast<double>(n - 1));
+    if (how == TrialFitness::Worst) {
+      s.fitness = f.front();
+    } else if (how == TrialFitness::Quantile) {
+      const double x = q * static_cast<double>(n - 1);
+      const size_t i = static_cast<size_t>(std::floor(x));
+      const double frac = x - static_cast<double>(i);
+      s.fitness = i + 1 < n ? f[i] + frac * (f[i + 1] - f[i]) : f[i];
+    }
+  }
   return s;
 }
 

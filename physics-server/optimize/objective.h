@@ -14,8 +14,9 @@
 #include <utility>
 #include <vector>
 
-#include "optimize/pipe_progress.h"
+#include "environment/pipe_progress.h"
 #include "optimize/run_outcome.h"
+#include "optimize/trial_fitness.h"
 
 namespace chainsim {
 
@@ -47,6 +48,13 @@ struct Score {
   double fitness = 0;            // in the objective's sense
   bool failed = false;
   std::string why;               // fault or broken constraint
+  std::string early_stop;        // a stop_when rule ended the run early: what it saw
+  // over the trials of combine_trials: how many, and their fitness's sample
+  // standard deviation (NaN for one trial), lowest and highest
+  int trials = 1;
+  double fitness_sd = std::numeric_limits<double>::quiet_NaN();
+  double fitness_min = std::numeric_limits<double>::quiet_NaN();
+  double fitness_max = std::numeric_limits<double>::quiet_NaN();
 };
 
 // the value of one measure; pipe is needed for along_pipe measures
@@ -60,9 +68,13 @@ Score score_run(const std::vector<MeasureSpec>& measures, const ObjectiveSpec& o
 // the score of a run that could not be measured at all (bad scene, no outputs)
 Score failed_score(size_t n_measures, const ObjectiveSpec& objective, const std::string& why);
 
-// the score of repeated runs of one individual: the first failed one, else
-// the mean of each measure and the objective of those means
-Score combine_repeats(const std::vector<Score>& repeats, const ObjectiveSpec& objective);
+// the score of an individual's trials: the first failed one, else the
+// measures' means and a fitness by `how`: Mean, the objective of the
+// measures' means; Worst, the worst trial's fitness; Quantile, the q-quantile
+// of the trials' fitnesses ordered worst to best (q = 0 the worst, 1 the best,
+// linear between neighbours). Always the spread: sd, min and max.
+Score combine_trials(const std::vector<Score>& trials, const ObjectiveSpec& objective, TrialFitness how = TrialFitness::Mean,
+                     double q = 0.5);
 
 // true when fitness a is better than b in the objective's sense
 inline bool better_fitness(const ObjectiveSpec& o, double a, double b) { return o.maximize ? a > b : a < b; }

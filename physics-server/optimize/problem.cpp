@@ -13,6 +13,7 @@
 #include "environment/pipe_path.h"
 #include "optimize/individual_scene.h"
 #include "scene/scene.h"
+#include "scene/scene_stop.h"
 #include "scene/scene_yaml.h"
 
 namespace chainsim {
@@ -217,7 +218,8 @@ void load_ga(const SceneYaml& y, const YAML::Node& n, GaSettings* g) {
   const std::string p = "ga";
   y.keys(n, p,
          {"population", "generations", "seed", "crossover", "crossover_probability", "mutation",
-          "mutation_probability", "mutation_width", "selection", "selection_size"});
+          "mutation_probability", "mutation_width", "selection", "selection_size", "islands", "migration_every",
+          "migrants"});
   g->population = static_cast<int>(get_int(y, n, "population", g->population, 2, 100000, p));
   g->generations = static_cast<int>(get_int(y, n, "generations", g->generations, 0, 1000000, p));
   g->seed = static_cast<uint64_t>(get_int(y, n, "seed", 1, 0, INT64_MAX, p));
@@ -229,10 +231,86 @@ void load_ga(const SceneYaml& y, const YAML::Node& n, GaSettings* g) {
   g->mutation_width = y.number(n, "mutation_width", g->mutation_width, 0, 1, p);
   g->selection = y.choice(n, "selection", g->selection, {"tournament", "truncated"}, p);
   g->selection_size = static_cast<int>(get_int(y, n, "selection_size", g->selection_size, 1, 100000, p));
+  g->islands = static_cast<int>(get_int(y, n, "islands", g->islands, 1, 10000, p));
+  g->migration_every = static_cast<int>(get_int(y, n, "migration_every", g->migration_every, 1, 1000000, p));
+  g->migrants = static_cast<int>(get_int(y, n, "migrants", g->migrants, 1, 100000, p));
+  if (g->migrants >= g->population)
+    y.fail(n["migrants"] ? n["migrants"] : n, "'ga.migrants' (" + std::to_string(g->migrants) +
+                                                  ") must be smaller than 'ga.population' (" +
+                                                  std::to_string(g->population) + ")");
   if (g->selection_size > g->population)
     y.fail(n["selection_size"] ? n["selection_size"] : n,
            "'ga.selection_size' (" + std::to_string(g->selection_size) + ") is larger than 'ga.population' (" +
                std::to_string(g->population) + ")");
+}
+
+void load_perturb(const SceneYaml& y, const YAML::Node& n, bool pipe_entry, PerturbSettings* p) {
+  const std::string path = "evaluation.perturb";
+  if (!n.IsMap()) y.fail(n, "'" + path + "' must be a mapping {along_m, lateral_m, heading_deg, roll_deg}");
+  y.keys(n, path, {"along_m", "lateral_m", "heading_deg", "roll_deg"});
+  p->along_m = y.number(n, "along_m", 0, 0, 1, path);
+  p->lateral_m = y.number(n, "lateral_m", 0, 0, 1, path);
+  p->heading_deg = y.number(n, "heading_deg", 0, 0, 180, path);
+  p->roll_deg = y.number(n, "roll_deg", 0, 0, 180, path);
+  if (pipe_entry)
+    for (const char* k : {"lateral_m", "heading_deg"})
+      if (n[k])
+        y.fail(n[k], "'" + path + "." + k + "': the base scene places the chain at the pipe's entry, where only "
+                     "along_m (deeper in) and roll_deg apply");
+}
+
+void load_evaluation(const SceneYaml& y, const YAML::Node& e, Problem* pr) {
+  const std::string path = "evaluation";
+  if (e["repeats"])
+    y.fail(e["repeats"], "'evaluation.repeats' is now 'evaluation.trials' (the same: runs per individual, each "
+                         "with its own seed)");
+  y.keys(e, path,
+         {"duration_s", "module_timeout_s", "trials", "fitness", "quantile", "perturb", "stop_when",
+          "stop_on_constraints"});
+  EvaluationSettings& ev = pr->evaluation;
+  ev.duration_s = y.number(e, "duration_s", -1, 0.001, 86400, path);
+  if (!e["duration_s"]) ev.duration_s = -1;
+  ev.module_timeout_s = y.number(e, "module_timeout_s", 10, 0.001, 86400, path, true);
+  if (const YAML::Node t = e["trials"]; t && t.IsScalar() && t.as<std::string>() == "auto") ev.trials = 0;
+  else if (t) ev.trials = static_cast<int>(get_int(y, e, "trials", 1, 1, 1000, path));
+  const std::string f = y.choice(e, "fitness", "mean", {"mean", "worst", "quantile"}, path);
+  ev.fitness = f == "mean" ? TrialFitness::Mean : f == "worst" ? TrialFitness::Worst : TrialFitness::Quantile;
+  if (ev.fitness == TrialFitness::Quantile && !e["quantile"])
+    y.fail(e, "'evaluation.fitness: quantile' needs 'evaluation.quantile' (0: the worst trial, 1: the best)");
+  if (ev.fitness != TrialFitness::Quantile && e["quantile"])
+    y.fail(e["quantile"], "'evaluation.quantile' applies to 'fitness: quantile' only");
+  ev.quantile = y.number(e, "quantile", 0.5, 0, 1, path);
+  const YAML::Node placement = YAML::Load(pr->scene_text)["placement"];
+  const bool pipe_entry = placement && placement.IsMap() && placement["at"];
+  if (const YAML::Node p = e["perturb"]) load_perturb(y, p, pipe_entry, &ev.perturb);
+  if (const YAML::Node st = e["stop_when"]) {
+    Scene tmp;
+    if (pr->pipe) tmp.world.environment.type = EnvironmentType::Pipe;
+    load_scene_stop_when(y.file(), st, &tmp, "evaluation.stop_when");
+    ev.stop_when = tmp.stop_when;
+  }
+  ev.stop_on_constraints = y.flag(e, "stop_on_constraints", true, path);
+}
+
+// a constraint `time_to_reach <= max` is broken once max has passed without
+// the mark: the run can stop there (its measure is then never_s or inf
+// either way, and the constraint fails either way)
+void add_constraint_stops(Problem* pr) {
+  for (const ConstraintSpec& c : pr->constraints) {
+    const MeasureSpec& m = pr->measures[static_cast<size_t>(c.measure)];
+    if (m.kind != MeasureSpec::Kind::TimeToReach || !c.max) continue;
+    // a run that never reaches scores never_s: if that is within the bound,
+    // not reaching is no failure and nothing can be decided early
+    if (std::isfinite(m.never_s) && m.never_s <= *c.max) continue;
+    StopRule r;
+    r.kind = StopRule::Kind::NotReached;
+    r.tail = m.of == MeasureSpec::Of::Tail;
+    r.along_pipe = m.along_pipe;
+    r.axis = m.axis;
+    r.reach_m = m.reach_m;
+    r.by_s = *c.max;
+    pr->evaluation.stop_when.push_back(r);
+  }
 }
 
 std::string read_text(const std::string& path) {
@@ -320,13 +398,10 @@ Problem load(const std::string& text, const std::string& file) {
   load_objective(y, root["objective"], &pr);
   if (root["constraints"]) load_constraints(y, root["constraints"], &pr);
   if (root["ga"]) load_ga(y, root["ga"], &pr.ga);
-  if (const YAML::Node e = root["evaluation"]) {
-    y.keys(e, "evaluation", {"duration_s", "module_timeout_s", "repeats"});
-    pr.evaluation.duration_s = y.number(e, "duration_s", -1, 0.001, 86400, "evaluation");
-    if (!e["duration_s"]) pr.evaluation.duration_s = -1;
-    pr.evaluation.module_timeout_s = y.number(e, "module_timeout_s", 10, 0.001, 86400, "evaluation", true);
-    pr.evaluation.repeats = static_cast<int>(get_int(y, e, "repeats", 1, 1, 1000, "evaluation"));
-  }
+  if (pr.exhaustive && pr.ga.islands > 1)
+    y.fail(root["ga"]["islands"], "'ga.islands' applies to 'search: ga' (an exhaustive search has no populations)");
+  if (const YAML::Node e = root["evaluation"]) load_evaluation(y, e, &pr);
+  if (pr.evaluation.stop_on_constraints) add_constraint_stops(&pr);
 
   // the genome must make valid scenes: try the first individual
   try {

@@ -13,7 +13,8 @@
 
 #include "optimize/genome.h"
 #include "optimize/objective.h"
-#include "optimize/pipe_progress.h"
+#include "environment/pipe_progress.h"
+#include "scene/scene.h"
 
 namespace chainsim {
 
@@ -33,14 +34,41 @@ struct GaSettings {
   double mutation_width = 0.1;       // gaussian: sigma as a fraction of the gene's range
   std::string selection = "tournament";  // tournament | truncated
   int selection_size = 2;            // tournament size, or how many the truncation keeps
+  // several populations evolving apart (search: ga only): island i's GA is
+  // seeded from the search seed and i; after every migration_every-th
+  // generation island i's best `migrants` replace the worst of island i + 1
+  // (a ring), where they are better
+  int islands = 1;
+  int migration_every = 5;
+  int migrants = 1;
+};
+
+// a small change of the start pose for each trial, uniform within these
+// bounds and drawn from the trial's seed (docs/optimize.md, "evaluation")
+struct PerturbSettings {
+  double along_m = 0;      // along the chain's axis (in a pipe: deeper only, 0..along_m)
+  double lateral_m = 0;    // sideways, horizontal (open ground and terrain only)
+  double heading_deg = 0;  // about z (open ground and terrain only)
+  double roll_deg = 0;     // about the chain's own axis
+  bool any() const { return along_m > 0 || lateral_m > 0 || heading_deg > 0 || roll_deg > 0; }
 };
 
 struct EvaluationSettings {
   double duration_s = -1;            // < 0: the base scene's
   double module_timeout_s = 10;      // chainsim run --module-timeout
-  int repeats = 1;                   // runs per individual, each with its own seed; the mean is scored
+  // runs per individual, each with its own seed; 0: auto (kAutoProbeTrials
+  // for the first generation, kept if any individual's fitness varied
+  // between its trials, else 1 from then on)
+  int trials = 0;
+  TrialFitness fitness = TrialFitness::Mean;
+  double quantile = 0.5;             // TrialFitness::Quantile: 0 the worst trial, 1 the best
+  PerturbSettings perturb;
+  std::vector<StopRule> stop_when;   // copied into every individual's scene
+  bool stop_on_constraints = true;   // a time_to_reach constraint's max also stops the run
   std::string target;                // "": as the scene says; native or pic for every endpoint (--target)
 };
+
+constexpr int kAutoProbeTrials = 3;
 
 struct Problem {
   std::string file;                  // the problem file as given

@@ -7,6 +7,8 @@
 #include <set>
 #include <sstream>
 
+#include "optimize/verify.h"
+
 namespace chainsim {
 
 namespace {
@@ -118,7 +120,7 @@ std::vector<GenerationStats> generation_stats(const Problem& pr, const std::vect
 }
 
 std::string report_html(const Problem& pr, const std::vector<HistoryRow>& rows, const BestSoFar& best,
-                        const std::string& note, const std::string& replay_html) {
+                        const ReportNotes& notes, const std::string& replay_html) {
   const std::vector<GenerationStats> st = generation_stats(pr, rows);
   std::ostringstream o;
   o << "<!doctype html><html><head><meta charset='utf-8'><title>chainsim optimize: " << esc(pr.name)
@@ -134,9 +136,45 @@ std::string report_html(const Problem& pr, const std::vector<HistoryRow>& rows, 
       << esc(pr.measures[static_cast<size_t>(pr.objective.weights[k].first)].name);
   o << "; a failed run scores " << num(pr.objective.failed_fitness) << ".</p>";
   if (best.valid)
-    o << "<h2>Best</h2><p><b><code>" << esc(best.key) << "</code></b>, fitness " << num(best.fitness, "%.10g")
-      << (best.failed ? " (failed)" : "") << ", found in generation " << best.generation << " (individual "
-      << best.individual << "). " << esc(note) << "</p>";
+    o << "<h2>Best</h2><p><b><code>" << esc(best.key) << "</code></b>, fitness in the search "
+      << num(best.fitness, "%.10g") << (best.failed ? " (failed)" : "") << ", found in generation " << best.generation
+      << " (island " << best.island << ", individual " << best.individual << "). " << esc(notes.replay) << "</p>";
+  for (const std::string* t : {&notes.trials, &notes.noise})
+    if (!t->empty()) o << "<p>" << (t == &notes.noise ? "<b>Warning:</b> " : "") << esc(*t) << ".</p>";
+  if (const Verification* v = notes.verification) {
+    o << "<h2>Verification</h2><p>Each of the best " << v->leaders.size() << " distinct individuals run again with "
+      << v->fresh_trials << " fresh seeds the search never used";
+    bool exact = false, pic = false;
+    for (const auto& l : v->leaders) {
+      exact |= l.has_exact;
+      pic |= l.has_pic;
+    }
+    if (exact) o << ", the same with the converged solver (<code>physics.solver: exact</code>)";
+    if (pic) o << ", and once on the board's own binaries (<code>--target pic</code>)";
+    o << ". best.yaml is the best with fresh seeds.</p><table><tr><th class='l'>genome</th><th>search</th>"
+         "<th>fresh seeds</th><th>fresh min .. max</th>"
+      << (exact ? "<th>exact solver</th>" : "") << (pic ? "<th>board</th>" : "") << "<th class='l'>flags</th></tr>";
+    auto cell = [&](const EvalResult& r) {
+      if (r.failed) return "<td class='l'>fails: " + esc(r.why) + "</td>";
+      std::string t = num(r.fitness, "%.6g");
+      if (r.trials > 1 && std::isfinite(r.fitness_sd)) t += " &plusmn; " + num(r.fitness_sd, "%.3g");
+      return "<td>" + t + " (" + std::to_string(r.trials) + ")</td>";
+    };
+    for (size_t l = 0; l < v->leaders.size(); ++l) {
+      const VerifiedLeader& x = v->leaders[l];
+      o << "<tr><td class='l'><code>" << esc(x.search.genome) << "</code>"
+        << (static_cast<int>(l) == v->best ? " <b>(verified best)</b>" : "") << "</td>" << cell(x.search.result)
+        << cell(x.fresh) << "<td>" << num(x.fresh.fitness_min, "%.6g") << " .. " << num(x.fresh.fitness_max, "%.6g")
+        << "</td>";
+      if (exact) o << (x.has_exact ? cell(x.exact) : "<td></td>");
+      if (pic) o << (x.has_pic ? cell(x.pic) : "<td></td>");
+      std::string flags;
+      for (const auto& f : x.flags) flags += (flags.empty() ? "" : "; ") + f;
+      o << "<td class='l'" << (flags.empty() ? "" : " style='color:#b00'") << ">" << esc(flags) << "</td></tr>";
+    }
+    o << "</table>";
+  }
+  if (!notes.verification_note.empty()) o << "<p>" << esc(notes.verification_note) << "</p>";
   o << "<h2>Fitness per generation</h2>" << plot_svg(pr, st);
 
   // the best distinct individuals
@@ -148,14 +186,20 @@ std::string report_html(const Problem& pr, const std::vector<HistoryRow>& rows, 
     if (a->result.failed != b->result.failed) return !a->result.failed;
     return better_fitness(pr.objective, a->result.fitness, b->result.fitness);
   });
-  o << "<h2>Best individuals</h2><table><tr><th class='l'>genome</th><th>fitness</th>";
+  o << "<h2>Best individuals</h2><table><tr><th class='l'>genome</th><th>fitness</th><th>trials</th><th>sd</th>"
+       "<th>min .. max</th>";
   for (const auto& m : pr.measures) o << "<th>" << esc(m.name) << "</th>";
   o << "<th>first seen</th><th class='l'>fault or why</th></tr>";
   for (size_t i = 0; i < distinct.size() && i < 15; ++i) {
     const HistoryRow& r = *distinct[i];
-    o << "<tr><td class='l'><code>" << esc(r.genome) << "</code></td><td>" << num(r.result.fitness, "%.6g") << "</td>";
+    o << "<tr><td class='l'><code>" << esc(r.genome) << "</code></td><td>" << num(r.result.fitness, "%.6g") << "</td><td>"
+      << r.result.trials << "</td><td>" << num(r.result.fitness_sd, "%.3g") << "</td><td>"
+      << num(r.result.fitness_min, "%.6g") << " .. " << num(r.result.fitness_max, "%.6g") << "</td>";
     for (double m : r.result.measures) o << "<td>" << num(m) << "</td>";
-    o << "<td>gen " << r.generation << " #" << r.individual << "</td><td class='l'>" << esc(r.result.why) << "</td></tr>";
+    o << "<td>gen " << r.generation << (pr.ga.islands > 1 ? " island " + std::to_string(r.island) : std::string())
+      << " #" << r.individual << "</td><td class='l'>" << esc(r.result.why)
+      << (r.result.early_stop.empty() ? "" : (r.result.why.empty() ? "" : "; ") + esc(r.result.early_stop))
+      << "</td></tr>";
   }
   o << "</table><p>" << distinct.size() << " distinct individuals in " << rows.size() << " evaluations.</p>";
 

@@ -24,9 +24,19 @@ struct GenerationStats {
 // per-generation figures of a history, in generation order
 std::vector<GenerationStats> generation_stats(const Problem& pr, const std::vector<HistoryRow>& rows);
 
-// the page; replay_html is the viewer's page of the best run (empty: none),
-// note a sentence about the best's re-run
+struct Verification;
+
+// what the page says beside the history
+struct ReportNotes {
+  std::string replay;        // a sentence about the best's re-run
+  std::string trials;        // trials: auto's decision
+  std::string noise;         // noise_warning's sentence, or empty
+  const Verification* verification = nullptr;  // the winners' verification, if run
+  std::string verification_note;                // why it was not (complete), or empty
+};
+
+// the page; replay_html is the viewer's page of the best run (empty: none)
 std::string report_html(const Problem& pr, const std::vector<HistoryRow>& rows, const BestSoFar& best,
-                        const std::string& note, const std::string& replay_html);
+                        const ReportNotes& notes, const std::string& replay_html);
 
 }  // namespace chainsim

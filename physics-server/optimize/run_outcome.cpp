@@ -75,6 +75,7 @@ RunOutcome parse_run_outcome(const std::string& summary_json, const std::string&
     else
       r.fault = module_fault;
     r.finished = r.fault.empty();
+    if (s.contains("early_stop") && s["early_stop"].is_string()) r.early_stop = s["early_stop"].get<std::string>();
   } catch (const nlohmann::json::exception& e) {
     throw RunOutcomeError(source + "/summary.json: " + e.what());
   }

@@ -14,6 +14,7 @@ namespace chainsim {
 struct RunOutcome {
   bool finished = false;         // ran to its duration with no fault
   std::string fault;             // why not (the run's own words), empty when finished
+  std::string early_stop;        // a stop_when rule ended it (summary.json's early_stop), else empty
   int modules = 0;
   double sim_time_s = 0;
   std::vector<double> t_s;                 // trace row times

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -15,6 +16,7 @@
 #include "optimize/individual_scene.h"
 #include "optimize/sga_stepper.h"
 #include "output/sha256.h"
+#include "physics/splitmix64.h"
 
 namespace chainsim {
 
@@ -23,13 +25,18 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 // what must not change between a search and its resumption
-std::string fingerprint(const Problem& pr) {
+std::string fingerprint_of(const Problem& pr) {
   const GaSettings& g = pr.ga;
   char settings[512];
   std::snprintf(settings, sizeof settings, "seed=%llu population=%d exhaustive=%d %s %.17g %s %.17g %.17g %s %d",
                 static_cast<unsigned long long>(g.seed), g.population, pr.exhaustive ? 1 : 0, g.crossover.c_str(),
                 g.crossover_probability, g.mutation.c_str(), g.mutation_probability, g.mutation_width,
                 g.selection.c_str(), g.selection_size);
+  if (g.islands > 1) {  // one island fingerprints as before
+    char isl[96];
+    std::snprintf(isl, sizeof isl, " islands=%d every=%d migrants=%d", g.islands, g.migration_every, g.migrants);
+    std::strncat(settings, isl, sizeof settings - std::strlen(settings) - 1);
+  }
   std::string data = pr.text + '\0' + pr.scene_text + '\0' + settings;
   if (!pr.evaluation.target.empty()) data += std::string(1, '\0') + "target=" + pr.evaluation.target;
   Sha256 sha;
@@ -69,22 +76,22 @@ std::vector<Genes> enumerate_individuals(const Problem& pr) {
 
 class Progress {
  public:
-  Progress(bool quiet, int last_gen, uint64_t per_gen, uint64_t total, uint64_t done_before)
-      : quiet_(quiet), tty_(isatty(2)), last_gen_(last_gen), per_gen_(per_gen), total_(total),
-        done_before_(done_before), t0_(Clock::now()) {}
-  void update(int gen, uint64_t done_in_gen, uint64_t hits, const BestSoFar& best, bool gen_end) {
+  Progress(bool quiet, int last_gen, uint64_t total, uint64_t done_before)
+      : quiet_(quiet), tty_(isatty(2)), last_gen_(last_gen), total_(total), done_before_(done_before),
+        t0_(Clock::now()) {}
+  // gen: the generation being finished; done: individuals with a result
+  void update(int gen, uint64_t done, uint64_t hits, const BestSoFar& best, bool gen_end) {
     if (quiet_ || (!tty_ && !gen_end)) return;
-    const uint64_t total = total_;
-    const uint64_t done = per_gen_ * static_cast<uint64_t>(gen) + done_in_gen;
     const double wall = std::chrono::duration<double>(Clock::now() - t0_).count();
     const uint64_t this_session = done > done_before_ ? done - done_before_ : 0;
     std::string eta = "?";
-    if (this_session > 0) eta = fmt_duration(wall / static_cast<double>(this_session) * static_cast<double>(total - done));
+    if (this_session > 0 && done <= total_)
+      eta = fmt_duration(wall / static_cast<double>(this_session) * static_cast<double>(total_ - done));
     char best_s[160] = "none yet";
     if (best.valid) std::snprintf(best_s, sizeof best_s, "%s%.6g (%s)", best.failed ? "failed " : "", best.fitness, best.key.c_str());
     std::fprintf(stderr, "%soptimize: generation %d/%d: %llu/%llu evaluations, %llu cache hits, best %s, ETA %s%s",
-                 tty_ ? "\r\033[K" : "", gen, last_gen_, static_cast<unsigned long long>(done),
-                 static_cast<unsigned long long>(total), static_cast<unsigned long long>(hits), best_s, eta.c_str(),
+                 tty_ ? "\r\033[K" : "", std::min(gen, last_gen_), last_gen_, static_cast<unsigned long long>(done),
+                 static_cast<unsigned long long>(total_), static_cast<unsigned long long>(hits), best_s, eta.c_str(),
                  gen_end ? "\n" : "");
     std::fflush(stderr);
   }
@@ -92,7 +99,7 @@ class Progress {
  private:
   bool quiet_, tty_;
   int last_gen_;
-  uint64_t per_gen_, total_, done_before_;
+  uint64_t total_, done_before_;
   Clock::time_point t0_;
 };
 
@@ -107,6 +114,8 @@ void write_text_atomic(const std::string& path, const std::string& text) {
 }
 
 }  // namespace
+
+std::string search_fingerprint(const Problem& pr) { return fingerprint_of(pr); }
 
 std::string history_path(const std::string& d) { return d + "/history.csv"; }
 std::string checkpoint_path(const std::string& d) { return d + "/checkpoint.json"; }
@@ -129,25 +138,102 @@ EvalTask individual_task(const Problem& pr, const Genes& genes, size_t index) {
   return t;
 }
 
-std::string best_scene_text(const Problem& pr, const BestSoFar& best) {
+GaSettings island_ga(const GaSettings& ga, int island) {
+  GaSettings g = ga;
+  if (island > 0) g.seed = splitmix64(ga.seed ^ splitmix64(0x15A7D5ull + static_cast<uint64_t>(island))) >> 2;
+  return g;
+}
+
+int trials_for_generation(const Problem& pr, int generation, int decided) {
+  if (pr.evaluation.trials > 0) return pr.evaluation.trials;
+  return generation == 0 || decided == 0 ? kAutoProbeTrials : decided;
+}
+
+int decide_trials(const std::vector<HistoryRow>& gen0, std::string* note) {
+  size_t measured = 0;
+  for (const HistoryRow& r : gen0) {
+    if (r.result.failed || r.result.trials < 2) continue;
+    ++measured;
+    if (r.result.fitness_min != r.result.fitness_max) {
+      char b[512];
+      std::snprintf(b, sizeof b,
+                    "trials: auto: the fitness varied between an individual's trials in generation 0 (%s: %.6g .. "
+                    "%.6g over %d trials), so every individual runs %d trials",
+                    r.genome.c_str(), r.result.fitness_min, r.result.fitness_max, r.result.trials, kAutoProbeTrials);
+      *note = b;
+      return kAutoProbeTrials;
+    }
+  }
+  char b[256];
+  std::snprintf(b, sizeof b,
+                "trials: auto: no individual's fitness varied between its %d trials in generation 0 (%zu measured), "
+                "so from generation 1 on each runs once",
+                kAutoProbeTrials, measured);
+  *note = b;
+  return 1;
+}
+
+std::string best_scene_text(const Problem& pr, const BestSoFar& best, const std::string& more) {
   const EvalTask t = individual_task(pr, best.genes, best.individual);
   char head[512];
   std::snprintf(head, sizeof head,
                 "# The best individual of the design search '%s' (problem %s, seed %llu):\n"
-                "#   %s, fitness %.10g%s, found in generation %d (individual %zu).\n"
+                "#   %s, fitness %.10g%s, found in generation %d (island %d, individual %zu).\n"
                 "# Run it with: chainsim run best.yaml\n",
                 pr.name.c_str(), pr.file.c_str(), static_cast<unsigned long long>(pr.ga.seed), t.key.c_str(),
-                best.fitness, best.failed ? " (failed)" : "", best.generation, best.individual);
-  return head + individual_scene_yaml(pr, t.phenotype, t.seed);
+                best.fitness, best.failed ? " (failed)" : "", best.generation, best.island, best.individual);
+  return head + more + individual_scene_yaml(pr, t.phenotype, t.seed);
 }
+
+namespace {
+
+// one individual of an island's generation
+struct Slot {
+  Genes genes;
+  EvalTask task;
+  bool have = false;
+  EvalResult result;
+};
+
+struct Island {
+  std::unique_ptr<SgaStepper> ga;
+  int produced = -1;                               // the last generation made
+  int done = -1;                                   // the last generation scored and the GA advanced
+  std::map<int, std::vector<Slot>> inflight;       // generation -> its individuals
+  std::map<int, Checkpoint::Island> snaps;         // the population after generation g
+  // finished generations, not yet written: each row with its individual's genes
+  std::map<int, std::vector<std::pair<HistoryRow, Genes>>> rows;
+};
+
+}  // namespace
+
+void migrate_best(const Checkpoint::Island& src, int m, Checkpoint::Island* dst) {
+  std::vector<size_t> best(src.f.size()), worst(dst->f.size());
+  for (size_t i = 0; i < best.size(); ++i) best[i] = i;
+  for (size_t i = 0; i < worst.size(); ++i) worst[i] = i;
+  std::stable_sort(best.begin(), best.end(), [&](size_t a, size_t b) { return src.f[a] < src.f[b]; });
+  std::stable_sort(worst.begin(), worst.end(), [&](size_t a, size_t b) { return dst->f[a] > dst->f[b]; });
+  size_t w = 0;
+  for (int k = 0; k < m && static_cast<size_t>(k) < best.size() && w < worst.size(); ++k) {
+    const size_t b = best[static_cast<size_t>(k)];
+    bool there = false;
+    for (const auto& g : dst->genes) there |= g == src.genes[b];
+    if (there || !(src.f[b] < dst->f[worst[w]])) continue;
+    dst->genes[worst[w]] = src.genes[b];
+    dst->f[worst[w]] = src.f[b];
+    ++w;
+  }
+}
+
 
 SearchSummary run_search(const Problem& pr, const SearchOptions& opt, EvaluatorPool& pool) {
   namespace fs = std::filesystem;
   const auto t_start = Clock::now();
   fs::create_directories(opt.out_dir);
-  const std::string fp = fingerprint(pr);
+  const std::string fp = fingerprint_of(pr);
   const int last_gen = last_generation(pr);
   const std::vector<Genes> everyone = pr.exhaustive ? enumerate_individuals(pr) : std::vector<Genes>{};
+  const int n_islands = pr.exhaustive ? 1 : pr.ga.islands;
 
   Checkpoint cp;
   // resuming a search killed before its first generation ended: start it
@@ -159,6 +245,9 @@ SearchSummary run_search(const Problem& pr, const SearchOptions& opt, EvaluatorP
       throw CheckpointError(checkpoint_path(opt.out_dir) +
                             ": the search there was started with another problem file, base scene, seed, "
                             "population or GA settings; resume it with the same ones, or use another --out");
+    if (static_cast<int>(cp.islands.size()) != n_islands)
+      throw CheckpointError(checkpoint_path(opt.out_dir) + ": damaged: " + std::to_string(cp.islands.size()) +
+                            " islands, the problem has " + std::to_string(n_islands));
   } else if (opt.resume) {
     if (!fs::exists(journal_path(opt.out_dir)))
       throw CheckpointError(checkpoint_path(opt.out_dir) + ": cannot open (no search to resume here)");
@@ -176,8 +265,17 @@ SearchSummary run_search(const Problem& pr, const SearchOptions& opt, EvaluatorP
   HistoryFile history(history_path(opt.out_dir), names, resume, cp.history_bytes);
   if (resume) cache.restore(cp.cache_keys);
 
-  SgaStepper ga(pr.genome, pr.ga);
-  if (resume && !pr.exhaustive) ga.set_population(cp.genes, cp.f);
+  std::vector<Island> islands(static_cast<size_t>(n_islands));
+  for (int i = 0; i < n_islands; ++i) {
+    Island& is = islands[static_cast<size_t>(i)];
+    is.ga = std::make_unique<SgaStepper>(pr.genome, island_ga(pr.ga, i));
+    is.produced = is.done = cp.generation;
+    if (resume) {
+      const Checkpoint::Island& c = cp.islands[static_cast<size_t>(i)];
+      is.ga->set_population(c.genes, c.f);
+      is.snaps[cp.generation] = c;
+    }
+  }
 
   SearchSummary sum;
   sum.best = cp.best;
@@ -185,87 +283,149 @@ SearchSummary run_search(const Problem& pr, const SearchOptions& opt, EvaluatorP
   sum.simulations = cp.simulations;
   sum.cache_hits = cp.cache_hits;
   sum.generations_done = cp.generation;
-  const uint64_t per_gen = static_cast<uint64_t>(pr.ga.population);
+  sum.trials = cp.trials;
+  const uint64_t per_gen = static_cast<uint64_t>(pr.ga.population) * static_cast<uint64_t>(n_islands);
   const uint64_t total = pr.exhaustive ? everyone.size() : per_gen * static_cast<uint64_t>(last_gen + 1);
-  Progress progress(opt.quiet, last_gen, per_gen, total, per_gen * static_cast<uint64_t>(cp.generation + 1));
+  const uint64_t done_before = pr.exhaustive ? std::min<uint64_t>(everyone.size(), per_gen * static_cast<uint64_t>(cp.generation + 1))
+                                             : per_gen * static_cast<uint64_t>(cp.generation + 1);
+  Progress progress(opt.quiet, last_gen, total, done_before);
+  uint64_t scored = done_before;     // rows with a result, written or not
 
-  for (int gen = cp.generation + 1; gen <= last_gen; ++gen) {
+  // simulations in flight: id -> key; key -> the slots waiting for it
+  struct Waiter {
+    int island, generation;
+    size_t slot;
+  };
+  std::map<uint64_t, std::string> flying;
+  std::map<std::string, std::vector<Waiter>> waiting;
+  uint64_t next_id = 0;
+  size_t next_index = 0;            // run directories: unique per task
+  const size_t lookahead = static_cast<size_t>(4 * std::max(1, pool.parallelism())) + static_cast<size_t>(pr.ga.population);
+
+  auto fill = [&](const Waiter& w, const EvalResult& r) {
+    Slot& s = islands[static_cast<size_t>(w.island)].inflight.at(w.generation)[w.slot];
+    if (!s.have) ++scored;
+    s.have = true;
+    s.result = r;
+  };
+
+  auto produce = [&](int i, int g) {
+    Island& is = islands[static_cast<size_t>(i)];
     std::vector<Genes> genes;
     if (pr.exhaustive) {
-      const size_t a = static_cast<size_t>(gen) * per_gen, b = std::min(everyone.size(), a + per_gen);
+      const size_t a = static_cast<size_t>(g) * static_cast<size_t>(pr.ga.population);
+      const size_t b = std::min(everyone.size(), a + static_cast<size_t>(pr.ga.population));
       genes.assign(everyone.begin() + static_cast<long>(a), everyone.begin() + static_cast<long>(b));
+    } else if (g == 0) {
+      genes = is.ga->initial();
     } else {
-      genes = gen == 0 ? ga.initial() : ga.offspring(gen);
+      const int after = g - 1;
+      if (n_islands > 1 && after > 0 && after % pr.ga.migration_every == 0) {
+        const int src = (i + n_islands - 1) % n_islands;
+        Checkpoint::Island pop = is.snaps.at(after);
+        migrate_best(islands[static_cast<size_t>(src)].snaps.at(after), pr.ga.migrants, &pop);
+        is.ga->set_population(pop.genes, pop.f);
+      }
+      genes = is.ga->offspring(g);
     }
-
-    // which individuals need a simulation: the first of each key not known
-    std::vector<EvalTask> all, tasks;
-    std::vector<EvalResult> results(genes.size());
-    std::vector<bool> cached(genes.size(), false);
-    std::map<std::string, size_t> first;  // key -> first index in this generation
-    uint64_t hits_in_gen = 0;
-    for (size_t i = 0; i < genes.size(); ++i) {
-      all.push_back(individual_task(pr, genes[i], i));
-      const std::string& key = all.back().key;
-      if (const EvalResult* r = cache.find(key)) {
-        results[i] = *r;
-        results[i].wall_s = 0;
-        cached[i] = true;
-      } else if (first.count(key)) {
-        cached[i] = true;  // filled in once its first occurrence is evaluated
+    std::vector<Slot>& slots = is.inflight[g];
+    slots.resize(genes.size());
+    const int trials = trials_for_generation(pr, g, sum.trials);
+    for (size_t k = 0; k < genes.size(); ++k) {
+      Slot& s = slots[k];
+      s.genes = genes[k];
+      s.task = individual_task(pr, genes[k], next_index++);
+      s.task.trials = trials;
+      const std::string& key = s.task.key;
+      if (const EvalResult* j = cache.journaled(key)) {  // simulated before (this search, or before a kill)
+        s.have = true;
+        s.result = *j;
+        ++scored;
+      } else if (waiting.count(key)) {
+        waiting[key].push_back({i, g, k});
       } else {
-        first[key] = i;
-        if (const EvalResult* j = cache.journaled(key)) results[i] = *j;  // simulated before a kill
-        else tasks.push_back(all.back());
+        waiting[key].push_back({i, g, k});
+        flying[next_id] = key;
+        pool.submit(next_id++, s.task);
       }
-      hits_in_gen += cached[i];
     }
-    uint64_t done_in_gen = genes.size() - tasks.size();
-    progress.update(gen, done_in_gen, sum.cache_hits + hits_in_gen, sum.best, false);
-    std::vector<EvalResult> fresh;
-    const bool ok = pool.evaluate(tasks, &fresh, [&](size_t t, const EvalResult& r) {
-      cache.record(tasks[t].key, r);
-      ++done_in_gen;
-      progress.update(gen, done_in_gen, sum.cache_hits + hits_in_gen, sum.best, false);
-    });
-    if (!ok) {
-      if (!opt.quiet) std::fprintf(stderr, "\n");
-      sum.interrupted = true;
-      break;
-    }
-    for (size_t t = 0; t < tasks.size(); ++t) results[tasks[t].index] = fresh[t];
-    for (size_t i = 0; i < genes.size(); ++i)
-      if (cached[i] && !cache.find(all[i].key)) {
-        results[i] = results[first[all[i].key]];
-        results[i].wall_s = 0;
-      }
+    is.produced = g;
+  };
 
-    // the generation's rows, in index order; the best so far
+  auto can_produce = [&](int i) {
+    const Island& is = islands[static_cast<size_t>(i)];
+    const int g = is.produced + 1;
+    if (g > last_gen) return false;
+    if (g >= 1 && pr.evaluation.trials == 0 && sum.trials == 0) return false;  // trials: auto waits for generation 0
+    if (pr.exhaustive) return pool.pending() < lookahead;
+    if (is.done != g - 1) return false;
+    const int after = g - 1;
+    if (n_islands > 1 && after > 0 && after % pr.ga.migration_every == 0)
+      return islands[static_cast<size_t>((i + n_islands - 1) % n_islands)].done >= after;
+    return true;
+  };
+
+  // an island's generation whose individuals all have results: the GA moves on
+  auto finish = [&](int i, int g) {
+    Island& is = islands[static_cast<size_t>(i)];
+    std::vector<Slot>& slots = is.inflight.at(g);
+    std::vector<Genes> genes;
     std::vector<double> f;
-    for (size_t i = 0; i < genes.size(); ++i) {
-      history.append({gen, i, all[i].key, results[i], cached[i]});
-      f.push_back(pagmo_f(pr, results[i].fitness));
-      const bool better = !sum.best.valid || (sum.best.failed && !results[i].failed) ||
-                          (sum.best.failed == results[i].failed &&
-                           better_fitness(pr.objective, results[i].fitness, sum.best.fitness));
-      if (better) sum.best = {true, gen, i, all[i].key, genes[i], results[i].fitness, results[i].failed};
-      cache.commit(all[i].key);
+    auto& rows = is.rows[g];
+    for (size_t k = 0; k < slots.size(); ++k) {
+      genes.push_back(slots[k].genes);
+      f.push_back(pagmo_f(pr, slots[k].result.fitness));
+      HistoryRow row;
+      row.generation = g;
+      row.island = i;
+      row.individual = k;
+      row.genome = slots[k].task.key;
+      row.result = slots[k].result;
+      rows.emplace_back(row, slots[k].genes);
     }
-    sum.evaluations += genes.size();
-    sum.cache_hits += hits_in_gen;
-    sum.simulations += genes.size() - hits_in_gen;
-    if (pr.exhaustive) {
-      ga.set_population(genes, f);
-    } else if (gen == 0) {
-      ga.set_population(genes, f);
-    } else {
-      ga.advance(gen, f);
-    }
+    if (pr.exhaustive || g == 0) is.ga->set_population(genes, f);
+    else is.ga->advance(g, f);
+    is.snaps[g] = {is.ga->population(), is.ga->fitness()};
+    is.done = g;
+    is.inflight.erase(g);
+  };
 
+  // every island has generation g: its rows in island and index order, the
+  // best, the cache, best.yaml and the checkpoint
+  auto write_generation = [&](int g) {
+    uint64_t hits = 0;
+    std::vector<HistoryRow> all;
+    for (int i = 0; i < n_islands; ++i) {
+      Island& is = islands[static_cast<size_t>(i)];
+      for (auto& [row, genes] : is.rows.at(g)) {
+        row.cached = cache.find(row.genome) != nullptr;
+        if (row.cached) row.result.wall_s = 0;
+        hits += row.cached;
+        history.append(row);
+        const EvalResult& r = row.result;
+        const bool better = !sum.best.valid || (sum.best.failed && !r.failed) ||
+                            (sum.best.failed == r.failed && better_fitness(pr.objective, r.fitness, sum.best.fitness));
+        if (better) sum.best = {true, g, i, row.individual, row.genome, genes, r.fitness, r.failed};
+        cache.commit(row.genome);
+        all.push_back(row);
+      }
+      is.rows.erase(g);
+    }
+    sum.evaluations += all.size();
+    sum.cache_hits += hits;
+    sum.simulations += all.size() - hits;
+    if (g == 0 && pr.evaluation.trials == 0 && sum.trials == 0) {
+      sum.trials = decide_trials(all, &sum.trials_note);
+      if (!opt.quiet) std::fprintf(stderr, "optimize: %s\n", sum.trials_note.c_str());
+    }
     cp.fingerprint = fp;
-    cp.generation = gen;
-    cp.genes = ga.population();
-    cp.f = ga.fitness();
+    cp.generation = g;
+    cp.islands.clear();
+    for (auto& is : islands) {
+      cp.islands.push_back(is.snaps.at(g));
+      for (auto it = is.snaps.begin(); it != is.snaps.end() && it->first < g;) it = is.snaps.erase(it);
+    }
+    cp.trials = sum.trials;
     cp.cache_keys = cache.keys();
     cp.history_bytes = history.flush();
     cp.best = sum.best;
@@ -274,8 +434,47 @@ SearchSummary run_search(const Problem& pr, const SearchOptions& opt, EvaluatorP
     cp.cache_hits = sum.cache_hits;
     write_text_atomic(best_scene_path(opt.out_dir), best_scene_text(pr, sum.best));
     write_checkpoint(checkpoint_path(opt.out_dir), cp);
-    sum.generations_done = gen;
-    progress.update(gen, genes.size(), sum.cache_hits, sum.best, true);
+    sum.generations_done = g;
+  };
+
+  std::vector<std::pair<uint64_t, EvalResult>> done;
+  while (sum.generations_done < last_gen) {
+    for (int i = 0; i < n_islands; ++i)
+      while (can_produce(i)) produce(i, islands[static_cast<size_t>(i)].produced + 1);
+    done.clear();
+    if (!pool.poll(0.5, &done)) {
+      if (!opt.quiet) std::fprintf(stderr, "\n");
+      sum.interrupted = true;
+      break;
+    }
+    for (auto& [id, r] : done) {
+      const std::string key = flying.at(id);
+      flying.erase(id);
+      cache.record(key, r);
+      sum.busy_s += r.wall_s;
+      for (const Waiter& w : waiting.at(key)) fill(w, r);
+      waiting.erase(key);
+    }
+    for (int i = 0; i < n_islands; ++i) {
+      Island& is = islands[static_cast<size_t>(i)];
+      for (;;) {
+        auto it = is.inflight.find(is.done + 1);
+        if (it == is.inflight.end()) break;
+        bool complete = true;
+        for (const Slot& s : it->second) complete &= s.have;
+        if (!complete) break;
+        finish(i, is.done + 1);
+      }
+    }
+    for (;;) {
+      const int g = sum.generations_done + 1;
+      bool all_done = g <= last_gen;
+      for (const auto& is : islands) all_done &= is.done >= g;
+      if (!all_done) break;
+      write_generation(g);
+      progress.update(g, scored, sum.cache_hits, sum.best, true);
+    }
+    progress.update(sum.generations_done + 1, scored, sum.cache_hits, sum.best, false);
   }
   sum.wall_s = std::chrono::duration<double>(Clock::now() - t_start).count();
   return sum;

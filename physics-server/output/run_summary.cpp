@@ -66,7 +66,8 @@ nlohmann::json summary_json(const Scene& scene, const RunSummary& run) {
             {"silent", run.silent},
             {"allowed_silent", run.allowed_silent}}},
           {"exit_code", run.exit_code},
-          {"stopped_by", run.stopped_by.empty() ? nlohmann::json(nullptr) : nlohmann::json(run.stopped_by)}};
+          {"stopped_by", run.stopped_by.empty() ? nlohmann::json(nullptr) : nlohmann::json(run.stopped_by)},
+          {"early_stop", run.early_stop.empty() ? nlohmann::json(nullptr) : nlohmann::json(run.early_stop)}};
 }
 
 }  // namespace chainsim

@@ -49,6 +49,7 @@ struct RunSummary {
   std::vector<int> silent, allowed_silent;
   int exit_code = 0;
   std::string stopped_by;           // empty: it ran to the end
+  std::string early_stop;           // a stop_when rule ended it (finished, exit code 0): what it saw
 };
 
 nlohmann::json summary_json(const Scene& scene, const RunSummary& run);

@@ -210,6 +210,8 @@ void World::Impl::build(const WorldConfig& cfg, const std::vector<std::string>& 
   face.linear() = cfg.head_orientation
                       ? cfg.head_orientation->normalized().toRotationMatrix()
                       : Eigen::AngleAxisd(cfg.heading_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  if (cfg.roll_rad != 0)  // (only then: an unrolled chain's frame stays bit for bit what it was)
+    face.linear() = face.linear() * Eigen::AngleAxisd(cfg.roll_rad, Eigen::Vector3d::UnitX()).toRotationMatrix();
   face.translation() = cfg.head_position;
   std::vector<Eigen::Isometry3d> frames;
   for (const ModuleDef& def : defs) {

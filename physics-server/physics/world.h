@@ -40,6 +40,7 @@ struct WorldConfig {
   uint64_t seed = 1;                   // seeds ODE's dRandSetSeed and the sensor noise
   Eigen::Vector3d head_position{0, 0, 0.02};  // centre of the head's front face, m
   double heading_rad = 0.0;            // the chain points along +x rotated by this about z
+  double roll_rad = 0.0;               // then turned by this about its own axis (either way of placing it)
   // if set, overrides heading_rad: the head's front-face frame (module frame)
   // -> world; the chain is laid along its -x (e.g. along a pipe's axis)
   std::optional<Eigen::Quaterniond> head_orientation;

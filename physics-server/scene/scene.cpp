@@ -13,6 +13,7 @@
 #include "physics/units.h"
 #include "readers/safe_text.h"
 #include "scene/scene_environment.h"
+#include "scene/scene_stop.h"
 #include "scene/scene_modules.h"
 #include "scene/scene_yaml.h"
 
@@ -228,7 +229,7 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
   if (!root || !root.IsMap()) throw SceneError(name + ": a scene must be a YAML mapping");
   c.keys(root, "scene",
              {"name", "duration_s", "seed", "physics", "environment", "contacts", "module_types",
-              "programs", "chain", "placement", "central", "output", "target", "pic"});
+              "programs", "chain", "placement", "central", "output", "target", "pic", "stop_when"});
 
   Scene s;
   s.source = name;
@@ -283,11 +284,13 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
   }
 
   if (const YAML::Node p = root["placement"]) {
-    c.keys(p, "placement", {"position_m", "heading_deg", "at", "inset_m"});
+    c.keys(p, "placement", {"position_m", "heading_deg", "roll_deg", "at", "inset_m"});
     s.world.head_position = c.vec3(p, "position_m", s.world.head_position, "placement");
     s.world.heading_rad = deg_to_rad(c.number(p, "heading_deg", 0.0, -360.0, 360.0, "placement"));
+    s.world.roll_rad = deg_to_rad(c.number(p, "roll_deg", 0.0, -360.0, 360.0, "placement"));
     load_scene_placement_at(name, p, s.chain_types(), &s.world);  // at: pipe_entry
   }
+  load_scene_stop_when(name, root["stop_when"], &s);  // scene_stop.cpp
 
   s.central.type = "central";
   s.central.firmware = "fw-central";

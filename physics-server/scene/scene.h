@@ -42,6 +42,22 @@ struct SceneModule {
   bool may_stay_silent = false;
 };
 
+// when a run ends before its duration (scene key `stop_when`, docs/scene-reference.md):
+// a point of the chain that has stopped making progress, or that has not
+// reached a mark by a time. Checked at every trace row, on the positions the
+// trace writes; the run then ends as finished, and summary.json says why.
+struct StopRule {
+  enum class Kind { NoProgress, NotReached };
+  Kind kind = Kind::NoProgress;
+  bool tail = false;          // of: head (module 0's first body) or tail (the last module's last body)
+  bool along_pipe = false;    // the length along the pipe's axis, else along `axis`
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  // unit
+  double by_m = 0;            // NoProgress: the furthest position must grow by this ...
+  double within_s = 0;        // ... within every window of this long
+  double reach_m = 0;         // NotReached: the position to reach ...
+  double by_s = 0;            // ... by this time
+};
+
 struct Scene {
   std::string source;          // file name, or "<built-in default>"
   std::string name;
@@ -64,6 +80,7 @@ struct Scene {
     int64_t cpu_budget_us = 0;  // most busy time a step of a program may take; 0: no budget
     int64_t stall_ms = 2000;    // a program busy this long without a HAL wait is a fault
   } pic;
+  std::vector<StopRule> stop_when;  // any one ends the run early
 
   // the module types of the chain, head first (what World's constructor takes)
   std::vector<std::string> chain_types() const;

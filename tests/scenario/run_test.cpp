@@ -117,3 +117,23 @@ TEST(Run, CheckBuildsTheSceneAndFindsItsProgramsWithoutRunningAnything) {
             "chainsim: --duration 0.000500 s is shorter than one tick of the scene (physics.tick_us = 1000 us)\n");
   EXPECT_FALSE(std::filesystem::exists(marker));
 }
+
+// stop_when ends a run early as a finished one (exit 0), says why in
+// summary.json (and on stderr, unless quiet), and leaves the trace as it was up to there
+TEST(Run, StopWhenEndsTheRunEarlyAndTheTraceUpToThereIsTheFullRunsOwn) {
+  const Outcome full = run_scene("stop-full", "helicoidal-0", 2.0);
+  ASSERT_EQ(full.exit_code, 0) << full.stderr_text;
+  EXPECT_TRUE(full.summary["early_stop"].is_null());
+  // 3 cm/s along the pipe: 5 cm by 1 s cannot be reached
+  const Outcome cut = run_scene("stop-cut", "helicoidal-0", 2.0,
+                                {{"name: helicoidal-0", "name: helicoidal-0\nstop_when:\n"
+                                                        "  - not_reached: {along: pipe, reach_m: 0.5, by_s: 1}"}});
+  ASSERT_EQ(cut.exit_code, 0) << cut.stderr_text;
+  const std::string why = cut.summary["early_stop"].get<std::string>();
+  EXPECT_EQ(why.rfind("early stop at 1.010 s: the head got no further than ", 0), 0u) << why;
+  EXPECT_NEAR(cut.summary["sim_time_s"].get<double>(), 1.01, 1e-9);
+  EXPECT_TRUE(cut.summary["stopped_by"].is_null());
+  const std::string a = read_file(full.dir + "/trace.csv"), b = read_file(cut.dir + "/trace.csv");
+  ASSERT_LT(b.size(), a.size());
+  EXPECT_EQ(a.substr(0, b.size()), b);
+}

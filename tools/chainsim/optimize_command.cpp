@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -10,13 +11,17 @@
 #include <sstream>
 #include <thread>
 
+#include <nlohmann/json.hpp>
+
 #include "cosim/lockstep_server.h"
 #include "cosim/program_params.h"
+#include "optimize/individual_scene.h"
 #include "optimize/local_pool.h"
 #include "optimize/mpi_pool.h"
 #include "optimize/problem_params.h"
 #include "optimize/report.h"
 #include "optimize/search.h"
+#include "optimize/verify.h"
 #include "viewer/viewer_page.h"
 
 namespace chainsim {
@@ -36,6 +41,11 @@ struct OptimizeArgs {
   double rank_timeout = 60;
   bool quiet = false;
   std::string target;         // every evaluation's programs native or on the PIC
+  std::string verify_dir;     // --verify DIR: verify a search's winners, no search
+  int verify_top = 3;         // leaders verified at the end (0: none)
+  int verify_trials = 0;      // fresh trials each (0: the search's, at least 3)
+  bool no_verify_exact = false;
+  std::string verify_pic = "auto";  // auto: when every leader's .hex is there; no
 };
 
 OptimizeArgs g_args;
@@ -55,35 +65,60 @@ std::string read_text(const std::string& path) {
 }
 
 // runs best.yaml again into DIR/best (the replay's run), says whether it reproduced the search's result
-std::string replay_best(const EvalContext& ctx, const Problem& pr, const BestSoFar& best, const std::string& dir) {
+std::string replay_best(const EvalContext& ctx, const Problem& pr, const BestSoFar& best, int trials,
+                        const std::string& dir) {
   std::error_code ec;
   std::filesystem::remove_all(dir, ec);
-  const EvalResult r = evaluate_now(ctx, individual_task(pr, best.genes, best.individual), dir);
-  char b[256];
-  if (r.fitness == best.fitness && r.failed == best.failed && pr.evaluation.repeats == 1)
+  EvalTask task = individual_task(pr, best.genes, best.individual);
+  task.trials = trials;
+  const EvalResult r = evaluate_now(ctx, task, dir);
+  char b[320];
+  // best.fitness may come from history.csv, which keeps 10 digits
+  const bool same = history_number(r.fitness) == history_number(best.fitness) && r.failed == best.failed;
+  if (same && trials == 1)
     std::snprintf(b, sizeof b, "Run again from best.yaml, it gave the same fitness (%.10g) in %.1f s.", r.fitness,
                   r.wall_s);
-  else if (r.fitness == best.fitness && r.failed == best.failed)
-    std::snprintf(b, sizeof b, "Run again (its %d repeats; best.yaml is the first), it gave the same fitness (%.10g) "
-                  "in %.1f s.", pr.evaluation.repeats, r.fitness, r.wall_s);
+  else if (same)
+    std::snprintf(b, sizeof b, "Run again (its %d trials; best.yaml is the first), it gave the same fitness (%.10g) "
+                  "in %.1f s.", trials, r.fitness, r.wall_s);
   else
     std::snprintf(b, sizeof b, "WARNING: best.yaml run again gave fitness %.10g, the search recorded %.10g: "
                                "the run is not deterministic.", r.fitness, best.fitness);
   return b;
 }
 
-int finish(const OptimizeArgs& a, const Problem& pr, const EvalContext& ctx, const SearchSummary& s) {
-  const std::string& dir = a.out;
-  std::string note, replay;
-  if (s.best.valid && !a.no_replay) {
-    note = replay_best(ctx, pr, s.best, dir + "/best");
+// the first history row of a genome
+const HistoryRow* row_of(const std::vector<HistoryRow>& rows, const std::string& key) {
+  for (const HistoryRow& r : rows)
+    if (r.genome == key) return &r;
+  return nullptr;
+}
+
+// "" when every leader's programs have their .hex, else why not
+std::string pic_missing(const Problem& pr, const std::vector<HistoryRow>& top) {
+  for (const HistoryRow& r : top) {
     try {
-      std::vector<std::string> warnings;
-      replay = viewer_page(replay_boot(dir + "/best/run", &warnings), pr.name + ": best individual");
+      const Phenotype p = phenotype_from_key(pr.genome, r.genome);
+      const Scene s = load_scene_text(individual_scene_yaml(pr, p, 1, "", "pic"), r.genome);
+      check_scene_programs(s, "");
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "optimize: the report has no replay: %s\n", e.what());
+      return e.what();
     }
   }
+  return "";
+}
+
+std::string num6(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.6g", v);
+  return b;
+}
+
+// after the search (or for --verify): the leaders, the noise, the
+// verification, best.yaml, the best's replay and the report
+int finish(const OptimizeArgs& a, const Problem& pr, const EvalContext& ctx, const SearchSummary& s,
+           EvaluatorPool& pool, bool* interrupted) {
+  const std::string& dir = a.out;
   std::vector<HistoryRow> rows;
   try {
     rows = parse_history(read_text(history_path(dir)), pr.measures.size(), history_path(dir));
@@ -91,20 +126,128 @@ int finish(const OptimizeArgs& a, const Problem& pr, const EvalContext& ctx, con
     std::fprintf(stderr, "optimize: %s\n", e.what());
     return kExitInternal;
   }
-  std::ofstream(dir + "/report.html", std::ios::binary) << report_html(pr, rows, s.best, note, replay);
+  ReportNotes notes;
+  notes.trials = s.trials_note;
+  notes.noise = noise_warning(pr, leaders(pr, rows, 5));
+  if (!notes.noise.empty() && !a.quiet) std::fprintf(stderr, "optimize: warning: %s\n", notes.noise.c_str());
+
+  BestSoFar best = s.best;
+  Verification ver;
+  bool verified = false;
+  if (a.verify_top > 0 && !rows.empty()) {
+    const std::vector<HistoryRow> top = leaders(pr, rows, static_cast<size_t>(a.verify_top));
+    VerifySettings vs;
+    vs.top = a.verify_top;
+    vs.trials = a.verify_trials;
+    vs.exact = !a.no_verify_exact;
+    if (a.verify_pic == "auto") {
+      const std::string why = pic_missing(pr, top);
+      vs.pic = why.empty();
+      if (!vs.pic)
+        notes.verification_note = "Not verified on the board's binaries: " + why +
+                                  " (tools/pic-build.sh builds every shipped program's .hex).";
+    }
+    if (!verify_leaders(pr, top, vs, pool, &ver, a.quiet)) {
+      *interrupted = true;
+      return kExitInterrupted;
+    }
+    verified = true;
+    notes.verification = &ver;
+    const std::string table = verification_csv(ver);
+    std::ofstream(dir + "/verify.csv", std::ios::binary) << table;
+    std::ofstream(dir + "/verify.json", std::ios::binary) << verification_json(ver).dump(1) << "\n";
+    if (ver.best >= 0) {
+      const VerifiedLeader& v = ver.leaders[static_cast<size_t>(ver.best)];
+      const HistoryRow& r = v.search;
+      best = {true, r.generation, r.island, r.individual, r.genome,
+              encode_phenotype(pr.genome, phenotype_from_key(pr.genome, r.genome)), r.result.fitness, r.result.failed};
+      std::string more = "# Verified: the best of the search's " + std::to_string(ver.leaders.size()) +
+                         " leaders with " + std::to_string(ver.fresh_trials) + " fresh seeds: fitness " +
+                         num6(v.fresh.fitness) +
+                         (std::isfinite(v.fresh.fitness_sd) ? " (sd " + num6(v.fresh.fitness_sd) + ")" : "") + "\n";
+      for (const auto& f : v.flags) more += "# Flag: " + f + "\n";
+      std::ofstream(best_scene_path(dir), std::ios::binary) << best_scene_text(pr, best, more);
+    }
+    if (!a.quiet) {
+      for (size_t l = 0; l < ver.leaders.size(); ++l) {
+        const VerifiedLeader& v = ver.leaders[l];
+        std::fprintf(stderr, "optimize: verified %s: search %s, fresh %s%s%s%s\n", v.search.genome.c_str(),
+                     v.search.result.failed ? "failed" : num6(v.search.result.fitness).c_str(),
+                     v.fresh.failed ? "fails" : (num6(v.fresh.fitness) + " sd " + num6(v.fresh.fitness_sd)).c_str(),
+                     v.has_exact ? (std::string(", exact ") + (v.exact.failed ? "fails" : num6(v.exact.fitness))).c_str() : "",
+                     v.has_pic ? (std::string(", board ") + (v.pic.failed ? "fails" : num6(v.pic.fitness))).c_str() : "",
+                     static_cast<int>(l) == ver.best ? " <- verified best" : "");
+        for (const auto& f : v.flags) std::fprintf(stderr, "optimize:   flag: %s\n", f.c_str());
+      }
+      if (ver.best < 0) std::fprintf(stderr, "optimize: no leader passed with fresh seeds: best.yaml stays the search's best\n");
+    }
+  }
+
+  std::string replay;
+  if (best.valid && !a.no_replay) {
+    const HistoryRow* r = row_of(rows, best.key);
+    notes.replay = replay_best(ctx, pr, best, r ? std::max(1, r->result.trials) : 1, dir + "/best");
+    try {
+      std::vector<std::string> warnings;
+      replay = viewer_page(replay_boot(dir + "/best/run", &warnings), pr.name + ": best individual");
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "optimize: the report has no replay: %s\n", e.what());
+    }
+  }
+  std::ofstream(dir + "/report.html", std::ios::binary) << report_html(pr, rows, best, notes, replay);
   if (!a.quiet) {
+    const bool changed = verified && ver.best >= 0 && best.key != s.best.key;
     std::fprintf(stderr,
-                 "optimize: best %s: fitness %.10g%s (generation %d); %llu evaluations, %llu simulated, %llu cache "
-                 "hits, %.1f s\noptimize: %s\noptimize: %s/best.yaml, history.csv, report.html\n",
-                 s.best.key.c_str(), s.best.fitness, s.best.failed ? " (failed)" : "", s.best.generation,
+                 "optimize: best %s: fitness %.10g%s (generation %d)%s; %llu evaluations, %llu simulated, %llu cache "
+                 "hits, %.1f s\noptimize: %s\noptimize: %s/best.yaml, history.csv, report.html%s\n",
+                 best.key.c_str(), best.fitness, best.failed ? " (failed)" : "", best.generation,
+                 changed ? (", verified best; the search's own best " + s.best.key + " did worse with fresh seeds").c_str()
+                         : "",
                  static_cast<unsigned long long>(s.evaluations), static_cast<unsigned long long>(s.simulations),
-                 static_cast<unsigned long long>(s.cache_hits), s.wall_s, note.empty() ? "(no replay)" : note.c_str(),
-                 dir.c_str());
+                 static_cast<unsigned long long>(s.cache_hits), s.wall_s,
+                 notes.replay.empty() ? "(no replay)" : notes.replay.c_str(), dir.c_str(),
+                 verified ? ", verify.csv" : "");
   }
   return kExitOk;
 }
 
-int run_optimize(const OptimizeArgs& a) {
+// what a search was started with, beside it (DIR/search.json): --verify DIR
+// loads the same problem with the same overrides
+void write_search_args(const OptimizeArgs& a) {
+  nlohmann::json j = {{"problem", std::filesystem::absolute(a.problem).lexically_normal().string()}};
+  if (a.seed >= 0) j["seed"] = a.seed;
+  if (a.population > 0) j["population"] = a.population;
+  if (a.generations >= 0) j["generations"] = a.generations;
+  if (a.exhaustive) j["exhaustive"] = true;
+  if (!a.target.empty()) j["target"] = a.target;
+  std::ofstream(a.out + "/search.json", std::ios::binary) << j.dump(1) << "\n";
+}
+
+// --verify DIR: the arguments the search there was started with
+bool read_search_args(OptimizeArgs* a, std::string* why) {
+  const std::string path = a->verify_dir + "/search.json";
+  std::ifstream in(path);
+  if (!in) {
+    *why = path + ": cannot open (no search of this chainsim there)";
+    return false;
+  }
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (!j.is_object() || !j.contains("problem") || !j["problem"].is_string()) {
+    *why = path + ": damaged";
+    return false;
+  }
+  a->problem = j["problem"].get<std::string>();
+  a->seed = j.value("seed", int64_t{-1});
+  a->population = j.value("population", 0);
+  a->generations = j.value("generations", -1);
+  a->exhaustive = j.value("exhaustive", false);
+  a->target = j.value("target", std::string());
+  a->out = a->verify_dir;
+  return true;
+}
+
+int run_optimize(const OptimizeArgs& given) {
+  OptimizeArgs a = given;
   std::unique_ptr<MpiSession> mpi;
   if (launched_by_mpirun()) mpi = std::make_unique<MpiSession>(nullptr, nullptr);
   const int rank = mpi ? mpi->rank() : 0;
@@ -113,6 +256,17 @@ int run_optimize(const OptimizeArgs& a) {
     return code;
   };
   install_interrupt_handlers();
+  const bool verify_only = !a.verify_dir.empty();
+  if (verify_only) {
+    std::string why;
+    if (!read_search_args(&a, &why)) {
+      if (rank == 0) std::fprintf(stderr, "chainsim: --verify: %s\n", why.c_str());
+      return leave(kExitBadInput, false);
+    }
+  } else if (a.problem.empty() || a.out.empty()) {
+    if (rank == 0) std::fprintf(stderr, "chainsim: optimize needs a problem file and --out DIR (or --verify DIR)\n");
+    return leave(kExitBadInput, false);
+  }
 
   Problem pr;
   try {
@@ -126,6 +280,10 @@ int run_optimize(const OptimizeArgs& a) {
   if (a.population > 0) pr.ga.population = a.population;
   if (a.generations >= 0) pr.ga.generations = a.generations;
   if (a.exhaustive) pr.exhaustive = true;
+  if (pr.exhaustive && pr.ga.islands > 1) {
+    if (rank == 0) std::fprintf(stderr, "chainsim: --exhaustive: the problem's ga.islands applies to a GA search only\n");
+    return leave(kExitBadInput, false);
+  }
   if (!a.target.empty()) {
     pr.evaluation.target = a.target;
     try {  // the .hex of the base scene's programs are there
@@ -142,6 +300,24 @@ int run_optimize(const OptimizeArgs& a) {
       std::fprintf(stderr, "chainsim: --population %d is smaller than the problem's ga.selection_size %d\n",
                    pr.ga.population, pr.ga.selection_size);
     return leave(kExitBadInput, false);
+  }
+  SearchSummary verify_summary;
+  if (verify_only && rank == 0) {  // the search there must be this one
+    try {
+      const Checkpoint cp = read_checkpoint(checkpoint_path(a.out));
+      if (cp.fingerprint != search_fingerprint(pr))
+        throw CheckpointError(checkpoint_path(a.out) + ": the problem file or its base scene changed since the "
+                              "search ran (" + a.problem + ")");
+      verify_summary.best = cp.best;
+      verify_summary.generations_done = cp.generation;
+      verify_summary.evaluations = cp.evaluations;
+      verify_summary.simulations = cp.simulations;
+      verify_summary.cache_hits = cp.cache_hits;
+      verify_summary.trials = cp.trials;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "chainsim: --verify: %s\n", e.what());
+      return leave(kExitBadInput, false);
+    }
   }
 
   EvalContext ctx;
@@ -177,6 +353,20 @@ int run_optimize(const OptimizeArgs& a) {
     if (mpi_pool) mpi_pool->stop_workers(finalize);
   };
 
+  if (verify_only) {
+    bool interrupted = false;
+    int rc = kExitOk;
+    try {
+      rc = finish(a, pr, ctx, verify_summary, *pool, &interrupted);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "chainsim: %s\n", e.what());
+      rc = kExitInternal;
+    }
+    const bool any_lost = mpi_pool && mpi_pool->lost_ranks() > 0;
+    stop(!any_lost);
+    return leave(rc, any_lost);
+  }
+
   SearchOptions so;
   so.out_dir = a.out;
   so.resume = a.resume;
@@ -184,11 +374,16 @@ int run_optimize(const OptimizeArgs& a) {
   SearchSummary s;
   try {
     if (!a.quiet)
-      std::fprintf(stderr, "optimize: %s: %zu genes (%lld gene vectors), %s, population %d, generations 0..%d, seed %llu, "
-                           "%s; writing %s\n",
+      std::fprintf(stderr, "optimize: %s: %zu genes (%lld gene vectors), %s, population %d%s, generations 0..%d, seed %llu, "
+                           "trials %s, %s; writing %s\n",
                    pr.name.c_str(), pr.genome.gene_count(), static_cast<long long>(pr.genome.gene_space_size()),
-                   pr.exhaustive ? "exhaustive" : "pagmo sga", pr.ga.population, last_generation(pr),
-                   static_cast<unsigned long long>(pr.ga.seed), pool->describe().c_str(), a.out.c_str());
+                   pr.exhaustive ? "exhaustive" : "pagmo sga", pr.ga.population,
+                   pr.ga.islands > 1 ? (" x " + std::to_string(pr.ga.islands) + " islands").c_str() : "",
+                   last_generation(pr), static_cast<unsigned long long>(pr.ga.seed),
+                   pr.evaluation.trials > 0 ? std::to_string(pr.evaluation.trials).c_str() : "auto",
+                   pool->describe().c_str(), a.out.c_str());
+    std::filesystem::create_directories(a.out);
+    if (!a.resume) write_search_args(a);
     s = run_search(pr, so, *pool);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "chainsim: %s\n", e.what());
@@ -196,20 +391,26 @@ int run_optimize(const OptimizeArgs& a) {
     stop(!any_lost);
     return leave(kExitBadInput, any_lost);
   }
-  const bool any_lost = mpi_pool && mpi_pool->lost_ranks() > 0;
-  stop(!any_lost);
   if (s.interrupted) {
+    const bool any_lost = mpi_pool && mpi_pool->lost_ranks() > 0;
+    stop(!any_lost);
     std::fprintf(stderr, "optimize: interrupted (signal %d) after generation %d; continue with --resume\n",
                  interrupt_signal(), s.generations_done);
     return leave(kExitInterrupted, any_lost);
   }
   int rc = kExitOk;
+  bool interrupted = false;
   try {
-    rc = finish(a, pr, ctx, s);
+    rc = finish(a, pr, ctx, s, *pool, &interrupted);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "chainsim: %s\n", e.what());
     rc = kExitInternal;
   }
+  if (interrupted)
+    std::fprintf(stderr, "optimize: interrupted during the verification; the search is complete: run "
+                         "chainsim optimize --verify %s to verify it\n", a.out.c_str());
+  const bool any_lost = mpi_pool && mpi_pool->lost_ranks() > 0;
+  stop(!any_lost);
   std::error_code ec;
   std::filesystem::remove(ctx.work_dir, ec);  // only when empty
   return leave(rc, any_lost);
@@ -222,10 +423,21 @@ void add_optimize_command(CLI::App& app) {
       "optimize",
       "design search: a genetic algorithm (pagmo sga) over chains and program parameters, each individual a "
       "real co-simulation; local workers, or MPI ranks under mpirun (docs/optimize.md)");
-  sub->add_option("problem", g_args.problem, "problem file (YAML, docs/optimize.md)")->required()
-      ->check(CLI::ExistingFile);
-  sub->add_option("--out,-o", g_args.out, "directory of the search: history.csv, best.yaml, report.html, checkpoint")
-      ->required();
+  sub->add_option("problem", g_args.problem, "problem file (YAML, docs/optimize.md)")->check(CLI::ExistingFile);
+  sub->add_option("--out,-o", g_args.out, "directory of the search: history.csv, best.yaml, report.html, checkpoint");
+  sub->add_option("--verify", g_args.verify_dir,
+                  "verify the winners of the search in DIR (no search): fresh seeds, the exact solver, the board")
+      ->check(CLI::ExistingDirectory);
+  sub->add_option("--verify-top", g_args.verify_top,
+                  "distinct best individuals verified at the end (default 3; 0: no verification)")
+      ->check(CLI::Range(0, 1000));
+  sub->add_option("--verify-trials", g_args.verify_trials,
+                  "fresh trials per verified individual (default: the search's trials, at least 3)")
+      ->check(CLI::Range(1, 1000));
+  sub->add_flag("--no-verify-exact", g_args.no_verify_exact, "do not verify with the converged solver");
+  sub->add_option("--verify-pic", g_args.verify_pic,
+                  "verify once on the board's binaries: auto (when every .hex is there, the default) or no")
+      ->check(CLI::IsMember({"auto", "no"}));
   sub->add_option("--workers,-j", g_args.workers,
                   "evaluations at once (default: the number of cores; under mpirun: per worker rank, default 1)")
       ->check(CLI::PositiveNumber);

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "optimize/objective.h"
-#include "optimize/pipe_progress.h"
+#include "environment/pipe_progress.h"
 #include "optimize/run_outcome.h"
 
 using namespace chainsim;
@@ -177,7 +177,7 @@ TEST(PipeProgress, ATeesBranchCountsFromTheMiddleOfItsRun) {
   EXPECT_NEAR(p.at({0.25, 0.03, 0}), 0.2 + 0.05 + 0.03, 1e-9);  // in the branch
 }
 
-TEST(Objective, RepeatsScoreTheMeanAndFailWithTheFirstFailedOne) {
+TEST(Objective, TrialsScoreTheMeanAndFailWithTheFirstFailedOne) {
   ObjectiveSpec o;
   o.weights = {{0, 2.0}, {1, 1.0}};
   o.failed_fitness = -5;
@@ -186,14 +186,48 @@ TEST(Objective, RepeatsScoreTheMeanAndFailWithTheFirstFailedOne) {
   b.measures = {3.0, 20.0};
   a.fitness = 12;
   b.fitness = 26;
-  const Score m = combine_repeats({a, b}, o);
+  const Score m = combine_trials({a, b}, o);
   EXPECT_FALSE(m.failed);
   EXPECT_EQ(m.measures, (std::vector<double>{2.0, 15.0}));
   EXPECT_DOUBLE_EQ(m.fitness, 19.0);
+  EXPECT_EQ(m.trials, 2);
+  EXPECT_DOUBLE_EQ(m.fitness_sd, std::sqrt(98.0));  // (12, 26): sample sd
+  EXPECT_EQ(m.fitness_min, 12);
+  EXPECT_EQ(m.fitness_max, 26);
   c = failed_score(2, o, "constraint: x = 0 < 1");
-  const Score f = combine_repeats({a, c, b}, o);
+  const Score f = combine_trials({a, c, b}, o);
   EXPECT_TRUE(f.failed);
   EXPECT_EQ(f.fitness, -5);
-  EXPECT_EQ(f.why, "repeat 2 of 3: constraint: x = 0 < 1");
-  EXPECT_EQ(combine_repeats({b}, o).fitness, 26);  // one run: as it is
+  EXPECT_EQ(f.why, "trial 2 of 3: constraint: x = 0 < 1");
+  const Score one = combine_trials({b}, o);  // one run: as it is, no spread
+  EXPECT_EQ(one.fitness, 26);
+  EXPECT_EQ(one.trials, 1);
+  EXPECT_TRUE(std::isnan(one.fitness_sd));
+  EXPECT_EQ(one.fitness_min, 26);
+}
+
+TEST(Objective, TheWorstTrialOrAQuantileInTheObjectivesSense) {
+  ObjectiveSpec mx;
+  mx.weights = {{0, 1.0}};
+  std::vector<Score> t(5);
+  const double f[5] = {3, 1, 5, 2, 4};
+  for (int i = 0; i < 5; ++i) {
+    t[i].measures = {f[i]};
+    t[i].fitness = f[i];
+  }
+  EXPECT_EQ(combine_trials(t, mx, TrialFitness::Worst).fitness, 1);
+  EXPECT_EQ(combine_trials(t, mx, TrialFitness::Quantile, 0.0).fitness, 1);
+  EXPECT_EQ(combine_trials(t, mx, TrialFitness::Quantile, 1.0).fitness, 5);
+  EXPECT_EQ(combine_trials(t, mx, TrialFitness::Quantile, 0.5).fitness, 3);
+  EXPECT_DOUBLE_EQ(combine_trials(t, mx, TrialFitness::Quantile, 0.125).fitness, 1.5);  // between 1 and 2
+  EXPECT_EQ(combine_trials(t, mx, TrialFitness::Mean).fitness, 3);
+  // minimising, the worst is the largest
+  ObjectiveSpec mn = mx;
+  mn.maximize = false;
+  EXPECT_EQ(combine_trials(t, mn, TrialFitness::Worst).fitness, 5);
+  EXPECT_EQ(combine_trials(t, mn, TrialFitness::Quantile, 0.25).fitness, 4);
+  EXPECT_EQ(combine_trials(t, mn, TrialFitness::Quantile, 1.0).fitness, 1);
+  // an early stop is said, with its trial
+  t[3].early_stop = "early stop at 2.000 s: ...";
+  EXPECT_EQ(combine_trials(t, mx).early_stop, "trial 4 of 5: early stop at 2.000 s: ...");
 }

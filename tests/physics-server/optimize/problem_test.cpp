@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <set>
 #include <filesystem>
 #include <fstream>
 
@@ -78,7 +80,7 @@ objective:
 constraints:
   - {measure: x, min: 0}
 ga: {population: 10, generations: 3, seed: 7, crossover: exponential}
-evaluation: {duration_s: 0.5, repeats: 3}
+evaluation: {duration_s: 0.5, trials: 3, fitness: quantile, quantile: 0.25, perturb: {along_m: 0.01, heading_deg: 5}}
 )";
 
 }  // namespace
@@ -102,7 +104,12 @@ TEST(Problem, LoadsEverySection) {
   EXPECT_EQ(pr.ga.seed, 7u);
   EXPECT_EQ(pr.ga.crossover, "exponential");
   EXPECT_EQ(pr.evaluation.duration_s, 0.5);
-  EXPECT_EQ(pr.evaluation.repeats, 3);
+  EXPECT_EQ(pr.evaluation.trials, 3);
+  EXPECT_EQ(pr.evaluation.fitness, TrialFitness::Quantile);
+  EXPECT_EQ(pr.evaluation.quantile, 0.25);
+  EXPECT_EQ(pr.evaluation.perturb.along_m, 0.01);
+  EXPECT_EQ(pr.evaluation.perturb.heading_deg, 5);
+  EXPECT_TRUE(pr.evaluation.stop_when.empty());
   EXPECT_FALSE(pr.pipe);
 }
 
@@ -144,6 +151,111 @@ objective: {minimize: out_s, failed_fitness: 100}
   const std::string text = individual_scene_yaml(pr, {"TRH", {}}, 3);
   EXPECT_NE(text.find("chain: TRH"), std::string::npos) << text;
   EXPECT_EQ(load_scene_text(text, "individual").modules.size(), 3u);
+}
+
+// trials default to auto; a time_to_reach constraint's max becomes a
+// stop_when rule every individual's scene carries, beside the problem's own
+TEST(Problem, TrialsAutoAndTheStopsEveryIndividualCarries) {
+  const Problem pr = load_problem_file(problem(R"(scene: pipe.yaml
+genome:
+  chain: {positions: [T, RH, RH, RH], min_length: 2}
+measures:
+  out_s: {kind: time_to_reach, of: tail, along: pipe, reach_m: 0.55}
+objective: {minimize: out_s, failed_fitness: 100}
+constraints:
+  - {measure: out_s, max: 0.8}
+evaluation:
+  stop_when:
+    - no_progress: {of: head, along: pipe, by_m: 0.004, within_s: 0.5}
+)"));
+  EXPECT_EQ(pr.evaluation.trials, 0);  // auto
+  EXPECT_EQ(pr.evaluation.fitness, TrialFitness::Mean);
+  ASSERT_EQ(pr.evaluation.stop_when.size(), 2u);
+  EXPECT_EQ(pr.evaluation.stop_when[0].kind, StopRule::Kind::NoProgress);
+  const StopRule& c = pr.evaluation.stop_when[1];
+  EXPECT_EQ(c.kind, StopRule::Kind::NotReached);
+  EXPECT_TRUE(c.tail);
+  EXPECT_TRUE(c.along_pipe);
+  EXPECT_EQ(c.reach_m, 0.55);
+  EXPECT_EQ(c.by_s, 0.8);
+  const Scene s = load_scene_text(individual_scene_yaml(pr, {"TRH", {}}, 3), "individual");
+  ASSERT_EQ(s.stop_when.size(), 2u);
+  EXPECT_EQ(s.stop_when[0].within_s, 0.5);
+  EXPECT_EQ(s.stop_when[1].by_s, 0.8);
+  // without the rule the constraint stays a check at the end
+  const Problem off = load_problem_file(problem(R"(scene: pipe.yaml
+genome: {chain: {positions: [T, RH]}}
+measures: {out_s: {kind: time_to_reach, of: tail, along: pipe, reach_m: 0.55}}
+objective: {minimize: out_s, failed_fitness: 100}
+constraints: [{measure: out_s, max: 0.8}]
+evaluation: {stop_on_constraints: false, trials: 2}
+)"));
+  EXPECT_TRUE(off.evaluation.stop_when.empty());
+  EXPECT_EQ(off.evaluation.trials, 2);
+  // nor when never reaching scores within the bound (never_s <= max)
+  const Problem lenient = load_problem_file(problem(R"(scene: pipe.yaml
+genome: {chain: {positions: [T, RH]}}
+measures: {out_s: {kind: time_to_reach, of: tail, along: pipe, reach_m: 0.55, never_s: 0.5}}
+objective: {minimize: out_s, failed_fitness: 100}
+constraints: [{measure: out_s, max: 0.8}]
+)"));
+  EXPECT_TRUE(lenient.evaluation.stop_when.empty());
+}
+
+// the start pose moves within the problem's bounds, drawn from the trial's
+// seed alone; in a pipe only deeper in and rolled. The exact solver and a
+// target replace the scene's.
+TEST(Problem, APerturbedStartIsTheTrialSeedsWithinTheBounds) {
+  const Problem pr = load_problem_file(problem(R"(scene: base.yaml
+genome: {params: [{target: central.amplitude_cdeg, min: 0, max: 10}]}
+measures: {x: {kind: distance}}
+objective: {maximize: x}
+evaluation: {perturb: {along_m: 0.01, lateral_m: 0.005, heading_deg: 10, roll_deg: 3}}
+)"));
+  std::set<double> headings;
+  for (uint64_t seed = 1; seed <= 20; ++seed) {
+    const StartPerturbation d = start_perturbation(pr, seed, false);
+    EXPECT_LE(std::fabs(d.along_m), 0.01);
+    EXPECT_LE(std::fabs(d.lateral_m), 0.005);
+    EXPECT_LE(std::fabs(d.heading_deg), 10);
+    EXPECT_LE(std::fabs(d.roll_deg), 3);
+    headings.insert(d.heading_deg);
+    const Scene s = load_scene_text(individual_scene_yaml(pr, {"", {5}}, seed), "individual");
+    const Eigen::Vector3d off = s.world.head_position - Eigen::Vector3d(0, 0, 0.02);
+    const double h = d.heading_deg * M_PI / 180;
+    EXPECT_NEAR(s.world.heading_rad, h, 1e-12);
+    EXPECT_NEAR(off.x(), d.along_m, 1e-6);  // base heading 0: along is x, sideways y
+    EXPECT_NEAR(off.y(), d.lateral_m, 1e-6);
+    EXPECT_NEAR(s.world.roll_rad, d.roll_deg * M_PI / 180, 1e-12);
+    EXPECT_EQ(individual_scene_yaml(pr, {"", {5}}, seed), individual_scene_yaml(pr, {"", {5}}, seed));
+  }
+  EXPECT_GT(headings.size(), 15u);  // they do differ from trial to trial
+  const Problem pipe = load_problem_file(problem(R"(scene: pipe.yaml
+genome: {chain: {positions: [T, RH]}}
+measures: {x: {kind: distance}}
+objective: {maximize: x}
+evaluation: {perturb: {along_m: 0.02, roll_deg: 5}}
+)"));
+  for (uint64_t seed = 1; seed <= 10; ++seed) {
+    const StartPerturbation d = start_perturbation(pipe, seed, true);
+    EXPECT_GE(d.along_m, 0);  // deeper in only
+    EXPECT_LE(d.along_m, 0.02);
+    const std::string text = individual_scene_yaml(pipe, {"TR", {}}, seed, "exact", "pic");
+    const Scene s = load_scene_text(text, "individual");
+    EXPECT_EQ(s.world.solver, WorldConfig::Solver::Exact);
+    EXPECT_EQ(s.modules[0].target, Target::Pic);
+    EXPECT_EQ(s.central.target, Target::Pic);
+    EXPECT_NEAR(s.world.roll_rad, d.roll_deg * M_PI / 180, 1e-12);
+  }
+  const std::string e = error_of(R"(scene: pipe.yaml
+genome: {chain: {positions: [T, RH]}}
+measures: {x: {kind: distance}}
+objective: {maximize: x}
+evaluation: {perturb: {heading_deg: 5}}
+)");
+  EXPECT_NE(e.find("'evaluation.perturb.heading_deg': the base scene places the chain at the pipe's entry"),
+            std::string::npos)
+      << e;
 }
 
 // the individual's scene is written elsewhere (the search's work folder), so
@@ -288,6 +400,21 @@ ga: {population: 1}
   EXPECT_EQ(b.rfind(f + ":1:8: 'scene': " + temp_dir() + "/broken.yaml:2:13: ", 0), 0u) << b;
   // YAML that does not parse
   EXPECT_EQ(error_of("scene: [base.yaml\n").rfind(f + ":2:1: ", 0), 0u);
+  // the old name of trials, a quantile without its fitness, islands where there are none
+  const std::string head = "scene: base.yaml\ngenome: {params: [{target: central.x, min: 0, max: 10}]}\n"
+                           "measures: {x: {kind: distance}}\nobjective: {maximize: x}\n";
+  EXPECT_EQ(error_of(head + "evaluation: {repeats: 3}\n"),
+            f + ":5:23: 'evaluation.repeats' is now 'evaluation.trials' (the same: runs per individual, each with its "
+                "own seed)");
+  EXPECT_EQ(error_of(head + "evaluation: {quantile: 0.2}\n"),
+            f + ":5:24: 'evaluation.quantile' applies to 'fitness: quantile' only");
+  EXPECT_EQ(error_of(head + "evaluation: {trials: many}\n"), f + ":5:22: 'evaluation.trials' must be an integer");
+  EXPECT_EQ(error_of(head + "search: exhaustive\nga: {islands: 4}\n"),
+            f + ":6:15: 'ga.islands' applies to 'search: ga' (an exhaustive search has no populations)");
+  EXPECT_EQ(error_of(head + "ga: {population: 4, migrants: 4}\n"),
+            f + ":5:31: 'ga.migrants' (4) must be smaller than 'ga.population' (4)");
+  EXPECT_EQ(error_of(head + "evaluation: {stop_when: [{no_progress: {along: pipe, by_m: 1, within_s: 1}}]}\n"),
+            f + ":5:48: 'evaluation.stop_when[0].no_progress.along' is pipe but the environment is not a pipe");
 }
 
 // the problems shipped in scenes/optimize load as they are; the other files

@@ -45,9 +45,17 @@ EvalResult result(double f, bool failed = false, const std::string& why = "") {
 TEST(EvalResultJson, RoundTripsNonFiniteNumbers) {
   const EvalResult r = result(0.1 + 0.2, true, "module 1 (rotation) closed its socket");
   EXPECT_EQ(eval_result_from_json(nlohmann::json::parse(eval_result_to_json(r).dump())), r);
-  EXPECT_EQ(repeat_seed(42, 0), 42u);  // one run per individual: its own seed
-  EXPECT_NE(repeat_seed(42, 1), repeat_seed(42, 2));
-  EXPECT_EQ(repeat_seed(42, 1), repeat_seed(42, 1));
+  EvalResult spread = result(2.0);
+  spread.trials = 3;
+  spread.fitness_sd = 0.25;
+  spread.fitness_min = 1.75;
+  spread.fitness_max = 2.5;
+  spread.early_stop = "early stop at 3.000 s: the head got 0.1 mm further in the last 2 s";
+  EXPECT_EQ(eval_result_from_json(nlohmann::json::parse(eval_result_to_json(spread).dump())), spread);
+  EXPECT_EQ(trial_seed(42, 0), 42u);  // one run per individual: its own seed
+  EXPECT_NE(trial_seed(42, 1), trial_seed(42, 2));
+  EXPECT_EQ(trial_seed(42, 1), trial_seed(42, 1));
+  EXPECT_NE(trial_seed(42, kFreshTrial), trial_seed(42, 1));  // verification's seeds are not the search's
   EXPECT_EQ(deterministic_fault_text("module 1 (rotation, pid 4242) closed its socket (signal 11)"),
             "module 1 (rotation) closed its socket (signal 11)");
 }
@@ -109,11 +117,12 @@ TEST(Checkpoint, RoundTripsExactly) {
   Checkpoint c;
   c.fingerprint = "abc";
   c.generation = 7;
-  c.genes = {{1, 0, 3}, {0, 2, 1}};
-  c.f = {-0.1 - 0.2, 1.0 / 3.0};  // values that need all 17 digits
+  c.islands = {{{{1, 0, 3}, {0, 2, 1}}, {-0.1 - 0.2, 1.0 / 3.0}},  // values that need all 17 digits
+               {{{2, 2, 2}}, {HUGE_VAL}}};                       // and one JSON has no number for
+  c.trials = 3;
   c.cache_keys = {"TRRH", "THRH"};
   c.history_bytes = 12345;
-  c.best = {true, 5, 3, "THRH", {1, 0, 3}, 0.30000000000000004, false};
+  c.best = {true, 5, 1, 3, "THRH", {1, 0, 3}, 0.30000000000000004, false};
   c.evaluations = 320;
   c.simulations = 100;
   c.cache_hits = 220;
@@ -121,8 +130,12 @@ TEST(Checkpoint, RoundTripsExactly) {
   const Checkpoint r = read_checkpoint(p);
   EXPECT_EQ(r.fingerprint, c.fingerprint);
   EXPECT_EQ(r.generation, 7);
-  EXPECT_EQ(r.genes, c.genes);
-  EXPECT_EQ(r.f, c.f);
+  ASSERT_EQ(r.islands.size(), 2u);
+  EXPECT_EQ(r.islands[0].genes, c.islands[0].genes);
+  EXPECT_EQ(r.islands[0].f, c.islands[0].f);
+  EXPECT_EQ(r.islands[1].f, c.islands[1].f);
+  EXPECT_EQ(r.trials, 3);
+  EXPECT_EQ(r.best.island, 1);
   EXPECT_EQ(r.cache_keys, c.cache_keys);
   EXPECT_EQ(r.history_bytes, 12345u);
   EXPECT_EQ(r.best.key, "THRH");
@@ -130,7 +143,12 @@ TEST(Checkpoint, RoundTripsExactly) {
   EXPECT_EQ(r.best.genes, c.best.genes);
   EXPECT_EQ(r.cache_hits, 220u);
   std::ofstream(p) << "{\"format\": 1, \"generation\": 3}";
-  EXPECT_THROW(read_checkpoint(p), CheckpointError);
+  try {
+    read_checkpoint(p);
+    FAIL() << "a format-1 checkpoint was read";
+  } catch (const CheckpointError& e) {
+    EXPECT_NE(std::string(e.what()).find("older chainsim"), std::string::npos) << e.what();
+  }
   EXPECT_THROW(read_checkpoint(p + ".missing"), CheckpointError);
 }
 
@@ -139,18 +157,33 @@ TEST(History, RowsRoundTripAndAResumeCutsToTheCheckpoint) {
   uint64_t after_gen0 = 0;
   {
     HistoryFile h(p, {"x", "t", "n"}, false, 0);
-    h.append({0, 0, "THRH central.bend_ms=1500", result(1.5), false});
-    h.append({0, 1, "TRRH", result(0, true, "module 1 (rotation) said \"no\", twice"), false});
+    EvalResult spread = result(1.5);
+    spread.trials = 3;
+    spread.fitness_sd = 0.125;
+    spread.fitness_min = 1.25;
+    spread.fitness_max = 1.75;
+    spread.early_stop = "early stop at 2.000 s: the head got 0.0 mm further in the last 2 s";
+    h.append({0, 0, 0, "THRH central.bend_ms=1500", spread, false});
+    h.append({0, 0, 1, "TRRH", result(0, true, "module 1 (rotation) said \"no\", twice"), false});
     after_gen0 = h.flush();
-    h.append({1, 0, "THRH central.bend_ms=1500", result(1.5), true});
+    h.append({1, 1, 0, "THRH central.bend_ms=1500", result(1.5), true});
     h.flush();
   }
   const std::string text = slurp(p);
-  EXPECT_EQ(text.substr(0, text.find('\n')), "generation,individual,genome,fitness,x,t,n,fault,cached,wall_s");
-  EXPECT_NE(text.find("0,1,TRRH,0,0,inf,,\"module 1 (rotation) said \"\"no\"\", twice\",no,1.250\n"), std::string::npos)
+  EXPECT_EQ(text.substr(0, text.find('\n')),
+            "generation,island,individual,genome,fitness,trials,fitness_sd,fitness_min,fitness_max,x,t,n,fault,"
+            "early_stop,cached,wall_s");
+  EXPECT_NE(text.find("0,0,1,TRRH,0,1,,,,0,inf,,\"module 1 (rotation) said \"\"no\"\", twice\",,no,1.250\n"),
+            std::string::npos)
       << text;
   const auto rows = parse_history(text, 3, p);
   ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[0].result.trials, 3);
+  EXPECT_EQ(rows[0].result.fitness_sd, 0.125);
+  EXPECT_EQ(rows[0].result.fitness_max, 1.75);
+  EXPECT_FALSE(rows[0].result.failed);  // an early stop is no failure
+  EXPECT_EQ(rows[0].result.early_stop, "early stop at 2.000 s: the head got 0.0 mm further in the last 2 s");
+  EXPECT_EQ(rows[2].island, 1);
   EXPECT_EQ(rows[1].result.why, "module 1 (rotation) said \"no\", twice");
   EXPECT_TRUE(rows[1].result.failed);
   EXPECT_TRUE(std::isinf(rows[1].result.measures[1]));
@@ -158,11 +191,14 @@ TEST(History, RowsRoundTripAndAResumeCutsToTheCheckpoint) {
   EXPECT_TRUE(rows[2].cached);
   {
     HistoryFile h(p, {"x", "t", "n"}, true, after_gen0);  // resume from generation 0's checkpoint
-    h.append({1, 0, "TRRH", result(2), false});
+    h.append({1, 0, 0, "TRRH", result(2), false});
     h.flush();
   }
   const auto resumed = parse_history(slurp(p), 3, p);
   ASSERT_EQ(resumed.size(), 3u);
   EXPECT_EQ(resumed[2].genome, "TRRH");
   EXPECT_THROW(parse_history("h\n1,2,3\n", 3, p), std::runtime_error);
+  // a history of another layout (an older chainsim) is not resumed into
+  std::ofstream(p) << "generation,individual,genome,fitness,x,t,n,fault,cached,wall_s\n0,0,TRRH,1,1,1,1,,no,0.1\n";
+  EXPECT_THROW(HistoryFile(p, {"x", "t", "n"}, true, 10), std::runtime_error);
 }

@@ -30,6 +30,7 @@ measures:
 objective:
   maximize: x
 ga: {population: 6, generations: 7, seed: 1}
+evaluation: {trials: 1}
 )";
 
 const char* kFault = R"(name: test-fault
@@ -47,6 +48,13 @@ ga: {population: 4, generations: 2, seed: 1}
 evaluation: {module_timeout_s: 5}
 )";
 
+// text with its first `from` replaced by `to`
+std::string sub(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  if (at == std::string::npos) throw std::logic_error("no '" + from + "' in a test problem");
+  return text.replace(at, from.size(), to);
+}
+
 }  // namespace
 
 std::string write_problem(const std::string& dir, const std::string& which) {
@@ -56,12 +64,30 @@ std::string write_problem(const std::string& dir, const std::string& which) {
     return dir + "/gait.yaml";
   }
   if (which == "gait-long") {  // the same search with 3 s runs: an evaluation lasts long enough to be cut
-    std::string base = kBase, gait = kGait;
-    base.replace(base.find("duration_s: 0.4"), 15, "duration_s: 3.0");
-    gait.replace(gait.find("scene: base.yaml"), 16, "scene: base-long.yaml");
+    const std::string base = sub(kBase, "duration_s: 0.4", "duration_s: 3.0");
+    const std::string gait = sub(kGait, "scene: base.yaml", "scene: base-long.yaml");
     std::ofstream(dir + "/base-long.yaml") << base;
     std::ofstream(dir + "/gait-long.yaml") << gait;
     return dir + "/gait-long.yaml";
+  }
+  if (which == "gait-auto" || which == "gait-exact") {  // trials: auto; with the exact solver no seed matters
+    std::string base = kBase, gait = sub(kGait, "evaluation: {trials: 1}\n", "");
+    if (which == "gait-exact") {
+      base += "physics: {solver: exact}\n";
+      gait = sub(gait, "scene: base.yaml", "scene: base-exact.yaml");
+    }
+    std::ofstream(dir + "/base-exact.yaml") << base;
+    std::ofstream(dir + "/" + which + ".yaml") << gait;
+    return dir + "/" + which + ".yaml";
+  }
+  if (which == "stop" || which == "stop-off") {  // a constraint on when the tail gets 1 cm on
+    std::string stop = sub(kGait, "  head_x: {kind: distance, of: head, along: x}\n",
+                           "  t: {kind: time_to_reach, of: tail, along: x, reach_m: -0.1255}\n");
+    stop = sub(stop, "objective:\n  maximize: x\n",
+               "objective:\n  maximize: x\n  failed_fitness: -1\nconstraints: [{measure: t, max: 0.3}]\n");
+    if (which == "stop-off") stop = sub(stop, "evaluation: {trials: 1}", "evaluation: {trials: 1, stop_on_constraints: false}");
+    std::ofstream(dir + "/" + which + ".yaml") << stop;
+    return dir + "/" + which + ".yaml";
   }
   if (which == "fault") {
     std::ofstream(dir + "/base-fault.yaml")

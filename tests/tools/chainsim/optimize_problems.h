@@ -8,6 +8,9 @@ namespace optimize_test {
 
 // writes base.yaml and the problem into dir; returns the problem's path.
 //  "gait":  amplitude x omega x phase, 27 individuals; maximize the chain's x distance
+//  "gait-auto": the same with trials: auto; "gait-exact": and the exact solver (no seed changes a run)
+//  "stop", "stop-off": gait with a constraint that the tail gets 1 cm on by 0.3 s, with and
+//           without the early stop the constraint brings
 //  "fault": module 1 runs fw-test-misbehave; mode 0 (quiet) or 2 (SIGSEGV at 150 ms) x amplitude
 std::string write_problem(const std::string& dir, const std::string& which);
 

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -67,9 +68,11 @@ int wait_for(const Proc& p, double timeout_s = 240) {
   return WIFEXITED(st) ? WEXITSTATUS(st) : -WTERMSIG(st);
 }
 
+// a search with no replay and (unless verify) no verification of its winners
 std::vector<std::string> optimize_args(const std::string& problem, const std::string& out,
-                                       const std::vector<std::string>& more) {
+                                       const std::vector<std::string>& more, bool verify = false) {
   std::vector<std::string> a{CHAINSIM_EXE, "optimize", problem, "--out", out, "--no-replay"};
+  if (!verify) a.insert(a.end(), {"--verify-top", "0"});
   a.insert(a.end(), more.begin(), more.end());
   return a;
 }
@@ -151,9 +154,9 @@ TEST(Optimize, TheGaFindsTheEnumeratedOptimum) {
     std::stringstream s(all[i]);
     std::string x;
     while (std::getline(s, x, ',')) f.push_back(x);
-    if (std::stod(f[3]) > best) {
-      best = std::stod(f[3]);
-      best_key = f[2];
+    if (std::stod(f[4]) > best) {
+      best = std::stod(f[4]);
+      best_key = f[3];
     }
   }
   // the GA's best, from its best.yaml header, and where it found it
@@ -356,7 +359,7 @@ TEST(Optimize, ARankKilledUnderMpirunIsNamedAndItsWorkDoneByAnother) {
   }
   EXPECT_EQ(rc, 0) << err;
   EXPECT_NE(err.find("optimize: rank 2 (pid " + std::to_string(victim) + " on "), std::string::npos) << err;
-  EXPECT_NE(err.find(") has died; its evaluation of individual "), std::string::npos) << err;
+  EXPECT_NE(err.find(") has died; its evaluation of central."), std::string::npos) << err;
   EXPECT_NE(err.find(" goes to another rank"), std::string::npos) << err;
   EXPECT_EQ(history_without_wall(out + "/history.csv"), uninterrupted);
 }
@@ -385,4 +388,177 @@ TEST(Optimize, TargetPicEvaluatesOnTheBoardsBinaries) {
     ++runs;
   }
   EXPECT_EQ(runs, 4);
+}
+
+namespace {
+
+// history.csv's rows as fields (a genome has no comma)
+std::vector<std::vector<std::string>> history_fields(const std::string& path) {
+  std::vector<std::vector<std::string>> out;
+  const auto ls = lines(scenario::read_file(path));
+  for (size_t i = 1; i < ls.size(); ++i) {
+    std::vector<std::string> f;
+    std::string x;
+    bool quoted = false;
+    for (char c : ls[i]) {
+      if (c == '"') quoted = !quoted;
+      if (c == ',' && !quoted) {
+        f.push_back(x);
+        x.clear();
+      } else {
+        x += c;
+      }
+    }
+    f.push_back(x);
+    out.push_back(f);
+  }
+  return out;
+}
+
+// columns of history.csv: generation, island, individual, genome, fitness, trials, fitness_sd, ...
+enum { kGen = 0, kIsland = 1, kGenome = 3, kFitness = 4, kTrials = 5, kSd = 6, kMin = 7, kMax = 8 };
+
+}  // namespace
+
+// trials: auto runs generation 0 three times over; when an individual's
+// fitness differs between its seeds every later one runs three times too,
+// and with a solver that no seed changes they run once
+TEST(Optimize, TrialsAutoMeasuresTheSpreadAndKeepsTrialsOnlyWhenTheFitnessVaries) {
+  const std::string d = scenario::temp_dir("opt-auto");
+  const std::vector<std::string> small{"--workers", "2", "--population", "4", "--generations", "1"};
+  const std::string err = search(optimize_args(write_problem(d, "gait-auto"), d + "/auto", small), d + "/auto.txt");
+  EXPECT_NE(err.find("trials: auto: the fitness varied between an individual's trials in generation 0"),
+            std::string::npos)
+      << err;
+  const auto rows = history_fields(d + "/auto/history.csv");
+  ASSERT_EQ(rows.size(), 8u);
+  for (const auto& r : rows) {
+    EXPECT_EQ(r[kTrials], "3") << r[kGenome];
+    EXPECT_FALSE(r[kSd].empty()) << r[kGenome];
+    EXPECT_LE(std::stod(r[kMin]), std::stod(r[kFitness]));
+    EXPECT_GE(std::stod(r[kMax]), std::stod(r[kFitness]));
+  }
+  const std::string ex = search(optimize_args(write_problem(d, "gait-exact"), d + "/exact", small), d + "/exact.txt");
+  EXPECT_NE(ex.find("trials: auto: no individual's fitness varied between its 3 trials in generation 0 (4 measured)"),
+            std::string::npos)
+      << ex;
+  const auto exact = history_fields(d + "/exact/history.csv");
+  ASSERT_EQ(exact.size(), 8u);
+  for (const auto& r : exact) {
+    const bool cached = r[13] == "yes";  // (a cache hit keeps the trials it was run with)
+    if (!cached) EXPECT_EQ(r[kTrials], r[kGen] == "0" ? "3" : "1") << r[kGenome];
+    if (r[kGen] == "0") EXPECT_EQ(r[kSd], "0") << r[kGenome];
+  }
+  // the report shows the spread beside the fitness
+  EXPECT_NE(scenario::read_file(d + "/auto/report.html").find("<th>sd</th>"), std::string::npos);
+}
+
+// the winners run again with fresh seeds and the exact solver (and on the
+// board when its binaries are built); best.yaml is the best of them with
+// fresh seeds; --verify DIR verifies a finished search again, the same way
+TEST(Optimize, TheWinnersAreVerifiedWithFreshSeedsTheExactSolverAndTheBoard) {
+  const std::string d = scenario::temp_dir("opt-verify");
+  const std::string p = write_problem(d, "gait");
+  const std::string out = d + "/out";
+  const std::string err = search(optimize_args(p, out, {"--workers", "2", "--population", "4", "--generations", "1",
+                                                        "--verify-top", "2"},
+                                               true),
+                                 d + "/err.txt");
+  EXPECT_NE(err.find("optimize: verifying the 2 best: 3 fresh trials each, again with the exact solver"),
+            std::string::npos)
+      << err;
+  const auto v = lines(scenario::read_file(out + "/verify.csv"));
+  ASSERT_EQ(v.size(), 3u) << scenario::read_file(out + "/verify.csv");
+  EXPECT_EQ(v[0].rfind("rank,genome,search_fitness,search_sd,search_trials,search_fault,fresh_fitness", 0), 0u);
+  const nlohmann::json j = nlohmann::json::parse(scenario::read_file(out + "/verify.json"));
+  ASSERT_EQ(j["leaders"].size(), 2u);
+  int best = -1;
+  double best_fresh = -1e300;
+  for (size_t l = 0; l < 2; ++l) {
+    const auto& x = j["leaders"][l];
+    EXPECT_EQ(x["fresh"]["trials"], 3);
+    EXPECT_EQ(x["exact"]["trials"], 3);
+    // fresh seeds are not the search's: the fitness differs from the search's one run
+    EXPECT_NE(x["fresh"]["fitness"], x["search"]["fitness"]);
+    if (x["fresh"]["fitness"].get<double>() > best_fresh) {
+      best_fresh = x["fresh"]["fitness"].get<double>();
+      best = static_cast<int>(l);
+    }
+  }
+  ASSERT_GE(best, 0);
+  EXPECT_EQ(j["verified_best"], j["leaders"][best]["genome"]);
+  const std::string best_yaml = scenario::read_file(out + "/best.yaml");
+  EXPECT_NE(best_yaml.find("#   " + j["verified_best"].get<std::string>() + ", fitness"), std::string::npos) << best_yaml;
+  EXPECT_NE(best_yaml.find("# Verified: the best of the search's 2 leaders with 3 fresh seeds"), std::string::npos);
+  EXPECT_NE(scenario::read_file(out + "/report.html").find("<h2>Verification</h2>"), std::string::npos);
+  const std::string exe = CHAINSIM_EXE;
+  const bool pic = access((exe.substr(0, exe.rfind('/')) + "/../pic/fw-rotation.hex").c_str(), R_OK) == 0;
+  EXPECT_EQ(j["leaders"][0].contains("pic"), pic);
+  // verified again on demand: the same table
+  const std::string first = scenario::read_file(out + "/verify.csv");
+  std::filesystem::remove(out + "/verify.csv");
+  search({CHAINSIM_EXE, "optimize", "--verify", out, "--verify-top", "2", "--no-replay"}, d + "/again.txt");
+  EXPECT_EQ(scenario::read_file(out + "/verify.csv"), first);
+  // a directory with no search is named
+  const std::string none = search({CHAINSIM_EXE, "optimize", "--verify", d}, d + "/none.txt", 1);
+  EXPECT_NE(none.find("--verify: " + d + "/search.json: cannot open"), std::string::npos) << none;
+}
+
+// a time_to_reach constraint's max ends the runs that cannot meet it there,
+// says so in history.csv, and changes no verdict and no fitness
+TEST(Optimize, AConstraintThatCanNoLongerBeMetEndsTheRunAndChangesNoVerdict) {
+  const std::string d = scenario::temp_dir("opt-stop");
+  const std::vector<std::string> all{"--exhaustive", "--workers", "2", "--population", "9"};
+  search(optimize_args(write_problem(d, "stop"), d + "/stop", all), d + "/stop.txt");
+  search(optimize_args(write_problem(d, "stop-off"), d + "/off", all), d + "/off.txt");
+  const auto on = history_fields(d + "/stop/history.csv"), off = history_fields(d + "/off/history.csv");
+  ASSERT_EQ(on.size(), 27u);
+  ASSERT_EQ(off.size(), 27u);
+  const size_t fault = 11, early = 12;  // the fixed columns, x, t, then fault and early_stop
+  int stopped = 0, passed = 0;
+  for (size_t i = 0; i < on.size(); ++i) {
+    EXPECT_EQ(on[i][kGenome], off[i][kGenome]);
+    EXPECT_EQ(on[i][fault].empty(), off[i][fault].empty()) << on[i][kGenome];  // the same verdict
+    EXPECT_TRUE(off[i][early].empty());
+    if (on[i][fault].empty()) {
+      ++passed;
+      EXPECT_EQ(on[i][kFitness], off[i][kFitness]) << on[i][kGenome];  // a run that passes runs to the end
+      EXPECT_TRUE(on[i][early].empty());
+    } else {
+      ++stopped;
+      EXPECT_EQ(on[i][fault], "constraint: t = inf > 0.3");
+      EXPECT_EQ(on[i][early].rfind("\"early stop at 0.320 s: the tail got no further than ", 0), 0u) << on[i][early];
+    }
+  }
+  EXPECT_GT(stopped, 0);
+  EXPECT_GT(passed, 0);
+  EXPECT_EQ(scene_part(scenario::read_file(d + "/stop/best.yaml")).find("not_reached") != std::string::npos, true);
+}
+
+// islands: two populations of 4 with migration every generation; the same
+// history with one worker, two, and under mpirun, and a migrant is seen
+TEST(Optimize, IslandsGiveTheSameHistoryWhateverTheWorkersAndMigrate) {
+  const std::string d = scenario::temp_dir("opt-islands");
+  const std::string p = write_problem(d, "gait");
+  std::string text = scenario::read_file(p);
+  text.replace(text.find("ga: {population: 6, generations: 7, seed: 1}"), 44,
+               "ga: {population: 4, generations: 3, seed: 1, islands: 2, migration_every: 1, migrants: 1}");
+  const std::string isl = scenario::write_file(d, "islands.yaml", text);
+  search(optimize_args(isl, d + "/one", {"--workers", "1"}), d + "/one.txt");
+  search(optimize_args(isl, d + "/two", {"--workers", "2"}), d + "/two.txt");
+  const std::string err = search(mpirun(3, optimize_args(isl, d + "/mpi", {}), false), d + "/mpi.txt");
+  const std::string one = history_without_wall(d + "/one/history.csv");
+  EXPECT_EQ(history_without_wall(d + "/two/history.csv"), one);
+  EXPECT_EQ(history_without_wall(d + "/mpi/history.csv"), one);
+  const auto rows = history_fields(d + "/one/history.csv");
+  ASSERT_EQ(rows.size(), 4u * 2u * 4u);  // generations x islands x population
+  // generation order, then island order
+  for (size_t i = 0; i < rows.size(); ++i) {
+    EXPECT_EQ(rows[i][kGen], std::to_string(i / 8));
+    EXPECT_EQ(rows[i][kIsland], std::to_string((i / 4) % 2));
+  }
+  // the islands started apart: generation 0's populations differ
+  std::set<std::string> g0_a, g0_b;
+  for (size_t i = 0; i < 8; ++i) (i < 4 ? g0_a : g0_b).insert(rows[i][kGenome]);
+  EXPECT_NE(g0_a, g0_b);
 }

@@ -1,4 +1,4 @@
-#include "optimize/pipe_progress.h"
+#include "environment/pipe_progress.h"
 
 #include <algorithm>
 #include <cmath>
