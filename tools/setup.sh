@@ -12,6 +12,7 @@ PACKAGES=(
   libnlopt-cxx-dev                # chainsim calibrate: the optimiser (NLopt BOBYQA)
   libpagmo-dev                    # chainsim optimize: the genetic algorithm (pagmo sga)
   libopenmpi-dev openmpi-bin      # chainsim optimize under mpirun (MPI ranks)
+  slurm-wlm munge                 # tools/slurm's job script, tested under a one-node Slurm the test starts itself
   clang libclang-rt-14-dev        # libFuzzer target of the protocol decoder
   chromium                        # chainsim view --png and the viewer tests (headless)
   gpsim gpsim-dev libglib2.0-dev  # chainsim-pic: the board's .hex in gpsim (target: pic)

@@ -87,7 +87,10 @@ bool local_process_gone(pid_t pid) {
 
 }  // namespace
 
-bool launched_by_mpirun() { return std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE"); }
+bool launched_by_mpirun() {
+  // mpirun (OpenMPI), a PMI launcher, or a PMIx one such as `srun --mpi=pmix`
+  return std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE") || std::getenv("PMIX_RANK");
+}
 
 MpiSession::MpiSession(int* argc, char*** argv) {
   MPI_Init(argc, argv);

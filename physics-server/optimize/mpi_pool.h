@@ -19,7 +19,7 @@
 
 namespace chainsim {
 
-// true when started by mpirun (OpenMPI's OMPI_COMM_WORLD_SIZE, or PMI_SIZE)
+// true when started by mpirun (OpenMPI's OMPI_COMM_WORLD_SIZE), a PMI launcher (PMI_SIZE) or a PMIx one (PMIX_RANK: srun --mpi=pmix)
 bool launched_by_mpirun();
 
 class MpiSession {

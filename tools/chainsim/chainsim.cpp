@@ -23,6 +23,7 @@
 #include "chainsim/bench_command.h"
 #include "chainsim/calibrate_command.h"
 #include "chainsim/test_command.h"
+#include "chainsim/bench_search_command.h"
 #include "chainsim/optimize_command.h"
 #include "chainsim/params_command.h"
 #include "viewer/live_view.h"
@@ -485,6 +486,7 @@ int main(int argc, char** argv) {
   add_calibrate_command(app);
   add_test_command(app);
   add_optimize_command(app);
+  add_bench_search_command(app);
   add_params_command(app);
   try {
     app.parse(argc, argv);
@@ -496,6 +498,7 @@ int main(int argc, char** argv) {
   if (const int rc = calibrate_command_exit_code(); rc >= 0) return rc;
   if (const int rc = test_command_exit_code(); rc >= 0) return rc;
   if (const int rc = optimize_command_exit_code(); rc >= 0) return rc;
+  if (const int rc = bench_search_command_exit_code(); rc >= 0) return rc;
   if (const int rc = params_command_exit_code(); rc >= 0) return rc;
   if (*run) return cmd_run(ra);
   if (*view) return cmd_view(va);

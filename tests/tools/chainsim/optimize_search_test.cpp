@@ -562,3 +562,32 @@ TEST(Optimize, IslandsGiveTheSameHistoryWhateverTheWorkersAndMigrate) {
   for (size_t i = 0; i < 8; ++i) (i < 4 ? g0_a : g0_b).insert(rows[i][kGenome]);
   EXPECT_NE(g0_a, g0_b);
 }
+
+// the scheduler on simulated cores (chainsim bench-search): evaluations sleep
+// a real search's recorded times; the history is the same whatever the
+// number of cores, and every row of the table is there (its busy fractions
+// are wall-clock figures: printed, not asserted)
+TEST(Optimize, TheSchedulerOnSimulatedCoresGivesTheSameHistoryWhateverTheCores) {
+  const std::string d = scenario::temp_dir("opt-bench-search");
+  const std::string p = write_problem(d, "gait");
+  search(optimize_args(p, d + "/all", {"--exhaustive", "--workers", "2", "--population", "9"}), d + "/all.txt");
+  const auto [out, rc] = scenario::chainsim_stdout("bench-search " + p + " --history " + d + "/all/history.csv" +
+                                                   " --cores 1 4 64 --islands 1 3 --generations 4 --scale 0.2");
+  ASSERT_EQ(rc, 0) << out;
+  std::map<std::string, std::set<std::string>> hashes;  // islands -> history hashes over the core counts
+  int rows = 0;
+  for (const auto& l : lines(out)) {
+    if (l.empty() || l[0] == '#' || l.find("cores") != std::string::npos) continue;
+    std::istringstream f(l);
+    std::string cores, islands, population, evaluations, simulated, busy, wall, ideal, hash;
+    ASSERT_TRUE(static_cast<bool>(f >> cores >> islands >> population >> evaluations >> simulated >> busy >> wall >> ideal >> hash)) << l;
+    EXPECT_EQ(std::stoi(evaluations), std::stoi(islands) * 6 * 5) << l;  // islands x population x generations
+    EXPECT_GT(std::stod(busy), 0.0) << l;
+    EXPECT_LE(std::stod(busy), 1.0 + 1e-9) << l;
+    hashes[islands].insert(hash);
+    ++rows;
+  }
+  EXPECT_EQ(rows, 6) << out;
+  ASSERT_EQ(hashes.size(), 2u) << out;
+  for (const auto& [islands, h] : hashes) EXPECT_EQ(h.size(), 1u) << islands << " islands: " << out;
+}

@@ -1,0 +1,128 @@
+#include "chainsim/bench_search_command.h"
+
+#include <CLI/CLI.hpp>
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cosim/run_options.h"
+#include "optimize/history.h"
+#include "optimize/problem.h"
+#include "optimize/search.h"
+#include "optimize/simulated_pool.h"
+#include "output/sha256.h"
+
+namespace chainsim {
+namespace {
+
+struct Args {
+  std::string problem, history, out;
+  std::vector<int> cores{8, 64, 256};
+  std::vector<int> islands{1, 4, 16};
+  int generations = -1;
+  double scale = 0.01;
+};
+
+Args g_args;
+int g_exit_code = -1;
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path + ": cannot open");
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// the history's text without wall_s: what must be the same whatever the cores
+std::string history_sha(const std::string& path) {
+  std::istringstream in(read_text(path));
+  std::string line, text;
+  while (std::getline(in, line)) text += line.substr(0, line.rfind(',')) + "\n";
+  Sha256 sha;
+  sha.update(text.data(), text.size());
+  return sha.hex().substr(0, 12);
+}
+
+int run(const Args& a) {
+  try {
+    const Problem base = load_problem_file(a.problem);
+    const std::vector<HistoryRow> recorded =
+        parse_history(read_text(a.history), base.measures.size(), a.history);
+    double recorded_s = 0;
+    size_t simulated = 0;
+    for (const HistoryRow& r : recorded)
+      if (!r.cached) {
+        recorded_s += r.result.wall_s;
+        ++simulated;
+      }
+    if (simulated == 0) throw std::runtime_error(a.history + ": no simulated rows (wall times) to replay");
+    const std::string out = a.out.empty() ? std::filesystem::temp_directory_path().string() + "/chainsim-bench-search-" +
+                                                std::to_string(getpid())
+                                          : a.out;
+    std::printf("# the search's scheduler on simulated cores: %s, evaluation times from %s (%zu runs, mean %.2f s),\n"
+                "# slept %gx; busy = the cores' busy time / (cores x wall)\n",
+                base.name.c_str(), a.history.c_str(), simulated, recorded_s / static_cast<double>(simulated), a.scale);
+    std::printf("%6s %8s %10s %12s %10s %8s %10s %12s %14s\n", "cores", "islands", "population", "evaluations",
+                "simulated", "busy", "wall_s", "ideal_wall_s", "history");
+    for (int islands : a.islands) {
+      if (base.exhaustive && islands > 1) continue;
+      for (int cores : a.cores) {
+        Problem pr = base;
+        pr.ga.islands = islands;
+        if (a.generations >= 0) pr.ga.generations = a.generations;
+        pr.evaluation.trials = 1;  // the recorded rows are whole evaluations
+        const std::string dir = out + "/" + std::to_string(islands) + "-" + std::to_string(cores);
+        std::filesystem::remove_all(dir);
+        SimulatedPool pool(recorded, pr.objective.failed_fitness, pr.measures.size(), cores, a.scale);
+        SearchOptions so;
+        so.out_dir = dir;
+        so.quiet = true;
+        const SearchSummary s = run_search(pr, so, pool);
+        if (s.interrupted) return kExitInterrupted;
+        std::printf("%6d %8d %10d %12llu %10llu %8.3f %10.2f %12.2f %14s\n", cores, islands, pr.ga.population,
+                    static_cast<unsigned long long>(s.evaluations), static_cast<unsigned long long>(pool.evaluations()),
+                    pool.busy_s() / (cores * pool.wall_s()), pool.wall_s(), pool.busy_s() / cores,
+                    history_sha(history_path(dir)).c_str());
+        std::fflush(stdout);
+      }
+    }
+    if (a.out.empty()) std::filesystem::remove_all(out);
+    return kExitOk;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "chainsim bench-search: %s\n", e.what());
+    return kExitBadInput;
+  }
+}
+
+}  // namespace
+
+void add_bench_search_command(CLI::App& app) {
+  CLI::App* sub = app.add_subcommand(
+      "bench-search",
+      "the design search's scheduler on simulated cores: evaluations sleep the wall times a real search recorded "
+      "(history.csv) and return its results; busy fraction per core count and islands (docs/benchmarks.md)");
+  sub->add_option("problem", g_args.problem, "the problem file of the recorded search")->required()
+      ->check(CLI::ExistingFile);
+  sub->add_option("--history", g_args.history, "history.csv of a real search of that problem (its times and results)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  sub->add_option("--cores", g_args.cores, "simulated core counts (default 8 64 256)")->check(CLI::Range(1, 1000000));
+  sub->add_option("--islands", g_args.islands, "island counts (default 1 4 16)")->check(CLI::Range(1, 10000));
+  sub->add_option("--generations", g_args.generations, "generations (default: the problem's)")
+      ->check(CLI::NonNegativeNumber);
+  sub->add_option("--scale", g_args.scale, "wall seconds slept per recorded second (default 0.01)")
+      ->check(CLI::Range(1e-6, 10.0));
+  sub->add_option("--out", g_args.out, "keep each search's directory here (default: a temporary one, removed)");
+  sub->callback([] { g_exit_code = run(g_args); });
+}
+
+int bench_search_command_exit_code() { return g_exit_code; }
+
+}  // namespace chainsim
