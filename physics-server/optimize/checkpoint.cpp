@@ -11,6 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "optimize/output_error.h"
+
 namespace chainsim {
 
 void write_checkpoint(const std::string& path, const Checkpoint& c) {
@@ -39,12 +41,12 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
   const std::string text = j.dump(1) + "\n";
   const std::string tmp = path + ".tmp";
   const int fd = open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw CheckpointError(tmp + ": cannot write: " + std::strerror(errno));
+  if (fd < 0) throw OutputError(tmp + ": cannot write: " + std::strerror(errno));
   bool ok = write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
   ok = fsync(fd) == 0 && ok;  // the rename must not land before the bytes
   ok = close(fd) == 0 && ok;
   if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw CheckpointError(path + ": cannot write: " + std::strerror(errno));
+    throw OutputError(path + ": cannot write: " + std::strerror(errno));
 }
 
 Checkpoint read_checkpoint(const std::string& path) {
@@ -92,6 +94,25 @@ Checkpoint read_checkpoint(const std::string& path) {
     throw CheckpointError(path + ": damaged: " + e.what());
   }
   return c;
+}
+
+void write_file_atomic(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  const int fd = open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw OutputError(tmp + ": cannot write: " + std::strerror(errno));
+  size_t done = 0;
+  bool ok = true;
+  while (ok && done < text.size()) {
+    const ssize_t n = write(fd, text.data() + done, text.size() - done);
+    ok = n > 0;
+    if (ok) done += static_cast<size_t>(n);
+  }
+  const int err = ok ? 0 : errno;
+  ok = close(fd) == 0 && ok;
+  if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0) {
+    unlink(tmp.c_str());
+    throw OutputError(path + ": cannot write: " + std::strerror(err ? err : errno));
+  }
 }
 
 }  // namespace chainsim

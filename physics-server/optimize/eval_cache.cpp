@@ -6,6 +6,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "optimize/output_error.h"
+
 namespace chainsim {
 
 EvalCache::EvalCache(const std::string& journal_path, const std::string& fingerprint) : path_(journal_path) {
@@ -52,7 +54,7 @@ EvalCache::EvalCache(const std::string& journal_path, const std::string& fingerp
 
 void EvalCache::write_line(const std::string& line) {
   if (std::fwrite(line.data(), 1, line.size(), journal_) != line.size() || std::fflush(journal_) != 0)
-    throw CacheError(path_ + ": cannot write: " + std::strerror(errno));
+    throw OutputError(path_ + ": cannot write: " + std::strerror(errno));
 }
 
 EvalCache::~EvalCache() {

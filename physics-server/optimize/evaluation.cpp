@@ -8,6 +8,7 @@
 #include <sstream>
 #include <thread>
 
+#include "cosim/run_options.h"
 #include "optimize/individual_scene.h"
 #include "optimize/problem.h"
 #include "optimize/run_outcome.h"
@@ -51,6 +52,7 @@ std::string last_lines(const std::string& path, size_t max_chars) {
 
 bool EvalResult::operator==(const EvalResult& o) const {
   if (!same_number(fitness, o.fitness) || failed != o.failed || why != o.why || wall_s != o.wall_s) return false;
+  if (infra != o.infra) return false;
   if (early_stop != o.early_stop || trials != o.trials || !same_number(fitness_sd, o.fitness_sd) ||
       !same_number(fitness_min, o.fitness_min) || !same_number(fitness_max, o.fitness_max))
     return false;
@@ -72,7 +74,33 @@ nlohmann::json eval_result_to_json(const EvalResult& r) {
           {"fitness_sd", number_json(r.fitness_sd)},
           {"fitness_min", number_json(r.fitness_min)},
           {"fitness_max", number_json(r.fitness_max)},
-          {"wall_s", r.wall_s}};
+          {"wall_s", r.wall_s},
+          {"infra", r.infra}};
+}
+
+std::string infrastructure_fault(const ExitStatus& st, const std::string& run_fault) {
+  if (!st.exited) return "the evaluator was ended by " + st.text() + " from outside";
+  switch (st.code) {
+    case kExitOk:
+    case kExitModuleFault:
+    case kExitDivergence:
+    case kExitSilentModule:
+      break;
+    case kExitOutput:
+      return "the run could not write its files (" + (run_fault.empty() ? st.text() : run_fault) +
+             "): is the disk under --out full?";
+    case kExitInterrupted:
+      return "the run was interrupted";
+    case kExitInternal:
+      return "internal error of the run" + (run_fault.empty() ? std::string() : ": " + run_fault);
+    default:
+      return "the run could not start (" + st.text() + (run_fault.empty() ? "" : ": " + run_fault) + ")";
+  }
+  // a module killed by a signal its own program does not send itself
+  static const std::regex killed("ended: signal (9|15|1|2) \\(");
+  if (std::regex_search(run_fault, killed))
+    return run_fault + " (from outside the program: the OOM killer, or a user)";
+  return "";
 }
 
 EvalResult eval_result_of(const Score& s, double wall_s) {
@@ -102,6 +130,7 @@ EvalResult eval_result_from_json(const nlohmann::json& j) {
   if (j.contains("fitness_min")) r.fitness_min = number_from_json(j["fitness_min"]);
   if (j.contains("fitness_max")) r.fitness_max = number_from_json(j["fitness_max"]);
   r.wall_s = j.at("wall_s").get<double>();
+  r.infra = j.value("infra", false);
   return r;
 }
 
@@ -124,12 +153,13 @@ Evaluation::Evaluation(const EvalContext& ctx, EvalTask task, const std::string&
   std::error_code ec;
   std::filesystem::remove_all(dir_, ec);
   std::filesystem::create_directories(dir_, ec);
-  auto fail_now = [&](const std::string& why) {
+  auto fail_now = [&](const std::string& why, bool infra) {
     result_ = eval_result_of(failed_score(pr.measures.size(), pr.objective, why), 0.0);
+    result_.infra = infra;
     done_ = true;
   };
   if (ec) {
-    fail_now("cannot create " + dir_ + ": " + ec.message());
+    fail_now("cannot create " + dir_ + ": " + ec.message(), true);
     return;
   }
   try {
@@ -138,10 +168,16 @@ Evaluation::Evaluation(const EvalContext& ctx, EvalTask task, const std::string&
       const std::string text = individual_scene_yaml(pr, task_.phenotype, trial_seed(task_.seed, task_.first_trial + r),
                                                      task_.solver, task_.target);
       load_scene_text(text, scene_path(r));
-      std::ofstream(scene_path(r)) << text;
+      std::ofstream out(scene_path(r), std::ios::binary);
+      out << text;
+      out.flush();
+      if (!out) {
+        fail_now("cannot write " + scene_path(r) + ": is the disk under --out full?", true);
+        return;
+      }
     }
   } catch (const SceneError& e) {
-    fail_now(std::string("scene: ") + e.what());
+    fail_now(std::string("scene: ") + e.what(), false);  // the genome spoils the scene: the design's
     return;
   }
   start_trial();
@@ -168,6 +204,7 @@ void Evaluation::start_trial() {
     result_ = eval_result_of(failed_score(pr.measures.size(), pr.objective,
                                           std::string("cannot start " + ctx_.evaluator_exe + ": ") + e.what()),
                              0.0);
+    result_.infra = true;
     done_ = true;
   }
 }
@@ -187,13 +224,24 @@ void Evaluation::finish(const ExitStatus& st) {
   const Problem& pr = *ctx_.problem;
   const int r = static_cast<int>(scores_.size());
   Score s;
+  std::string infra;
   try {
     const RunOutcome rec = read_run_outcome(run_dir(r));
+    infra = infrastructure_fault(st, rec.fault);
     s = score_run(pr.measures, pr.objective, pr.constraints, rec, pr.pipe.get());
   } catch (const RunOutcomeError& e) {
     // no usable outputs: say what the process said
-    s = failed_score(pr.measures.size(), pr.objective,
-                     "the run ended with " + st.text() + ": " + last_lines(dir_ + "/chainsim.out", 600));
+    const std::string said = last_lines(dir_ + "/chainsim.out", 600);
+    infra = infrastructure_fault(st, said);
+    if (infra.empty()) infra = "the run left no usable outputs (" + std::string(e.what()) + "); it said: " + said;
+    s = failed_score(pr.measures.size(), pr.objective, "the run ended with " + st.text() + ": " + said);
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+  if (!infra.empty()) {
+    result_ = eval_result_of(failed_score(pr.measures.size(), pr.objective, infra), wall);
+    result_.infra = true;
+    done_ = true;  // the run directory stays, for whoever looks into it
+    return;
   }
   scores_.push_back(s);
   // a failed trial fails the individual: no need to run the others
@@ -202,7 +250,6 @@ void Evaluation::finish(const ExitStatus& st) {
     return;
   }
   const Score all = combine_trials(scores_, pr.objective, pr.evaluation.fitness, pr.evaluation.quantile);
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
   result_ = eval_result_of(all, wall);
   done_ = true;
   if (!ctx_.keep_runs) {

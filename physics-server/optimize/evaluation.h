@@ -8,6 +8,7 @@
 #include <limits>
 #include <cstdint>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -49,7 +50,28 @@ struct EvalResult {
   double fitness_min = std::numeric_limits<double>::quiet_NaN();
   double fitness_max = std::numeric_limits<double>::quiet_NaN();
   double wall_s = 0;              // wall-clock seconds of the simulation
+  // the run could not be done for a reason of the machine, not of the
+  // design (a full disk, the evaluator killed from outside, an internal
+  // error, a module killed by SIGKILL or SIGTERM): `why` says what; no
+  // verdict, never journaled, and the search stops (infrastructure_fault)
+  bool infra = false;
   bool operator==(const EvalResult& o) const;
+};
+
+// whether a run's end was the machine's fault rather than the design's: the
+// evaluator's exit status (an exit code other than 0 finished, 2 module
+// fault, 4 divergence, 6 silent module; or a signal), or a module ended by a
+// signal nobody's firmware sends itself (SIGKILL: the OOM killer or a user;
+// SIGTERM, SIGHUP, SIGINT). Returns the reason, or "" for a verdict.
+std::string infrastructure_fault(const ExitStatus& evaluator, const std::string& run_fault);
+
+// thrown by the search when an evaluation was an infrastructure fault: the
+// search stops after its last complete generation, nothing is recorded for
+// that individual, and --resume runs it again
+struct InfrastructureError : std::runtime_error {
+  InfrastructureError(const std::string& what, bool disk_full)
+      : std::runtime_error(what), disk_full(disk_full) {}
+  bool disk_full;
 };
 
 // the result of a score (combine_trials, failed_score)

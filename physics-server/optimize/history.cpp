@@ -11,6 +11,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "optimize/output_error.h"
+
 namespace chainsim {
 
 namespace {
@@ -145,7 +147,7 @@ HistoryFile::HistoryFile(const std::string& path, const std::vector<std::string>
     f_ = std::fopen(path.c_str(), "wb");
     if (f_) std::fputs(history_header(measure_names).c_str(), f_);
   }
-  if (!f_) throw std::runtime_error(path + ": cannot write: " + std::strerror(errno));
+  if (!f_) throw OutputError(path + ": cannot write: " + std::strerror(errno));
 }
 
 HistoryFile::~HistoryFile() {
@@ -155,7 +157,7 @@ HistoryFile::~HistoryFile() {
 void HistoryFile::append(const HistoryRow& row) { std::fputs(history_line(row).c_str(), f_); }
 
 uint64_t HistoryFile::flush() {
-  if (std::fflush(f_) != 0) throw std::runtime_error(path_ + ": cannot write: " + std::strerror(errno));
+  if (std::fflush(f_) != 0) throw OutputError(path_ + ": cannot write: " + std::strerror(errno));
   struct stat st {};
   if (fstat(fileno(f_), &st) != 0) throw std::runtime_error(path_ + ": cannot stat: " + std::strerror(errno));
   return static_cast<uint64_t>(st.st_size);

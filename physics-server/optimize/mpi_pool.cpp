@@ -1,6 +1,7 @@
 #include "optimize/mpi_pool.h"
 
 #include <mpi.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -109,9 +110,34 @@ bool MpiSession::recovery_enabled() {
   return on(r) && off(a);
 }
 
+bool MpiSession::exit_status_ignored() {
+  const char* r = std::getenv("OMPI_MCA_orte_enable_recovery");
+  const char* a = std::getenv("OMPI_MCA_orte_abort_on_non_zero_status");
+  return (r && (std::string(r) == "1" || std::string(r) == "true")) || (a && (std::string(a) == "0" || std::string(a) == "false"));
+}
+
 void MpiSession::exit(int code, bool rank_lost) {
   std::fflush(stdout);
   std::fflush(stderr);
+  // with --enable-recovery or orte_abort_on_non_zero_status 0, mpirun exits
+  // 0 whatever its ranks exit with (MPI_Abort included: measured with
+  // OpenMPI 4.1.4), so an unfinished search would look done. Ended by
+  // SIGTERM, mpirun exits 1: rank 0, mpirun's own child on its node, does
+  // that (a rank 0 started by an orted cannot, and says so).
+  if (code != 0 && rank_ == 0 && exit_status_ignored()) {
+    std::ifstream in("/proc/" + std::to_string(getppid()) + "/comm");
+    std::string parent;
+    std::getline(in, parent);
+    if (parent == "mpirun" || parent == "mpiexec" || parent == "orterun") {
+      std::fprintf(stderr, "optimize: the search did not finish (exit code %d): ending mpirun (pid %d) so that it "
+                           "exits non-zero, which with --enable-recovery it would not\n", code, static_cast<int>(getppid()));
+      std::fflush(stderr);
+      kill(getppid(), SIGTERM);
+      _exit(code);
+    }
+    std::fprintf(stderr, "optimize: the search did not finish (exit code %d), but mpirun, started with "
+                         "--enable-recovery or orte_abort_on_non_zero_status 0, may exit 0\n", code);
+  }
   if (rank_lost) _exit(code);  // MPI_Finalize may wait forever for the dead rank
   MPI_Finalize();
   std::exit(code);

@@ -30,8 +30,13 @@ class MpiSession {
   MpiSession& operator=(const MpiSession&) = delete;
   int rank() const { return rank_; }
   int size() const { return size_; }
-  // true when mpirun keeps the job alive after a rank dies (--enable-recovery)
+  // true when mpirun keeps the job alive after a rank dies (--enable-recovery
+  // and orte_abort_on_non_zero_status 0)
   static bool recovery_enabled();
+  // true when mpirun would exit 0 whatever its ranks exit with (either
+  // option): rank 0 then ends its mpirun with SIGTERM after a failed search,
+  // so that it does not look done
+  static bool exit_status_ignored();
   // ends this process: MPI_Finalize, or (once a rank was lost) an exit without it
   [[noreturn]] void exit(int code, bool rank_lost);
 

@@ -13,6 +13,7 @@
 
 #include "optimize/eval_cache.h"
 #include "optimize/history.h"
+#include "optimize/output_error.h"
 #include "optimize/individual_scene.h"
 #include "optimize/sga_stepper.h"
 #include "output/sha256.h"
@@ -103,15 +104,7 @@ class Progress {
   Clock::time_point t0_;
 };
 
-void write_text_atomic(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    if (!out) throw std::runtime_error(tmp + ": cannot write");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw std::runtime_error(path + ": cannot write");
-}
+void write_text_atomic(const std::string& path, const std::string& text) { write_file_atomic(path, text); }
 
 }  // namespace
 
@@ -450,6 +443,12 @@ SearchSummary run_search(const Problem& pr, const SearchOptions& opt, EvaluatorP
     for (auto& [id, r] : done) {
       const std::string key = flying.at(id);
       flying.erase(id);
+      if (r.infra)  // no verdict on the design: nothing is recorded; the pool's destructor ends the rest
+        throw InfrastructureError("the evaluation of " + key + " could not be done: " + r.why +
+                                      ". That is a fault of the machine, not of the design: nothing was recorded "
+                                      "for it; the search stops after generation " +
+                                      std::to_string(sum.generations_done) + " (fix it and continue with --resume)",
+                                  r.why.find("disk") != std::string::npos);
       cache.record(key, r);
       sum.busy_s += r.wall_s;
       for (const Waiter& w : waiting.at(key)) fill(w, r);

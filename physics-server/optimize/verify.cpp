@@ -143,6 +143,11 @@ bool verify_leaders(const Problem& pr, const std::vector<HistoryRow>& top, const
     if (!quiet) std::fprintf(stderr, "optimize: verification %zu/%zu\n", finished, tasks.size());
   });
   if (!ok) return false;
+  for (size_t i = 0; i < tasks.size(); ++i)
+    if (results[i].infra)
+      throw InfrastructureError("verifying " + tasks[i].key + ": " + results[i].why +
+                                    " (a fault of the machine; verify again with chainsim optimize --verify)",
+                                results[i].why.find("disk") != std::string::npos);
   for (size_t i = 0; i < tasks.size(); ++i) {
     VerifiedLeader& v = out->leaders[where[i].leader];
     if (where[i].what == 0) v.fresh = results[i];

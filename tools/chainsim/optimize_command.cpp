@@ -18,6 +18,7 @@
 #include "optimize/individual_scene.h"
 #include "optimize/local_pool.h"
 #include "optimize/mpi_pool.h"
+#include "optimize/output_error.h"
 #include "optimize/problem_params.h"
 #include "optimize/report.h"
 #include "optimize/search.h"
@@ -153,9 +154,8 @@ int finish(const OptimizeArgs& a, const Problem& pr, const EvalContext& ctx, con
     }
     verified = true;
     notes.verification = &ver;
-    const std::string table = verification_csv(ver);
-    std::ofstream(dir + "/verify.csv", std::ios::binary) << table;
-    std::ofstream(dir + "/verify.json", std::ios::binary) << verification_json(ver).dump(1) << "\n";
+    write_file_atomic(dir + "/verify.csv", verification_csv(ver));
+    write_file_atomic(dir + "/verify.json", verification_json(ver).dump(1) + "\n");
     if (ver.best >= 0) {
       const VerifiedLeader& v = ver.leaders[static_cast<size_t>(ver.best)];
       const HistoryRow& r = v.search;
@@ -166,7 +166,7 @@ int finish(const OptimizeArgs& a, const Problem& pr, const EvalContext& ctx, con
                          num6(v.fresh.fitness) +
                          (std::isfinite(v.fresh.fitness_sd) ? " (sd " + num6(v.fresh.fitness_sd) + ")" : "") + "\n";
       for (const auto& f : v.flags) more += "# Flag: " + f + "\n";
-      std::ofstream(best_scene_path(dir), std::ios::binary) << best_scene_text(pr, best, more);
+      write_file_atomic(best_scene_path(dir), best_scene_text(pr, best, more));
     }
     if (!a.quiet) {
       for (size_t l = 0; l < ver.leaders.size(); ++l) {
@@ -194,7 +194,7 @@ int finish(const OptimizeArgs& a, const Problem& pr, const EvalContext& ctx, con
       std::fprintf(stderr, "optimize: the report has no replay: %s\n", e.what());
     }
   }
-  std::ofstream(dir + "/report.html", std::ios::binary) << report_html(pr, rows, best, notes, replay);
+  write_file_atomic(dir + "/report.html", report_html(pr, rows, best, notes, replay));
   if (!a.quiet) {
     const bool changed = verified && ver.best >= 0 && best.key != s.best.key;
     std::fprintf(stderr,
@@ -211,6 +211,15 @@ int finish(const OptimizeArgs& a, const Problem& pr, const EvalContext& ctx, con
   return kExitOk;
 }
 
+// the exit code of what stopped a search: a fault of the machine is not bad
+// input (a full disk: 5, as chainsim run; an evaluator killed or failing
+// inside: 3); anything else the problem, the options or the directory
+int exit_code_of(const std::exception& e) {
+  if (const auto* i = dynamic_cast<const InfrastructureError*>(&e)) return i->disk_full ? kExitOutput : kExitInternal;
+  if (dynamic_cast<const OutputError*>(&e)) return kExitOutput;
+  return kExitBadInput;
+}
+
 // what a search was started with, beside it (DIR/search.json): --verify DIR
 // loads the same problem with the same overrides
 void write_search_args(const OptimizeArgs& a) {
@@ -220,7 +229,7 @@ void write_search_args(const OptimizeArgs& a) {
   if (a.generations >= 0) j["generations"] = a.generations;
   if (a.exhaustive) j["exhaustive"] = true;
   if (!a.target.empty()) j["target"] = a.target;
-  std::ofstream(a.out + "/search.json", std::ios::binary) << j.dump(1) << "\n";
+  write_file_atomic(a.out + "/search.json", j.dump(1) + "\n");
 }
 
 // --verify DIR: the arguments the search there was started with
@@ -360,7 +369,8 @@ int run_optimize(const OptimizeArgs& given) {
       rc = finish(a, pr, ctx, verify_summary, *pool, &interrupted);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "chainsim: %s\n", e.what());
-      rc = kExitInternal;
+      rc = exit_code_of(e);
+      if (rc == kExitBadInput) rc = kExitInternal;
     }
     const bool any_lost = mpi_pool && mpi_pool->lost_ranks() > 0;
     stop(!any_lost);
@@ -389,7 +399,9 @@ int run_optimize(const OptimizeArgs& given) {
     std::fprintf(stderr, "chainsim: %s\n", e.what());
     const bool any_lost = mpi_pool && mpi_pool->lost_ranks() > 0;
     stop(!any_lost);
-    return leave(kExitBadInput, any_lost);
+    mpi_pool = nullptr;
+    pool.reset();  // ends the evaluations still running here
+    return leave(exit_code_of(e), any_lost);
   }
   if (s.interrupted) {
     const bool any_lost = mpi_pool && mpi_pool->lost_ranks() > 0;
@@ -404,7 +416,8 @@ int run_optimize(const OptimizeArgs& given) {
     rc = finish(a, pr, ctx, s, *pool, &interrupted);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "chainsim: %s\n", e.what());
-    rc = kExitInternal;
+    rc = exit_code_of(e);
+    if (rc == kExitBadInput) rc = kExitInternal;
   }
   if (interrupted)
     std::fprintf(stderr, "optimize: interrupted during the verification; the search is complete: run "

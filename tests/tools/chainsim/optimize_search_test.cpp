@@ -7,6 +7,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -33,8 +34,9 @@ struct Proc {
   std::string err_path;
 };
 
-// starts argv with stderr to err_path (stdout too)
-Proc start(const std::vector<std::string>& args, const std::string& err_path) {
+// starts argv with stderr to err_path (stdout too); fsize_limit > 0: a
+// file-size limit (as ulimit -f) for it and its children, a full disk in small
+Proc start(const std::vector<std::string>& args, const std::string& err_path, long fsize_limit = 0) {
   std::vector<std::string> all = args;
   std::vector<char*> argv;
   for (auto& a : all) argv.push_back(a.data());
@@ -46,6 +48,10 @@ Proc start(const std::vector<std::string>& args, const std::string& err_path) {
     dup2(fd, 2);
     setenv("OMPI_ALLOW_RUN_AS_ROOT", "1", 1);
     setenv("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1", 1);
+    if (fsize_limit > 0) {
+      const struct rlimit lim = {static_cast<rlim_t>(fsize_limit), static_cast<rlim_t>(fsize_limit)};
+      setrlimit(RLIMIT_FSIZE, &lim);
+    }
     execv(argv[0], argv.data());
     _exit(127);
   }
@@ -590,4 +596,61 @@ TEST(Optimize, TheSchedulerOnSimulatedCoresGivesTheSameHistoryWhateverTheCores) 
   EXPECT_EQ(rows, 6) << out;
   ASSERT_EQ(hashes.size(), 2u) << out;
   for (const auto& [islands, h] : hashes) EXPECT_EQ(h.size(), 1u) << islands << " islands: " << out;
+}
+
+// a fault of the machine is no verdict on a design: a run that cannot write
+// its files (a file-size limit, as a full disk) or an evaluator killed from
+// outside stops the search with the reason, exit 5 or 3, and nothing
+// recorded for that individual; --resume then ends as the uninterrupted search
+TEST(Optimize, AFaultOfTheMachineStopsTheSearchRecordsNothingAndResumeRedoesIt) {
+  const Reference& ref = reference();
+  const std::string d = scenario::temp_dir("opt-infra");
+  const std::string p = write_problem(d, "gait");
+  const std::string out = d + "/out";
+  const std::vector<std::string> gens{"--workers", "1", "--population", "4", "--generations", "3"};
+  // 12 KB: history.csv and the journal fit, a run's trace.csv (18 KB) does not
+  const Proc full = start(optimize_args(p, out, gens), d + "/full.txt", 12 * 1024);
+  EXPECT_EQ(wait_for(full), 5);
+  const std::string err = scenario::read_file(d + "/full.txt");
+  EXPECT_NE(err.find("could not be done: the run could not write its files"), std::string::npos) << err;
+  EXPECT_NE(err.find("is the disk under --out full?"), std::string::npos) << err;
+  EXPECT_NE(err.find("a fault of the machine, not of the design: nothing was recorded"), std::string::npos) << err;
+  EXPECT_EQ(lines(scenario::read_file(out + "/evaluations.jsonl")).size(), 1u);  // the fingerprint, no result
+  EXPECT_EQ(scenario::children_of(full.pid).size(), 0u);
+  // an evaluator killed from outside, in a search with 3 s runs
+  const std::string lp = write_problem(d, "gait-long");
+  const std::string out2 = d + "/killed";
+  const Proc proc = start(optimize_args(lp, out2, {"--workers", "1", "--population", "4", "--generations", "0"}),
+                          d + "/killed.txt");
+  pid_t evaluator = -1;
+  ASSERT_TRUE(scenario::wait_until(
+      [&] {
+        for (pid_t c : scenario::children_of(proc.pid))
+          if (scenario::read_file("/proc/" + std::to_string(c) + "/comm").rfind("chainsim-evalua", 0) == 0) {
+            evaluator = c;
+            return true;
+          }
+        return false;
+      },
+      60));
+  kill(evaluator, SIGKILL);
+  EXPECT_EQ(wait_for(proc), 3);
+  const std::string killed = scenario::read_file(d + "/killed.txt");
+  EXPECT_NE(killed.find("the evaluator was ended by signal 9 (Killed) from outside"), std::string::npos) << killed;
+  // resumed, without the limit: the uninterrupted search's history and best
+  search(optimize_args(p, out, {"--workers", "2", "--resume", "--population", "4", "--generations", "3"}),
+         d + "/resume.txt");
+  EXPECT_EQ(history_without_wall(out + "/history.csv"), ref.history);
+  EXPECT_EQ(scene_part(scenario::read_file(out + "/best.yaml")), ref.best);
+}
+
+// with the documented recovery options mpirun exits 0 whatever its ranks do;
+// rank 0 of a search that did not finish ends its mpirun so that it does not
+TEST(Optimize, AnUnfinishedSearchUnderMpirunWithRecoveryExitsNonZero) {
+  const std::string d = scenario::temp_dir("opt-mpi-rc");
+  write_problem(d, "gait");
+  const std::string bad = scenario::write_file(d, "bad.yaml", "scene: base.yaml\n");
+  const std::string err = search(mpirun(2, {CHAINSIM_EXE, "optimize", bad, "--out", d + "/out"}, true), d + "/err.txt", 1);
+  EXPECT_NE(err.find("missing key 'genome'"), std::string::npos) << err;
+  EXPECT_NE(err.find("ending mpirun"), std::string::npos) << err;
 }
