@@ -32,6 +32,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
                             {"generation", c.generation},
                             {"islands", islands},
                             {"trials", c.trials},
+                            {"trials_note", c.trials_note},
                             {"cache_keys", c.cache_keys},
                             {"history_bytes", c.history_bytes},
                             {"best", best},
@@ -76,6 +77,7 @@ Checkpoint read_checkpoint(const std::string& path) {
       c.islands.push_back(is);
     }
     c.trials = j.at("trials").get<int>();
+    c.trials_note = j.value("trials_note", std::string());
     c.cache_keys = j.at("cache_keys").get<std::vector<std::string>>();
     c.history_bytes = j.at("history_bytes").get<uint64_t>();
     const auto& b = j.at("best");

@@ -35,6 +35,7 @@ struct Checkpoint {
   };
   std::vector<Island> islands;
   int trials = 0;                              // runs per individual from generation 1 on (0: not decided yet)
+  std::string trials_note;                     // trials: auto's decision, in words
   std::vector<std::string> cache_keys;
   uint64_t history_bytes = 0;
   BestSoFar best;

@@ -249,7 +249,8 @@ void Evaluation::finish(const ExitStatus& st) {
     start_trial();
     return;
   }
-  const Score all = combine_trials(scores_, pr.objective, pr.evaluation.fitness, pr.evaluation.quantile);
+  const Score all =
+      combine_trials(scores_, pr.objective, pr.evaluation.fitness, pr.evaluation.quantile, std::max(1, task_.trials));
   result_ = eval_result_of(all, wall);
   done_ = true;
   if (!ctx_.keep_runs) {

@@ -32,6 +32,14 @@ void absolute_program(YAML::Node n, const std::filesystem::path& dir) {
 
 double number_or(const YAML::Node& n, double dflt) { return n && n.IsScalar() ? n.as<double>() : dflt; }
 
+// an angle in (-180, 180], degrees (a perturbed heading stays in the scene's range)
+double wrapped_deg(double a) {
+  a = std::fmod(a, 360.0);
+  if (a > 180) a -= 360;
+  if (a <= -180) a += 360;
+  return a;
+}
+
 // the trial's start pose: the base scene's placement moved and turned by
 // start_perturbation (the scene's own checks then apply to the result)
 void perturb_placement(const Problem& pr, uint64_t seed, YAML::Node* root) {
@@ -39,7 +47,7 @@ void perturb_placement(const Problem& pr, uint64_t seed, YAML::Node* root) {
   if (!pl || !pl.IsMap()) pl = YAML::Node(YAML::NodeType::Map);
   const bool pipe_entry = static_cast<bool>(pl["at"]);
   const StartPerturbation d = start_perturbation(pr, seed, pipe_entry);
-  if (d.roll_deg != 0) pl["roll_deg"] = number_or(pl["roll_deg"], 0) + d.roll_deg;
+  if (d.roll_deg != 0) pl["roll_deg"] = wrapped_deg(number_or(pl["roll_deg"], 0) + d.roll_deg);
   if (pipe_entry) {
     if (d.along_m != 0) pl["inset_m"] = number_or(pl["inset_m"], 0.005) + d.along_m;
   } else {
@@ -55,7 +63,7 @@ void perturb_placement(const Problem& pr, uint64_t seed, YAML::Node* root) {
       v.SetStyle(YAML::EmitterStyle::Flow);
       pl["position_m"] = v;
     }
-    if (d.heading_deg != 0) pl["heading_deg"] = number_or(pl["heading_deg"], 0) + d.heading_deg;
+    if (d.heading_deg != 0) pl["heading_deg"] = wrapped_deg(number_or(pl["heading_deg"], 0) + d.heading_deg);
   }
   (*root)["placement"] = pl;
 }

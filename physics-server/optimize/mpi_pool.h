@@ -37,8 +37,11 @@ class MpiSession {
   // option): rank 0 then ends its mpirun with SIGTERM after a failed search,
   // so that it does not look done
   static bool exit_status_ignored();
-  // ends this process: MPI_Finalize, or (once a rank was lost) an exit without it
-  [[noreturn]] void exit(int code, bool rank_lost);
+  // ends this process: MPI_Finalize, or (once a rank was lost) an exit
+  // without it. remote_lost: a rank on another host was lost; mpirun, with
+  // the recovery options, can then wait for ever after rank 0 has gone, so
+  // rank 0 ends the job with MPI_Abort (error code 0 when the search finished)
+  [[noreturn]] void exit(int code, bool rank_lost, bool remote_lost = false);
 
  private:
   int rank_ = 0, size_ = 1;
@@ -56,8 +59,9 @@ class MpiPool : public EvaluatorPool {
   size_t pending() const override;
   int parallelism() const override;
   std::string describe() const override;
-  // ranks given up so far
+  // ranks given up so far, and of those the ones on another host than rank 0
   int lost_ranks() const;
+  int lost_remote_ranks() const;
   // tells every live worker rank to end (finalize = whether they may call MPI_Finalize)
   void stop_workers(bool finalize);
 

@@ -100,12 +100,14 @@ Score score_run(const std::vector<MeasureSpec>& measures, const ObjectiveSpec& o
 
 namespace chainsim {
 
-Score combine_trials(const std::vector<Score>& trials, const ObjectiveSpec& objective, TrialFitness how, double q) {
+Score combine_trials(const std::vector<Score>& trials, const ObjectiveSpec& objective, TrialFitness how, double q,
+                     int asked) {
   const size_t n = trials.size();
+  const size_t of = std::max(n, static_cast<size_t>(std::max(0, asked)));
   for (size_t r = 0; r < n; ++r)
     if (trials[r].failed) {
       Score s = trials[r];
-      if (n > 1) s.why = "trial " + std::to_string(r + 1) + " of " + std::to_string(n) + ": " + s.why;
+      if (of > 1) s.why = "trial " + std::to_string(r + 1) + " of " + std::to_string(of) + ": " + s.why;
       s.trials = static_cast<int>(n);
       return s;
     }

@@ -73,8 +73,10 @@ Score failed_score(size_t n_measures, const ObjectiveSpec& objective, const std:
 // measures' means; Worst, the worst trial's fitness; Quantile, the q-quantile
 // of the trials' fitnesses ordered worst to best (q = 0 the worst, 1 the best,
 // linear between neighbours). Always the spread: sd, min and max.
+// `asked`: the trials the individual was to run (a failed one ends it
+// early; 0: as many as given), for the failure's words "trial 2 of 3"
 Score combine_trials(const std::vector<Score>& trials, const ObjectiveSpec& objective, TrialFitness how = TrialFitness::Mean,
-                     double q = 0.5);
+                     double q = 0.5, int asked = 0);
 
 // true when fitness a is better than b in the objective's sense
 inline bool better_fitness(const ObjectiveSpec& o, double a, double b) { return o.maximize ? a > b : a < b; }

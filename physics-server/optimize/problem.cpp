@@ -302,6 +302,8 @@ void add_constraint_stops(Problem* pr) {
     // a run that never reaches scores never_s: if that is within the bound,
     // not reaching is no failure and nothing can be decided early
     if (std::isfinite(m.never_s) && m.never_s <= *c.max) continue;
+    // a bound no run reaches (a scene lasts at most 86400 s) stops nothing
+    if (!(*c.max >= 0 && *c.max <= 86400)) continue;
     StopRule r;
     r.kind = StopRule::Kind::NotReached;
     r.tail = m.of == MeasureSpec::Of::Tail;

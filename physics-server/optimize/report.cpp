@@ -151,7 +151,9 @@ std::string report_html(const Problem& pr, const std::vector<HistoryRow>& rows, 
     }
     if (exact) o << ", the same with the converged solver (<code>physics.solver: exact</code>)";
     if (pic) o << ", and once on the board's own binaries (<code>--target pic</code>)";
-    o << ". best.yaml is the best with fresh seeds.</p><table><tr><th class='l'>genome</th><th>search</th>"
+    o << (v->best >= 0 ? ". best.yaml is the best of them with fresh seeds."
+                       : ". None passed both in the search and with fresh seeds: best.yaml stays the search's best.")
+      << "</p><table><tr><th class='l'>genome</th><th>search</th>"
          "<th>fresh seeds</th><th>fresh min .. max</th>"
       << (exact ? "<th>exact solver</th>" : "") << (pic ? "<th>board</th>" : "") << "<th class='l'>flags</th></tr>";
     auto cell = [&](const EvalResult& r) {

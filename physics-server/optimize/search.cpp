@@ -145,6 +145,12 @@ int trials_for_generation(const Problem& pr, int generation, int decided) {
 int decide_trials(const std::vector<HistoryRow>& gen0, std::string* note) {
   size_t measured = 0;
   for (const HistoryRow& r : gen0) {
+    // failed after a passing trial: the verdict itself varied
+    if (r.result.failed && r.result.trials >= 2) {
+      *note = "trials: auto: an individual passed a trial and failed a later one in generation 0 (" + r.genome + ": " +
+              r.result.why + "), so every individual runs " + std::to_string(kAutoProbeTrials) + " trials";
+      return kAutoProbeTrials;
+    }
     if (r.result.failed || r.result.trials < 2) continue;
     ++measured;
     if (r.result.fitness_min != r.result.fitness_max) {
@@ -156,6 +162,11 @@ int decide_trials(const std::vector<HistoryRow>& gen0, std::string* note) {
       *note = b;
       return kAutoProbeTrials;
     }
+  }
+  if (measured == 0) {  // no evidence either way: keep measuring
+    *note = "trials: auto: no individual of generation 0 passed its trials, so nothing showed whether the seed "
+            "matters; every individual runs " + std::to_string(kAutoProbeTrials) + " trials";
+    return kAutoProbeTrials;
   }
   char b[256];
   std::snprintf(b, sizeof b,
@@ -277,6 +288,7 @@ SearchSummary run_search(const Problem& pr, const SearchOptions& opt, EvaluatorP
   sum.cache_hits = cp.cache_hits;
   sum.generations_done = cp.generation;
   sum.trials = cp.trials;
+  sum.trials_note = cp.trials_note;
   const uint64_t per_gen = static_cast<uint64_t>(pr.ga.population) * static_cast<uint64_t>(n_islands);
   const uint64_t total = pr.exhaustive ? everyone.size() : per_gen * static_cast<uint64_t>(last_gen + 1);
   const uint64_t done_before = pr.exhaustive ? std::min<uint64_t>(everyone.size(), per_gen * static_cast<uint64_t>(cp.generation + 1))
@@ -293,7 +305,10 @@ SearchSummary run_search(const Problem& pr, const SearchOptions& opt, EvaluatorP
   std::map<std::string, std::vector<Waiter>> waiting;
   uint64_t next_id = 0;
   size_t next_index = 0;            // run directories: unique per task
-  const size_t lookahead = static_cast<size_t>(4 * std::max(1, pool.parallelism())) + static_cast<size_t>(pr.ga.population);
+  // how far an exhaustive search queues ahead (the pool's parallelism grows as MPI ranks say hello)
+  auto lookahead = [&] {
+    return static_cast<size_t>(4 * std::max(1, pool.parallelism())) + static_cast<size_t>(pr.ga.population);
+  };
 
   auto fill = [&](const Waiter& w, const EvalResult& r) {
     Slot& s = islands[static_cast<size_t>(w.island)].inflight.at(w.generation)[w.slot];
@@ -350,7 +365,7 @@ SearchSummary run_search(const Problem& pr, const SearchOptions& opt, EvaluatorP
     const int g = is.produced + 1;
     if (g > last_gen) return false;
     if (g >= 1 && pr.evaluation.trials == 0 && sum.trials == 0) return false;  // trials: auto waits for generation 0
-    if (pr.exhaustive) return pool.pending() < lookahead;
+    if (pr.exhaustive) return pool.pending() < lookahead();
     if (is.done != g - 1) return false;
     const int after = g - 1;
     if (n_islands > 1 && after > 0 && after % pr.ga.migration_every == 0)
@@ -419,6 +434,7 @@ SearchSummary run_search(const Problem& pr, const SearchOptions& opt, EvaluatorP
       for (auto it = is.snaps.begin(); it != is.snaps.end() && it->first < g;) it = is.snaps.erase(it);
     }
     cp.trials = sum.trials;
+    cp.trials_note = sum.trials_note;
     cp.cache_keys = cache.keys();
     cp.history_bytes = history.flush();
     cp.best = sum.best;
@@ -435,7 +451,9 @@ SearchSummary run_search(const Problem& pr, const SearchOptions& opt, EvaluatorP
     for (int i = 0; i < n_islands; ++i)
       while (can_produce(i)) produce(i, islands[static_cast<size_t>(i)].produced + 1);
     done.clear();
-    if (!pool.poll(0.5, &done)) {
+    if (!pool.poll(0.5, &done) || interrupt_signal()) {
+      // a signal to the whole job (Ctrl-C, scancel) ends the runs too: what
+      // they returned is not theirs to record
       if (!opt.quiet) std::fprintf(stderr, "\n");
       sum.interrupted = true;
       break;

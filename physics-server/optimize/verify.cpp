@@ -102,7 +102,7 @@ bool verify_leaders(const Problem& pr, const std::vector<HistoryRow>& top, const
     int what;  // 0 fresh, 1 exact, 2 pic
   };
   std::vector<Where> where;
-  size_t index = 0;
+  size_t index = 1000000;  // run directories apart from the search's (--keep-runs)
   for (size_t l = 0; l < top.size(); ++l) {
     VerifiedLeader v;
     v.search = top[l];
@@ -163,7 +163,7 @@ bool verify_leaders(const Problem& pr, const std::vector<HistoryRow>& top, const
   for (size_t l = 0; l < out->leaders.size(); ++l) {
     VerifiedLeader& v = out->leaders[l];
     v.flags = verdict_flags(v);
-    if (v.fresh.failed) continue;
+    if (v.fresh.failed || v.search.result.failed) continue;  // best.yaml: a leader that passed both
     if (out->best < 0 ||
         better_fitness(pr.objective, v.fresh.fitness, out->leaders[static_cast<size_t>(out->best)].fresh.fitness))
       out->best = static_cast<int>(l);

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <sstream>
 #include <thread>
@@ -22,6 +23,7 @@
 #include "optimize/problem_params.h"
 #include "optimize/report.h"
 #include "optimize/search.h"
+#include "optimize/search_lock.h"
 #include "optimize/verify.h"
 #include "viewer/viewer_page.h"
 
@@ -117,12 +119,17 @@ std::string num6(double v) {
 
 // after the search (or for --verify): the leaders, the noise, the
 // verification, best.yaml, the best's replay and the report
+// (workers_done: the pool's work is over, before the best's replay, which
+// runs here: MPI worker ranks then leave rather than wait for rank 0;
+// history_bytes: how much of history.csv the checkpoint holds, 0 all)
 int finish(const OptimizeArgs& a, const Problem& pr, const EvalContext& ctx, const SearchSummary& s,
-           EvaluatorPool& pool, bool* interrupted) {
+           EvaluatorPool& pool, bool* interrupted, const std::function<void()>& workers_done, uint64_t history_bytes) {
   const std::string& dir = a.out;
   std::vector<HistoryRow> rows;
   try {
-    rows = parse_history(read_text(history_path(dir)), pr.measures.size(), history_path(dir));
+    std::string text = read_text(history_path(dir));
+    if (history_bytes > 0 && text.size() > history_bytes) text.resize(history_bytes);  // past the checkpoint: not the search's yet
+    rows = parse_history(text, pr.measures.size(), history_path(dir));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "optimize: %s\n", e.what());
     return kExitInternal;
@@ -183,6 +190,7 @@ int finish(const OptimizeArgs& a, const Problem& pr, const EvalContext& ctx, con
     }
   }
 
+  workers_done();
   std::string replay;
   if (best.valid && !a.no_replay) {
     const HistoryRow* r = row_of(rows, best.key);
@@ -260,8 +268,9 @@ int run_optimize(const OptimizeArgs& given) {
   std::unique_ptr<MpiSession> mpi;
   if (launched_by_mpirun()) mpi = std::make_unique<MpiSession>(nullptr, nullptr);
   const int rank = mpi ? mpi->rank() : 0;
+  MpiPool* mpi_pool = nullptr;
   auto leave = [&](int code, bool lost) {
-    if (mpi) mpi->exit(code, lost);
+    if (mpi) mpi->exit(code, lost, mpi_pool && mpi_pool->lost_remote_ranks() > 0);
     return code;
   };
   install_interrupt_handlers();
@@ -310,23 +319,11 @@ int run_optimize(const OptimizeArgs& given) {
                    pr.ga.population, pr.ga.selection_size);
     return leave(kExitBadInput, false);
   }
-  SearchSummary verify_summary;
-  if (verify_only && rank == 0) {  // the search there must be this one
-    try {
-      const Checkpoint cp = read_checkpoint(checkpoint_path(a.out));
-      if (cp.fingerprint != search_fingerprint(pr))
-        throw CheckpointError(checkpoint_path(a.out) + ": the problem file or its base scene changed since the "
-                              "search ran (" + a.problem + ")");
-      verify_summary.best = cp.best;
-      verify_summary.generations_done = cp.generation;
-      verify_summary.evaluations = cp.evaluations;
-      verify_summary.simulations = cp.simulations;
-      verify_summary.cache_hits = cp.cache_hits;
-      verify_summary.trials = cp.trials;
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "chainsim: --verify: %s\n", e.what());
-      return leave(kExitBadInput, false);
-    }
+  if (pr.ga.migrants >= pr.ga.population) {
+    if (rank == 0)
+      std::fprintf(stderr, "chainsim: --population %d leaves no room for the problem's ga.migrants %d\n",
+                   pr.ga.population, pr.ga.migrants);
+    return leave(kExitBadInput, false);
   }
 
   EvalContext ctx;
@@ -345,7 +342,6 @@ int run_optimize(const OptimizeArgs& given) {
   }
 
   std::unique_ptr<EvaluatorPool> pool;
-  MpiPool* mpi_pool = nullptr;
   if (mpi && mpi->size() > 1) {
     auto p = std::make_unique<MpiPool>(mpi->size(), a.rank_timeout, a.quiet);
     mpi_pool = p.get();
@@ -358,19 +354,66 @@ int run_optimize(const OptimizeArgs& given) {
     const int n = a.workers > 0 ? a.workers : std::max(1u, std::thread::hardware_concurrency());
     pool = std::make_unique<LocalPool>(ctx, n);
   }
-  auto stop = [&](bool finalize) {
-    if (mpi_pool) mpi_pool->stop_workers(finalize);
+  bool stopped = false;
+  auto stop = [&](bool finalize) {  // once: the worker ranks leave
+    if (mpi_pool && !stopped) mpi_pool->stop_workers(finalize);
+    stopped = true;
   };
+  auto fail = [&](const std::exception& e, int code) {
+    std::fprintf(stderr, "chainsim: %s\n", e.what());
+    const bool any_lost = mpi_pool && mpi_pool->lost_ranks() > 0;
+    const bool remote_lost = mpi_pool && mpi_pool->lost_remote_ranks() > 0;
+    stop(!any_lost);
+    mpi_pool = nullptr;
+    pool.reset();  // ends the evaluations still running here
+    if (mpi) mpi->exit(code, any_lost, remote_lost);
+    return code;
+  };
+
+  // the directory, with the worker ranks waiting (a refusal tells them to
+  // leave): this process's lock on it, then what --verify needs or what a
+  // new search must not overwrite
+  std::unique_ptr<SearchLock> lock;
+  SearchSummary verify_summary;
+  uint64_t history_bytes = 0;  // of history.csv, what the checkpoint holds (--verify)
+  try {
+    lock = std::make_unique<SearchLock>(a.out);  // until this process ends
+    if (verify_only) {
+      if (!std::filesystem::exists(checkpoint_path(a.out)))
+        throw CheckpointError(a.out + ": the search there has not finished a generation yet: nothing to verify");
+      const Checkpoint cp = read_checkpoint(checkpoint_path(a.out));
+      if (cp.fingerprint != search_fingerprint(pr))
+        throw CheckpointError(checkpoint_path(a.out) + ": the problem file or its base scene changed since the "
+                              "search ran (" + a.problem + ")");
+      verify_summary.best = cp.best;
+      verify_summary.generations_done = cp.generation;
+      verify_summary.evaluations = cp.evaluations;
+      verify_summary.simulations = cp.simulations;
+      verify_summary.cache_hits = cp.cache_hits;
+      verify_summary.trials = cp.trials;
+      verify_summary.trials_note = cp.trials_note;
+      history_bytes = cp.history_bytes;
+      if (cp.generation < last_generation(pr) && !a.quiet)
+        std::fprintf(stderr, "optimize: the search in %s stopped after generation %d of %d: verifying what it has\n",
+                     a.out.c_str(), cp.generation, last_generation(pr));
+    } else if (!a.resume && (std::filesystem::exists(checkpoint_path(a.out)) ||
+                             std::filesystem::exists(history_path(a.out)))) {
+      throw std::runtime_error(a.out + " already holds a search: continue it with --resume, or choose another --out");
+    } else if (!a.resume) {
+      write_search_args(a);
+    }
+  } catch (const std::exception& e) {
+    return fail(e, exit_code_of(e));
+  }
 
   if (verify_only) {
     bool interrupted = false;
     int rc = kExitOk;
     try {
-      rc = finish(a, pr, ctx, verify_summary, *pool, &interrupted);
+      rc = finish(a, pr, ctx, verify_summary, *pool, &interrupted, [&] { stop(true); }, history_bytes);
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "chainsim: %s\n", e.what());
       rc = exit_code_of(e);
-      if (rc == kExitBadInput) rc = kExitInternal;
+      return fail(e, rc == kExitBadInput ? kExitInternal : rc);
     }
     const bool any_lost = mpi_pool && mpi_pool->lost_ranks() > 0;
     stop(!any_lost);
@@ -392,16 +435,9 @@ int run_optimize(const OptimizeArgs& given) {
                    last_generation(pr), static_cast<unsigned long long>(pr.ga.seed),
                    pr.evaluation.trials > 0 ? std::to_string(pr.evaluation.trials).c_str() : "auto",
                    pool->describe().c_str(), a.out.c_str());
-    std::filesystem::create_directories(a.out);
-    if (!a.resume) write_search_args(a);
     s = run_search(pr, so, *pool);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "chainsim: %s\n", e.what());
-    const bool any_lost = mpi_pool && mpi_pool->lost_ranks() > 0;
-    stop(!any_lost);
-    mpi_pool = nullptr;
-    pool.reset();  // ends the evaluations still running here
-    return leave(exit_code_of(e), any_lost);
+    return fail(e, exit_code_of(e));
   }
   if (s.interrupted) {
     const bool any_lost = mpi_pool && mpi_pool->lost_ranks() > 0;
@@ -413,11 +449,10 @@ int run_optimize(const OptimizeArgs& given) {
   int rc = kExitOk;
   bool interrupted = false;
   try {
-    rc = finish(a, pr, ctx, s, *pool, &interrupted);
+    rc = finish(a, pr, ctx, s, *pool, &interrupted, [&] { stop(true); }, 0);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "chainsim: %s\n", e.what());
     rc = exit_code_of(e);
-    if (rc == kExitBadInput) rc = kExitInternal;
+    return fail(e, rc == kExitBadInput ? kExitInternal : rc);
   }
   if (interrupted)
     std::fprintf(stderr, "optimize: interrupted during the verification; the search is complete: run "

@@ -654,3 +654,26 @@ TEST(Optimize, AnUnfinishedSearchUnderMpirunWithRecoveryExitsNonZero) {
   EXPECT_NE(err.find("missing key 'genome'"), std::string::npos) << err;
   EXPECT_NE(err.find("ending mpirun"), std::string::npos) << err;
 }
+
+// one process per search directory: a second one (a resume, a verification)
+// on a directory in use is refused with the holder's pid, and writes nothing
+TEST(Optimize, ASecondProcessOnASearchDirectoryInUseIsRefused) {
+  const std::string d = scenario::temp_dir("opt-lock");
+  const std::string lp = write_problem(d, "gait-long");
+  const std::string out = d + "/out";
+  const Proc first = start(optimize_args(lp, out, {"--workers", "1", "--population", "4", "--generations", "0"}),
+                           d + "/first.txt");
+  ASSERT_TRUE(scenario::wait_until([&] { return std::filesystem::exists(out + "/evaluations.jsonl"); }, 60));
+  const std::string second = search(optimize_args(lp, out, {"--resume", "--population", "4", "--generations", "0"}),
+                                    d + "/second.txt", 1);
+  EXPECT_NE(second.find(out + " is in use by another chainsim optimize (pid " + std::to_string(first.pid) + ")"),
+            std::string::npos)
+      << second;
+  const std::string verify = search({CHAINSIM_EXE, "optimize", "--verify", out}, d + "/verify.txt", 1);
+  EXPECT_NE(verify.find("is in use by another chainsim optimize"), std::string::npos) << verify;
+  kill(first.pid, SIGTERM);
+  EXPECT_EQ(wait_for(first), 130);
+  // the holder gone, its lock is gone with it
+  search(optimize_args(lp, out, {"--resume", "--workers", "2", "--population", "4", "--generations", "0"}),
+         d + "/third.txt");
+}
