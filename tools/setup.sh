@@ -33,7 +33,18 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 JOBS="${JOBS:-2}"
+# a build/ whose configure never finished (a CMakeCache.txt and no build
+# files: cmake was run before the packages were there) is configured again
+if [ -f build/CMakeCache.txt ] && [ ! -f build/Makefile ] && [ ! -f build/build.ninja ]; then
+  echo "setup: build/ was left half-configured (no Makefile): configuring it again"
+  rm -f build/CMakeCache.txt
+fi
 if [ ! -f build/CMakeCache.txt ]; then
   cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo
 fi
-cmake --build build -j "$JOBS"
+# SETUP_TARGET: only that target (tools/run-default.sh: what a run needs)
+if [ -n "${SETUP_TARGET:-}" ]; then
+  cmake --build build -j "$JOBS" --target "$SETUP_TARGET"
+else
+  cmake --build build -j "$JOBS"
+fi
