@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <set>
 
@@ -209,6 +210,39 @@ struct Island {
   std::map<int, std::vector<std::pair<HistoryRow, Genes>>> rows;
 };
 
+// a checkpoint that does not fit the problem is damaged, whatever its
+// fingerprint says: refused field by field, naming the file
+void validate_checkpoint(const Checkpoint& cp, const Problem& pr, int n_islands, int last_gen, const std::string& path) {
+  auto bad = [&](const std::string& what) { throw CheckpointError(path + ": damaged: " + what); };
+  if (cp.generation < 0 || cp.generation > last_gen)
+    bad("generation " + std::to_string(cp.generation) + " is not one of the search's 0.." + std::to_string(last_gen));
+  if (static_cast<int>(cp.islands.size()) != n_islands)
+    bad(std::to_string(cp.islands.size()) + " islands, the problem has " + std::to_string(n_islands));
+  const std::vector<int64_t> up = pr.genome.gene_upper();
+  for (size_t i = 0; i < cp.islands.size(); ++i) {
+    const Checkpoint::Island& is = cp.islands[i];
+    const size_t want = pr.exhaustive ? is.genes.size() : static_cast<size_t>(pr.ga.population);
+    if (is.genes.size() != want || is.genes.empty())
+      bad("island " + std::to_string(i) + " has " + std::to_string(is.genes.size()) + " individuals, the population is " +
+          std::to_string(pr.ga.population));
+    for (const Genes& g : is.genes) {
+      if (g.size() != up.size())
+        bad("an individual of island " + std::to_string(i) + " has " + std::to_string(g.size()) + " genes, the genome " +
+            std::to_string(up.size()));
+      for (size_t k = 0; k < g.size(); ++k)
+        if (g[k] < 0 || g[k] > up[k])
+          bad("gene " + std::to_string(k) + " = " + std::to_string(g[k]) + " of an individual of island " +
+              std::to_string(i) + " is outside 0.." + std::to_string(up[k]));
+    }
+  }
+  if (cp.trials < 0 || cp.trials > 1000) bad("trials = " + std::to_string(cp.trials));
+  const uint64_t rows_at_least = static_cast<uint64_t>(cp.generation + 1);
+  if (cp.evaluations < rows_at_least || cp.simulations + cp.cache_hits != cp.evaluations)
+    bad("its counts of evaluations (" + std::to_string(cp.evaluations) + "), simulations and cache hits do not add up");
+  if (cp.history_bytes == 0) bad("history_bytes is 0 after generation " + std::to_string(cp.generation));
+  if (cp.best.valid && cp.best.genes.size() != up.size()) bad("the best's genes do not fit the genome");
+}
+
 }  // namespace
 
 void migrate_best(const Checkpoint::Island& src, int m, Checkpoint::Island* dst) {
@@ -249,9 +283,7 @@ SearchSummary run_search(const Problem& pr, const SearchOptions& opt, EvaluatorP
       throw CheckpointError(checkpoint_path(opt.out_dir) +
                             ": the search there was started with another problem file, base scene, seed, "
                             "population or GA settings; resume it with the same ones, or use another --out");
-    if (static_cast<int>(cp.islands.size()) != n_islands)
-      throw CheckpointError(checkpoint_path(opt.out_dir) + ": damaged: " + std::to_string(cp.islands.size()) +
-                            " islands, the problem has " + std::to_string(n_islands));
+    validate_checkpoint(cp, pr, n_islands, last_gen, checkpoint_path(opt.out_dir));
   } else if (opt.resume) {
     if (!fs::exists(journal_path(opt.out_dir)))
       throw CheckpointError(checkpoint_path(opt.out_dir) + ": cannot open (no search to resume here)");
@@ -266,6 +298,28 @@ SearchSummary run_search(const Problem& pr, const SearchOptions& opt, EvaluatorP
   EvalCache cache(journal_path(opt.out_dir), fp);
   std::vector<std::string> names;
   for (const auto& m : pr.measures) names.push_back(m.name);
+  if (resume) {  // history.csv must be what the checkpoint says it wrote
+    std::ifstream in(history_path(opt.out_dir), std::ios::binary);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (text.size() < cp.history_bytes)
+      throw CheckpointError(history_path(opt.out_dir) + ": shorter (" + std::to_string(text.size()) +
+                            " bytes) than the checkpoint says (" + std::to_string(cp.history_bytes) + "): cannot resume");
+    text.resize(cp.history_bytes);
+    std::vector<HistoryRow> rows;
+    try {
+      rows = parse_history(text, names.size(), history_path(opt.out_dir));
+    } catch (const std::exception& e) {
+      throw CheckpointError(std::string(e.what()) + ": cannot resume");
+    }
+    bool in_order = !rows.empty() && rows.front().generation == 0;
+    for (size_t i = 1; i < rows.size() && in_order; ++i)
+      in_order = rows[i].generation == rows[i - 1].generation || rows[i].generation == rows[i - 1].generation + 1;
+    if (!in_order || rows.size() != cp.evaluations || rows.back().generation != cp.generation)
+      throw CheckpointError(history_path(opt.out_dir) + ": its " + std::to_string(rows.size()) +
+                            " rows up to the checkpoint do not match " + checkpoint_path(opt.out_dir) + " (" +
+                            std::to_string(cp.evaluations) + " evaluations to generation " +
+                            std::to_string(cp.generation) + "): cannot resume");
+  }
   HistoryFile history(history_path(opt.out_dir), names, resume, cp.history_bytes);
   if (resume) cache.restore(cp.cache_keys);
 

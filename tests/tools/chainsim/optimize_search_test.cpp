@@ -14,6 +14,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <set>
 #include <sstream>
@@ -676,4 +677,54 @@ TEST(Optimize, ASecondProcessOnASearchDirectoryInUseIsRefused) {
   // the holder gone, its lock is gone with it
   search(optimize_args(lp, out, {"--resume", "--workers", "2", "--population", "4", "--generations", "0"}),
          d + "/third.txt");
+}
+
+// a checkpoint or history that does not fit the search is refused by name
+// before anything runs, and nothing is changed
+TEST(Optimize, ADamagedCheckpointOrHistoryIsRefusedByNameBeforeAResume) {
+  const std::string d = scenario::temp_dir("opt-damaged");
+  const std::string p = write_problem(d, "gait");
+  const std::string out = d + "/out";
+  const std::vector<std::string> gens{"--workers", "2", "--population", "4", "--generations", "1"};
+  search(optimize_args(p, out, gens), d + "/first.txt");
+  const std::string cp_text = scenario::read_file(out + "/checkpoint.json");
+  const std::string history = scenario::read_file(out + "/history.csv");
+  std::vector<std::string> resume = gens;
+  resume.push_back("--resume");
+  resume[resume.size() - 2] = "3";  // --generations 3: there is more to do
+  const std::vector<std::pair<std::function<void(nlohmann::json&)>, std::string>> damage = {
+      {[](nlohmann::json& j) { j["generation"] = 7; }, "damaged: generation 7 is not one of the search's 0..3"},
+      {[](nlohmann::json& j) { j["generation"] = -7; }, "damaged: generation -7"},
+      {[](nlohmann::json& j) { j["islands"][0]["genes"][1][0] = 99; }, "is outside 0..2"},
+      {[](nlohmann::json& j) {
+         j["islands"][0]["genes"].erase(0);
+         j["islands"][0]["f"].erase(0);
+       },
+       "island 0 has 3 individuals, the population is 4"},
+      {[](nlohmann::json& j) { j["history_bytes"] = 0; }, "history_bytes is 0"},
+      {[](nlohmann::json& j) { j["evaluations"] = 5; }, "do not add up"},
+  };
+  for (const auto& [hurt, said] : damage) {
+    nlohmann::json j = nlohmann::json::parse(cp_text);
+    hurt(j);
+    std::ofstream(out + "/checkpoint.json") << j.dump(1);
+    const std::string err = search(optimize_args(p, out, resume), d + "/err.txt", 1);
+    EXPECT_NE(err.find(out + "/checkpoint.json: damaged: "), std::string::npos) << err;
+    EXPECT_NE(err.find(said), std::string::npos) << err;
+    EXPECT_EQ(scenario::read_file(out + "/history.csv"), history);
+  }
+  std::ofstream(out + "/checkpoint.json") << cp_text;
+  // a history.csv that is not the checkpoint's: one row fewer, or another search's
+  std::string cut = history.substr(0, history.rfind('\n', history.size() - 2) + 1);
+  std::ofstream(out + "/history.csv") << cut;
+  std::string err = search(optimize_args(p, out, resume), d + "/err.txt", 1);
+  EXPECT_NE(err.find(out + "/history.csv: shorter"), std::string::npos) << err;
+  std::string other = history;
+  other.replace(other.find("\n0,0,0,") + 1, 5, "1,0,0");
+  std::ofstream(out + "/history.csv") << other;
+  err = search(optimize_args(p, out, resume), d + "/err.txt", 1);
+  EXPECT_NE(err.find("rows up to the checkpoint do not match"), std::string::npos) << err;
+  // repaired, it resumes
+  std::ofstream(out + "/history.csv") << history;
+  search(optimize_args(p, out, resume), d + "/ok.txt");
 }
