@@ -210,6 +210,9 @@ void load_constraints(const SceneYaml& y, const YAML::Node& n, Problem* pr) {
     cs.measure = measure_index(y, c["measure"], pr->measures, y.text(c, "measure", "", p), p + ".measure");
     if (c["min"]) cs.min = y.number(c, "min", 0, -1e300, 1e300, p);
     if (c["max"]) cs.max = y.number(c, "max", 0, -1e300, 1e300, p);
+    if (cs.min && cs.max && *cs.min > *cs.max)
+      y.fail(c["max"], "'" + p + "': min " + std::to_string(*cs.min) + " is above max " + std::to_string(*cs.max) +
+                           ": no run can keep it");
     pr->constraints.push_back(cs);
   }
 }
@@ -315,12 +318,13 @@ void add_constraint_stops(Problem* pr) {
   }
 }
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ProblemError(path + ": cannot open");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
+// a regular file of at most 16 MiB (the strict reader's bounds), else a ProblemError naming it
+std::string read_text(const std::string& path, const std::string& what) {
+  try {
+    return SceneYaml{path}.read_file(what);
+  } catch (const SceneError& e) {
+    throw ProblemError(e.what());
+  }
 }
 
 void load_base_scene(const SceneYaml& y, const YAML::Node& root, Problem* pr) {
@@ -330,11 +334,11 @@ void load_base_scene(const SceneYaml& y, const YAML::Node& root, Problem* pr) {
   const std::filesystem::path dir = std::filesystem::path(pr->file).parent_path();
   if (sp.is_relative() && !dir.empty()) sp = dir / sp;
   pr->scene_file = sp.lexically_normal().string();
-  std::ifstream in(pr->scene_file, std::ios::binary);
-  if (!in) y.fail(root["scene"], "'scene': cannot open '" + pr->scene_file + "'");
-  std::ostringstream s;
-  s << in.rdbuf();
-  pr->scene_text = s.str();
+  try {
+    pr->scene_text = SceneYaml{pr->scene_file}.read_file("base scene");
+  } catch (const SceneError& e) {
+    y.fail(root["scene"], std::string("'scene': ") + e.what());
+  }
   Scene scene;
   try {
     scene = load_scene_text(pr->scene_text, pr->scene_file);
@@ -352,14 +356,8 @@ Problem load(const std::string& text, const std::string& file) {
   Problem pr;
   pr.file = file;
   pr.text = text;
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::ParserException& e) {
-    std::ostringstream s;
-    s << file << ":" << (e.mark.line + 1) << ":" << (e.mark.column + 1) << ": " << e.msg;
-    throw ProblemError(s.str());
-  }
+  // a syntax error, a second document, a key given twice: named where
+  const YAML::Node root = y.parse(text);
   if (!root || !root.IsMap()) throw ProblemError(file + ": a problem file must be a YAML mapping");
   y.keys(root, "problem",
          {"name", "scene", "search", "genome", "measures", "objective", "constraints", "ga", "evaluation"});
@@ -427,6 +425,6 @@ Problem load_problem_text(const std::string& text, const std::string& file) {
   }
 }
 
-Problem load_problem_file(const std::string& path) { return load_problem_text(read_text(path), path); }
+Problem load_problem_file(const std::string& path) { return load_problem_text(read_text(path, "problem file"), path); }
 
 }  // namespace chainsim

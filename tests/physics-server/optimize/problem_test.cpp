@@ -413,6 +413,17 @@ ga: {population: 1}
             f + ":6:15: 'ga.islands' applies to 'search: ga' (an exhaustive search has no populations)");
   EXPECT_EQ(error_of(head + "ga: {population: 4, migrants: 4}\n"),
             f + ":5:31: 'ga.migrants' (4) must be smaller than 'ga.population' (4)");
+  // a key twice, a second document, an unsatisfiable constraint, a file that is not a regular one
+  EXPECT_EQ(error_of(head + "measures: {y: {kind: energy}}\n").rfind(f + ":5:1: ", 0), 0u) << error_of(head + "measures: {y: {kind: energy}}\n");
+  EXPECT_EQ(error_of(head + "---\nscene: base.yaml\n"), f + ":6:1: a second YAML document ('---'): a file holds one");
+  EXPECT_NE(error_of(head + "constraints: [{measure: x, min: 5, max: -5}]\n").find("min 5.000000 is above max -5.000000: no run can keep it"),
+            std::string::npos);
+  try {
+    load_problem_file("/dev/zero");
+    ADD_FAILURE() << "/dev/zero was read as a problem file";
+  } catch (const ProblemError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("/dev/zero: ", 0), 0u) << e.what();
+  }
   EXPECT_EQ(error_of(head + "evaluation: {stop_when: [{no_progress: {along: pipe, by_m: 1, within_s: 1}}]}\n"),
             f + ":5:48: 'evaluation.stop_when[0].no_progress.along' is pipe but the environment is not a pipe");
 }
