@@ -6,10 +6,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <thread>
 
@@ -181,6 +185,39 @@ void terminate_all(std::vector<ChildProcess*> children, int grace_ms) {
       c->wait_for(5000);
     }
   }
+}
+
+void become_subreaper() { prctl(PR_SET_CHILD_SUBREAPER, 1); }
+
+int end_adopted_orphans(const std::vector<pid_t>& keep) {
+  const pid_t self = getpid();
+  int ended = 0;
+  for (int round = 0; round < 100; ++round) {
+    std::vector<pid_t> found;
+    std::error_code ec;
+    for (const auto& e : std::filesystem::directory_iterator("/proc", ec)) {
+      const std::string name = e.path().filename().string();
+      if (name.empty() || name.find_first_not_of("0123456789") != std::string::npos) continue;
+      std::ifstream in(e.path() / "stat");
+      std::string line;
+      if (!std::getline(in, line)) continue;
+      const size_t close = line.rfind(')');  // the name may hold spaces and parentheses
+      if (close == std::string::npos) continue;
+      std::istringstream rest(line.substr(close + 2));
+      char state = 0;
+      long ppid = 0;
+      rest >> state >> ppid;
+      const pid_t pid = static_cast<pid_t>(std::stol(name));
+      if (ppid == self && std::find(keep.begin(), keep.end(), pid) == keep.end()) found.push_back(pid);
+    }
+    if (found.empty()) break;
+    for (pid_t pid : found) {
+      kill(pid, SIGKILL);
+      waitpid(pid, nullptr, 0);
+      ++ended;
+    }
+  }
+  return ended;
 }
 
 std::string executable_dir() {

@@ -72,4 +72,14 @@ void terminate_all(std::vector<ChildProcess*> children, int grace_ms);
 // directory of the running executable (/proc/self/exe)
 std::string executable_dir();
 
+// makes this process the reaper of its descendants' orphans
+// (PR_SET_CHILD_SUBREAPER): a process a module started and left behind, even
+// one that called setsid(), becomes this process's child instead of init's
+void become_subreaper();
+
+// ends (SIGKILL) and reaps every child of this process that is not in keep:
+// after the run's own children have ended, those are the orphans it adopted.
+// Returns how many; repeats while killing them leaves new orphans
+int end_adopted_orphans(const std::vector<pid_t>& keep = {});
+
 }  // namespace chainsim

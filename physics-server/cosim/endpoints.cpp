@@ -1,6 +1,8 @@
 // A run's processes and links. See endpoints.h.
 #include "cosim/endpoints.h"
 
+#include <sys/prctl.h>
+
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -54,6 +56,11 @@ bool file_has(const std::string& path, const char* text) {
 Endpoints::Endpoints(const Scene& scene, const RunOptions& options, RunOutput* out,
                      asio::io_context* io)
     : scene_(scene), opt_(options), out_(out), io_(io) {
+  // what the modules start stays this process's to end (shutdown), and the
+  // server's open files are not theirs to reopen through /proc/PID/fd: a
+  // process that is not dumpable has its /proc entries owned by root
+  become_subreaper();
+  prctl(PR_SET_DUMPABLE, 0);
   const int n = static_cast<int>(scene.modules.size());
   for (int m = 0; m <= n; ++m) {
     const SceneModule& sm = m < n ? scene.modules[m] : scene.central;
@@ -315,6 +322,13 @@ void Endpoints::shutdown(bool finished) {
     kids.push_back(&e->proc);
   }
   terminate_all(kids, kTerminateGraceMs);
+  // what a module left running: in its process group (a fork), or, having
+  // left the group (setsid), adopted by this process (become_subreaper)
+  for (auto& e : ep_)
+    if (!e->attached && e->proc.pid() > 0) kill(-e->proc.pid(), SIGKILL);
+  const int orphans = end_adopted_orphans();
+  if (orphans > 0 && !opt_.quiet)
+    std::fprintf(stderr, "chainsim: %d process%s a module left behind ended\n", orphans, orphans == 1 ? "" : "es");
   if (acceptor_) acceptor_->close();
   drop_pending("");  // a handshake that a fault or a signal cut short
   std::error_code ec;

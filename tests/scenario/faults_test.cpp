@@ -6,6 +6,7 @@
 #include <signal.h>
 
 #include <filesystem>
+#include <sstream>
 
 #include "scenario_util.h"
 
@@ -203,4 +204,25 @@ TEST(Faults, ModulesDieWithAServerThatIsKilledOutright) {
   for (pid_t k : kids) EXPECT_TRUE(wait_until([&] { return !alive(k); }, 5)) << "orphan " << k;
   // what was flushed before the kill is still there
   EXPECT_FALSE(read_file(dir + "/run/scene.json").empty());
+}
+
+// no process a module starts outlives the run: a child it forked (in its
+// process group) nor a grandchild that left the group with setsid (adopted
+// by the server, its subreaper), and the run itself goes on undisturbed
+TEST(Faults, NoProcessAModuleStartedOutlivesTheRun) {
+  for (int mode : {7, 8}) {
+    const std::string dir = temp_dir("orphans");
+    const std::string pids = dir + "/pids.txt";
+    setenv("CHAINSIM_TEST_PID_FILE", pids.c_str(), 1);
+    const Outcome o = run({misbehave_scene(dir, mode, 200), "--duration", "0.9"}, dir);  // before discovery is judged
+    unsetenv("CHAINSIM_TEST_PID_FILE");
+    EXPECT_EQ(o.exit_code, 0) << o.stderr_text;
+    std::istringstream in(read_file(pids));
+    int n = 0;
+    for (pid_t p; in >> p; ++n) EXPECT_FALSE(alive(p)) << "mode " << mode << ": process " << p << " outlived the run";
+    EXPECT_EQ(n, 1) << "mode " << mode << ": the module's sleeper never started";
+    if (mode == 8)  // (a child in the module's group goes with the group, unannounced)
+      EXPECT_NE(o.stderr_text.find(" a module left behind ended"), std::string::npos) << o.stderr_text;
+    expect_no_survivors(o);
+  }
 }
