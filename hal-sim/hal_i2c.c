@@ -26,6 +26,16 @@ hal_status hal_i2c_send(uint8_t addr7, const uint8_t *data, uint8_t len)
         return HAL_ERR_ARG;
     if (hs.n_i2c_tx >= CS_I2C_FRAMES_MAX)
         return HAL_ERR_FULL;
+    {
+        /* the send queue, as the board's: what is still on the bus, what this
+         * tick queued, and this frame (its address byte and data) */
+        unsigned queued = hs.i2c_tx_queued;
+        uint8_t i;
+        for (i = 0; i < hs.n_i2c_tx; i++)
+            queued += hs.i2c_tx[i].len + 1u;
+        if (queued + len + 1u > CS_I2C_TX_QUEUE_MAX)
+            return HAL_ERR_FULL;
+    }
     f = &hs.i2c_tx[hs.n_i2c_tx++];
     f->addr = addr7;
     f->len = len;

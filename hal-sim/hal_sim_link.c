@@ -213,6 +213,7 @@ static void apply_tick_begin(const cs_tick_begin *tb)
     hs.time_us = tb->time_us;
     hs.sin_level = tb->sin_level;
     hs.digital_in = tb->digital_in;
+    hs.i2c_tx_queued = tb->i2c_tx_queued;
     hs.n_servos = tb->n_servos;
     for (i = 0; i < tb->n_servos && i < CS_SERVOS_MAX; i++)
         hs.servo_pos[i] = tb->servo_pos[i];

@@ -41,6 +41,7 @@ typedef struct {
     uint16_t adc[CS_ADC_MAX];
     uint8_t n_counters;
     int32_t counter[CS_COUNTERS_MAX];
+    uint16_t i2c_tx_queued; /* bytes of our frames still on the bus at the last TICK_BEGIN */
 
     /* persistent outputs (sent in every TICK_END) */
     uint8_t sout_level;

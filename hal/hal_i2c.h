@@ -14,7 +14,11 @@
 hal_status hal_i2c_set_address(uint8_t addr7);
 
 /* queue a frame of len (1..HAL_I2C_DATA_MAX) bytes to addr7; it is put on the
- * bus at the next wait. HAL_ERR_FULL when too many frames are queued this tick */
+ * bus at the next wait. HAL_ERR_FULL when the send queue is full, as a
+ * board's would be: 8 frames queued this tick, or 512 bytes (address byte
+ * and data of each frame) of this module's own still waiting on the 100 kHz
+ * bus (in the simulator; the PIC board's queue holds 40, hal-pic/README.md).
+ * Try again after a wait. */
 hal_status hal_i2c_send(uint8_t addr7, const uint8_t *data, uint8_t len);
 
 /* take the oldest received frame: copies up to cap bytes into buf, its length

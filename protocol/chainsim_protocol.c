@@ -32,7 +32,7 @@
      CS_PARAMS_MAX * (CS_NAME_WIRE_MAX(CS_PARAM_NAME_MAX) + 4u))
 #define CS_REASON_BODY_MAX (CS_TYPE_LEN + CS_NAME_WIRE_MAX(CS_REASON_MAX))
 #define CS_TICK_BEGIN_BODY_MAX                                               \
-    (CS_TYPE_LEN + 8u + 1u + 1u + 2u + 1u + 4u * CS_SERVOS_MAX + 1u +        \
+    (CS_TYPE_LEN + 8u + 1u + 1u + 2u + 2u + 1u + 4u * CS_SERVOS_MAX + 1u +   \
      2u * CS_ADC_MAX + 1u + 4u * CS_COUNTERS_MAX + 1u +                      \
      CS_I2C_FRAMES_MAX * CS_I2C_FRAME_WIRE_MAX)
 #define CS_TICK_END_BODY_MAX                                                 \
@@ -314,6 +314,7 @@ static void enc_tick_begin(cs_writer *w, const cs_tick_begin *t)
     w_u8(w, t->wake_reason);
     w_u8(w, t->sin_level);
     w_u16(w, t->digital_in);
+    w_u16(w, t->i2c_tx_queued);
     w_u8(w, t->n_servos);
     for (i = 0u; i < t->n_servos; i++)
         w_i32(w, t->servo_pos[i]);
@@ -631,6 +632,7 @@ static void dec_tick_begin(cs_reader *r, cs_tick_begin *t)
         return;
     }
     t->digital_in = r_u16(r);
+    t->i2c_tx_queued = r_u16(r);
 
     t->n_servos = r_u8(r);
     if (r->err)

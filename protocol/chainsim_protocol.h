@@ -21,7 +21,7 @@ extern "C" {
 #endif
 
 #define CS_MAGIC 0x4D534843UL /* "CHSM" as little-endian bytes */
-#define CS_VERSION 1u
+#define CS_VERSION 2u /* 2: TICK_BEGIN says how much of the module's I2C output is still on the bus */
 
 /* Lines the simulated HAL prints on a module's stderr (its .out file) that
  * the server looks for when it reports a fault: a wait that spins without
@@ -47,6 +47,10 @@ extern "C" {
 #define CS_COUNTERS_MAX 4u      /* encoder counters per module */
 #define CS_I2C_FRAMES_MAX 8u    /* I2C frames per tick, each direction */
 #define CS_I2C_DATA_MAX 32u     /* payload bytes of one I2C frame */
+/* bytes (address + data) of a module's own frames that may wait on the bus,
+ * as a board's send queue: a send past it is HAL_ERR_FULL, and the server
+ * drops a frame a module sends past it (its events.jsonl names the module) */
+#define CS_I2C_TX_QUEUE_MAX 512u
 #define CS_LOG_LINES_MAX 4u     /* log lines per tick */
 #define CS_LOG_LINE_MAX 96u     /* log line buffer, NUL included */
 #define CS_PARAMS_MAX 16u       /* named integer parameters in WELCOME */
@@ -111,6 +115,7 @@ typedef struct {
     uint8_t wake_reason;  /* CS_WAKE_* bits that woke the module */
     uint8_t sin_level;    /* 0 or 1 */
     uint16_t digital_in;  /* digital input pins, bit n = pin n (touch sensors) */
+    uint16_t i2c_tx_queued; /* bytes of this module's frames still waiting on or crossing the bus */
     uint8_t n_servos;
     int32_t servo_pos[CS_SERVOS_MAX]; /* measured: millidegrees (rotary), micrometres (linear),
                                          the echoed command (screw drive, DC motor) */

@@ -1,6 +1,7 @@
 // The lockstep barrier. See barrier.h.
 #include "cosim/barrier.h"
 
+#include <algorithm>
 #include <cinttypes>
 #include <cstdio>
 
@@ -38,6 +39,7 @@ void Barrier::fill_begin(int e, int64_t t_us, cs_tick_begin* tb) {
   tb->time_us = static_cast<uint64_t>(t_us);
   tb->wake_reason = ep_[e].reason;
   tb->sin_level = bus_.sin(e);
+  tb->i2c_tx_queued = static_cast<uint16_t>(std::min(bus_.queued_bytes(e), 65535));
   ep_[e].sin_at_sleep = tb->sin_level;  // an edge is a change from what it last saw
   BusFrame frames[CS_I2C_FRAMES_MAX];
   const size_t n = bus_.take_mail(e, frames, CS_I2C_FRAMES_MAX);
@@ -97,6 +99,14 @@ void Barrier::apply(int64_t t_us, BarrierSink* sink) {
     }
     for (int i = 0; i < te.n_i2c; ++i) {
       const cs_i2c_frame& f = te.i2c[i];
+      const int queued = bus_.queued_bytes(e);
+      if (queued + f.len + 1 > static_cast<int>(CS_I2C_TX_QUEUE_MAX)) {  // a flood: as a full MSSP queue
+        std::snprintf(line, sizeof line, "i2c-drop from=%d to=0x%02x send queue full (%d bytes waiting)", e, f.addr,
+                      queued);
+        sink->bus_event(t_us, line);
+        sink->queue_full(e, t_us, queued);
+        continue;
+      }
       const BusFrame& bf = bus_.send(e, f.addr, f.data, f.len, t_us);
       int k = std::snprintf(line, sizeof line, "i2c from=%d to=0x%02x deliver_us=%" PRId64 " data=", e, f.addr,
                             bf.deliver_us);

@@ -27,6 +27,11 @@ class BarrierSink {
   virtual void address(int endpoint, int64_t t_us, uint8_t address) {
     (void)endpoint, (void)t_us, (void)address;
   }
+  // endpoint e sent a frame past its send queue (CS_I2C_TX_QUEUE_MAX bytes
+  // waiting on the bus): dropped, after its bus-log line
+  virtual void queue_full(int endpoint, int64_t t_us, int queued_bytes) {
+    (void)endpoint, (void)t_us, (void)queued_bytes;
+  }
 };
 
 class Barrier {

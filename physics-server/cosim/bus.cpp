@@ -14,6 +14,13 @@ int64_t Bus::frame_time_us(int len) {
 
 void Bus::set_address(int e, uint8_t addr) { addr_[e] = addr & 0x7F; }
 
+int Bus::queued_bytes(int from) const {
+  int n = 0;
+  for (const BusFrame& f : in_flight_)
+    if (f.from == from) n += f.len + 1;
+  return n;
+}
+
 const BusFrame& Bus::send(int from, uint8_t addr, const uint8_t* data, uint8_t len, int64_t now_us) {
   BusFrame f;
   f.sent_us = now_us;

@@ -42,6 +42,10 @@ class Bus {
   void set_address(int e, uint8_t addr);
   uint8_t address(int e) const { return addr_[e]; }
 
+  // bytes (address + data) of endpoint from's frames not yet delivered: its
+  // send queue, as the board's MSSP would hold them
+  int queued_bytes(int from) const;
+
   // put a frame on the bus at time now_us; returns the queued frame
   const BusFrame& send(int from, uint8_t addr, const uint8_t* data, uint8_t len, int64_t now_us);
 

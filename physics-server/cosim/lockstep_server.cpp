@@ -111,6 +111,18 @@ class Server : public BarrierSink {
   void address(int endpoint, int64_t t_us, uint8_t address) override {
     out_->event(address_event(t_us, endpoint, (*endpoints_)[endpoint].type, address));
   }
+  void queue_full(int endpoint, int64_t t_us, int queued_bytes) override {
+    if (queue_full_said_.size() <= static_cast<size_t>(endpoint)) queue_full_said_.resize(endpoint + 1, false);
+    if (queue_full_said_[endpoint]) return;  // the first of each endpoint; bus.log has every one
+    queue_full_said_[endpoint] = true;
+    const Endpoint& e = (*endpoints_)[endpoint];
+    out_->event(queue_full_event(t_us, endpoint, e.type, queued_bytes));
+    if (!opt_.quiet)
+      std::fprintf(stderr, "chainsim: warning: %s %d (%s) sends I2C frames faster than the bus carries them: a frame "
+                           "dropped at t=%s s with %d bytes of its own waiting (bus.log has every drop)\n",
+                   endpoint < n_modules_ ? "module" : "endpoint", endpoint, e.type.c_str(),
+                   fixed_text(t_us * 1e-6, 6).c_str(), queued_bytes);
+  }
 
  private:
   // one tick's exchange, in two halves with the physics step between them:
@@ -159,6 +171,7 @@ class Server : public BarrierSink {
   std::vector<double> energy_j_;
   EarlyStop early_;          // the scene's stop_when
   std::string early_why_;    // set when one fired: the run ends after this tick
+  std::vector<bool> queue_full_said_;  // per endpoint: its first dropped frame was reported
   int64_t now_us_ = 0;
   std::string stop_message_;
   int stop_code_ = kExitOk;

@@ -49,6 +49,11 @@ std::string fault_event(int64_t t_us, int endpoint, const std::string& type, con
          ",\"message\":" + quoted(message) + "}";
 }
 
+std::string queue_full_event(int64_t t_us, int endpoint, const std::string& type, int queued_bytes) {
+  return head(t_us, "i2c_queue_full") + ",\"endpoint\":" + std::to_string(endpoint) + ",\"type\":" + quoted(type) +
+         ",\"queued_bytes\":" + std::to_string(queued_bytes) + "}";
+}
+
 std::string warning_event(int64_t t_us, const std::string& message) {
   return head(t_us, "warning") + ",\"message\":" + quoted(message) + "}";
 }

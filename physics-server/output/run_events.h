@@ -24,6 +24,10 @@ std::string discovery_event(int64_t t_us, const std::vector<int>& answered, cons
 // a fault of an endpoint (endpoint < 0: of the physics, type ignored) and
 // its message, as the run reports it
 std::string fault_event(int64_t t_us, int endpoint, const std::string& type, const std::string& message);
+// endpoint sent an I2C frame with queued_bytes of its own already waiting on
+// the bus, past CS_I2C_TX_QUEUE_MAX: the frame was dropped (the first such
+// frame of each endpoint)
+std::string queue_full_event(int64_t t_us, int endpoint, const std::string& type, int queued_bytes);
 // a warning that does not stop the run (--on-divergence=warn)
 std::string warning_event(int64_t t_us, const std::string& message);
 

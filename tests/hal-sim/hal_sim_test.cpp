@@ -267,6 +267,31 @@ TEST_F(HalSim, I2cSendQueueAndFull)
     EXPECT_EQ(shutdown_and_wait(), 0);
 }
 
+// the send queue counts what the server says is still on the bus: 400
+// bytes there leave room for 3 frames of 33 bytes (address and 32 data)
+TEST_F(HalSim, I2cSendIsRefusedWhileTheBusStillCarriesTheModulesOwnFrames)
+{
+    spawn([] {
+        hal_init();
+        hal_tick_wait(); /* the tick that says 400 bytes are waiting */
+        uint8_t big[32] = {0};
+        std::string rc;
+        for (int i = 0; i < 4; i++) rc += std::to_string(hal_i2c_send(0x20, big, 32)) + " ";
+        tlog("%s", rc.c_str());
+        tick_forever();
+    });
+    handshake();
+    cs_msg te{};
+    tick_end(te);
+    cs_msg tb = make_tick(1000);
+    tb.u.tick_begin.i2c_tx_queued = 400;
+    ASSERT_TRUE(conn_.send(tb));
+    tick_end(te);
+    EXPECT_EQ(te.u.tick_end.n_i2c, 3);
+    EXPECT_EQ(logs_of(te), std::vector<std::string>{"0 0 0 -2 "});
+    EXPECT_EQ(shutdown_and_wait(), 0);
+}
+
 TEST_F(HalSim, I2cReceiveRingKeepsOrderAndDropsOldest)
 {
     spawn([] {

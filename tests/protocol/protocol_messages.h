@@ -168,13 +168,14 @@ struct TickBeginWire {
     unsigned wake_reason = CS_WAKE_TIMER;
     unsigned sin_level = 1;
     unsigned digital_in = 0x0003;
+    unsigned i2c_tx_queued = 0x0123;
     std::vector<int32_t> servo_pos{90000, -45000};
     std::vector<unsigned> adc{0, 512, 1023};
     std::vector<int32_t> counter{-1};
     std::vector<I2cWire> i2c{{0x10, {1, 2, 3}}};
     Bytes body() const {
         Wire w;
-        w.u16(CS_MSG_TICK_BEGIN).u64(time_us).u8(wake_reason).u8(sin_level).u16(digital_in);
+        w.u16(CS_MSG_TICK_BEGIN).u64(time_us).u8(wake_reason).u8(sin_level).u16(digital_in).u16(i2c_tx_queued);
         w.u8(unsigned(servo_pos.size()));
         for (auto v : servo_pos) w.i32(v);
         w.u8(unsigned(adc.size()));
@@ -273,6 +274,7 @@ inline cs_msg max_tick_begin() {
     t.wake_reason = CS_WAKE_ALL;
     t.sin_level = 1;
     t.digital_in = 0xFFFF;
+    t.i2c_tx_queued = 0xFFFF;
     t.n_servos = CS_SERVOS_MAX;
     for (unsigned i = 0; i < CS_SERVOS_MAX; i++)
         t.servo_pos[i] = (i % 2) ? std::numeric_limits<int32_t>::min() : 359999 - int32_t(i);
@@ -385,6 +387,7 @@ inline void expect_same(const cs_msg &a, const cs_msg &b) {
         EXPECT_EQ(x.wake_reason, y.wake_reason);
         EXPECT_EQ(x.sin_level, y.sin_level);
         EXPECT_EQ(x.digital_in, y.digital_in);
+        EXPECT_EQ(x.i2c_tx_queued, y.i2c_tx_queued);
         ASSERT_EQ(x.n_servos, y.n_servos);
         for (unsigned i = 0; i < x.n_servos; i++) EXPECT_EQ(x.servo_pos[i], y.servo_pos[i]);
         ASSERT_EQ(x.n_adc, y.n_adc);

@@ -1,10 +1,12 @@
 // The lockstep barrier: who runs at a tick, and outputs applied in index order.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
 #include "cosim/barrier.h"
+#include "cosim/bus.h"
 
 using chainsim::Barrier;
 using chainsim::BarrierSink;
@@ -15,6 +17,8 @@ struct Recorder : BarrierSink {
   std::vector<std::string> bus;
   std::vector<std::string> servos;
   std::vector<std::string> logs;
+  std::vector<std::pair<int, int>> full;  // (endpoint, bytes waiting) of each queue_full
+  void queue_full(int e, int64_t, int queued) override { full.emplace_back(e, queued); }
   void servo(int m, int s, bool on, int32_t setpoint_wire) override {
     servos.push_back(std::to_string(m) + "." + std::to_string(s) +
                      (on ? "=" + std::to_string(setpoint_wire) : "=off"));
@@ -179,4 +183,48 @@ TEST(Barrier, PoweredOffEndpointNeverRunsAgain) {
   EXPECT_EQ(awake, (std::vector<int>{0, 2}));
   awake = tick(b, r, 1000, {});
   EXPECT_EQ(awake, (std::vector<int>{0, 2}));
+}
+
+// a module that sends faster than the 100 kHz bus carries fills its send
+// queue: TICK_BEGIN tells it how much of its own is still on the bus, and a
+// frame past CS_I2C_TX_QUEUE_MAX is dropped and reported, the bus backlog
+// bounded; frames of the others still go out
+TEST(Barrier, AFloodFillsTheSendersQueueAndIsDroppedPastIt) {
+  Barrier b({2, 2}, 1000);
+  Recorder r;
+  cs_tick_end flood = sleep_until(1);
+  flood.n_i2c = CS_I2C_FRAMES_MAX;
+  for (unsigned i = 0; i < CS_I2C_FRAMES_MAX; ++i) {
+    flood.i2c[i].addr = 0x20;
+    flood.i2c[i].len = CS_I2C_DATA_MAX;
+  }
+  int64_t max_backlog = 0;
+  uint16_t told = 0;
+  for (int64_t t = 0; t < 50000; t += 1000) {
+    std::vector<int> awake;
+    b.due(t, &awake, &r);
+    for (int e : awake) {
+      cs_tick_begin tb{};
+      b.fill_begin(e, t, &tb);
+      if (e == 0) told = std::max(told, tb.i2c_tx_queued);
+    }
+    flood.wake_time_us = static_cast<uint64_t>(t + 1000);
+    EXPECT_EQ(b.store_end(0, t, flood), "");
+    EXPECT_EQ(b.store_end(1, t, with_frame(sleep_until(static_cast<uint64_t>(t + 1000)), 0x21, 7)), "");
+    b.apply(t, &r);
+    for (const auto& line : r.bus) {
+      const size_t at = line.find("deliver_us=");
+      if (at != std::string::npos) max_backlog = std::max<int64_t>(max_backlog, std::stoll(line.substr(at + 11)) - t);
+    }
+    r.bus.clear();
+  }
+  // the first drop is reported; the queue never holds more than its bound
+  ASSERT_FALSE(r.full.empty());
+  EXPECT_EQ(r.full[0].first, 0);
+  EXPECT_LE(r.full[0].second + 33, static_cast<int>(CS_I2C_TX_QUEUE_MAX) + 33);
+  EXPECT_GT(told, CS_I2C_TX_QUEUE_MAX - 2 * 33u);  // the module was told its queue was nearly full
+  EXPECT_LE(told, CS_I2C_TX_QUEUE_MAX);
+  // 512 bytes of one sender (16 frames of 32) and a frame of the other: some
+  // 50 ms of bus time ahead at most; unbounded, 50 ticks of 8 frames were 1.2 s
+  EXPECT_LT(max_backlog, 20 * chainsim::Bus::frame_time_us(CS_I2C_DATA_MAX));
 }
