@@ -2,10 +2,14 @@
 #include "readers/csv_table.h"
 
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <set>
 #include <sstream>
+
+#include "readers/safe_text.h"
 
 namespace chainsim {
 namespace {
@@ -49,13 +53,25 @@ std::string join(const std::vector<std::string>& names) {
 
 }  // namespace
 
+CsvError::CsvError(const std::string& message) : std::runtime_error(shown_text_cut(message)) {}
+
 CsvTable CsvTable::read_file(const std::string& path, const std::string& what, const CsvColumns& columns,
                              CsvOptions options) {
+  // a regular file of bounded size: not a FIFO (which would block), not
+  // /dev/zero (which never ends)
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(st)) throw CsvError(path + ": cannot open " + what);
+  if (!std::filesystem::is_regular_file(st)) throw CsvError(path + ": " + what + " is not a regular file");
+  const uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec || size > kMaxFileBytes)
+    throw CsvError(path + ": " + what + " is larger than " + std::to_string(kMaxFileBytes >> 20) + " MiB");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw CsvError(path + ": cannot open " + what);
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse(text.str(), path, columns, options);
+  std::string text(static_cast<size_t>(size), '\0');
+  in.read(text.data(), static_cast<std::streamsize>(size));
+  text.resize(static_cast<size_t>(in.gcount()));
+  return parse(text, path, columns, options);
 }
 
 CsvTable CsvTable::parse(const std::string& text, const std::string& file, const CsvColumns& columns,

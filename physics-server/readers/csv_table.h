@@ -9,6 +9,7 @@
 //    naming the first column it lacks, when that column is read.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -16,9 +17,10 @@
 
 namespace chainsim {
 
+// its message is shown_text_cut: a cell quoted in it is escaped and bounded
 class CsvError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit CsvError(const std::string& message);
 };
 
 // the columns a file must have, and those it may have
@@ -33,6 +35,7 @@ struct CsvOptions {
 
 class CsvTable {
  public:
+  static constexpr uintmax_t kMaxFileBytes = 32u << 20;  // a CSV file is a regular file of at most 32 MiB
   struct Cell {
     std::string text;  // without the spaces around it
     int column = 1;    // 1-based character column of its first character

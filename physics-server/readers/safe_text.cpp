@@ -61,6 +61,13 @@ std::string shown_text(const std::string& s) {
   return out;
 }
 
+std::string shown_text_cut(const std::string& s, size_t max_chars) {
+  if (s.size() <= max_chars) return shown_text(s);
+  size_t cut = max_chars;
+  while (cut > 0 && (static_cast<unsigned char>(s[cut]) & 0xC0) == 0x80) --cut;  // not inside a UTF-8 character
+  return shown_text(s.substr(0, cut)) + "... (" + std::to_string(s.size()) + " bytes in all)";
+}
+
 bool is_path_name(const std::string& s) {
   if (s.empty() || s.size() > 63 || s[0] == '.' || s[0] == '-') return false;
   for (char c : s) {

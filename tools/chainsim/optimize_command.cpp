@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -427,9 +428,12 @@ int run_optimize(const OptimizeArgs& given) {
   SearchSummary s;
   try {
     if (!a.quiet)
-      std::fprintf(stderr, "optimize: %s: %zu genes (%lld gene vectors), %s, population %d%s, generations 0..%d, seed %llu, "
+      std::fprintf(stderr, "optimize: %s: %zu genes (%s gene vectors), %s, population %d%s, generations 0..%d, seed %llu, "
                            "trials %s, %s; writing %s\n",
-                   pr.name.c_str(), pr.genome.gene_count(), static_cast<long long>(pr.genome.gene_space_size()),
+                   pr.name.c_str(), pr.genome.gene_count(),
+                   pr.genome.gene_space_size() == INT64_MAX  // gene_space_size saturates there
+                       ? "more than 9.2e18"
+                       : std::to_string(pr.genome.gene_space_size()).c_str(),
                    pr.exhaustive ? "exhaustive" : "pagmo sga", pr.ga.population,
                    pr.ga.islands > 1 ? (" x " + std::to_string(pr.ga.islands) + " islands").c_str() : "",
                    last_generation(pr), static_cast<unsigned long long>(pr.ga.seed),

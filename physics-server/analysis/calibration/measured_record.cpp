@@ -18,9 +18,18 @@ MeasuredRecord read_measured(const std::string& file, size_t min_rows) {
       if (cols[c] < 0) continue;
       const double v = tab.number(r, cols[c]);
       if (c == 0 && r > 0 && !(v > m.t.back())) tab.fail_not_increasing(r, cols[c]);
+      if (c == 0 && r > 0 && v - m.t.front() > kMaxMeasuredSpan_s)
+        tab.fail_at(r, cols[c], "the record spans more than " + std::to_string(static_cast<int>(kMaxMeasuredSpan_s)) +
+                                    " s from its first row (calibrate simulates the whole span for every candidate)");
+      if (c == 0 && r >= kMaxMeasuredRows)
+        tab.fail_at(r, cols[c], "more than " + std::to_string(kMaxMeasuredRows) + " rows");
       dst[c]->push_back(v);
     }
   }
+  if (m.size() >= 2 && m.t.back() - m.t.front() < kMinMeasuredSpan_s)
+    tab.fail(tab.last_line(), 1,
+             "the record spans " + std::to_string(m.t.back() - m.t.front()) + " s: less than a servo frame (" +
+                 std::to_string(kMinMeasuredSpan_s) + " s), nothing to fit");
   if (m.size() < min_rows)
     tab.fail(tab.last_line(), 1,
              "too few rows (" + std::to_string(m.size()) + "; at least " + std::to_string(min_rows) +

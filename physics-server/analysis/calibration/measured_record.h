@@ -20,4 +20,11 @@ struct MeasuredRecord {
 // ("file:line:column: what")
 MeasuredRecord read_measured(const std::string& file, size_t min_rows);
 
+// what a measured record may hold: calibrate simulates its whole span once
+// per candidate model, so the span and the rows bound its work. A record
+// over them, or spanning less than a servo frame, is refused at its row.
+constexpr size_t kMaxMeasuredRows = 200000;
+constexpr double kMaxMeasuredSpan_s = 600.0;
+constexpr double kMinMeasuredSpan_s = 0.02;
+
 }  // namespace chainsim

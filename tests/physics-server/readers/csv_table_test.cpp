@@ -4,6 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -123,6 +126,42 @@ TEST(CsvTable, ReadsFilesAndNamesOnesThatCannotBeOpened) {
   } catch (const CsvError& e) {
     EXPECT_EQ(std::string(e.what()), path + ": cannot open the test file");
   }
+}
+
+// a file that is not a regular one is refused before it is read: /dev/zero
+// would never end, a FIFO would block
+TEST(CsvTable, OnlyRegularFilesOfBoundedSizeAreRead) {
+  auto error = [](const std::string& path) {
+    try {
+      CsvTable::read_file(path, "the test file", kTimeSeries);
+    } catch (const CsvError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_EQ(error("/dev/zero"), "/dev/zero: the test file is not a regular file");
+  const std::string fifo = testing::TempDir() + "/csv_table_test.fifo";
+  std::remove(fifo.c_str());
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_EQ(error(fifo), fifo + ": the test file is not a regular file");
+  std::remove(fifo.c_str());
+  const std::string big = testing::TempDir() + "/csv_table_test_big.csv";
+  { std::ofstream(big) << "t_s,v\n"; }
+  ASSERT_EQ(truncate(big.c_str(), static_cast<off_t>(CsvTable::kMaxFileBytes) + 1), 0);
+  EXPECT_EQ(error(big), big + ": the test file is larger than 32 MiB");
+  std::remove(big.c_str());
+}
+
+// a message quoting a cell shows it escaped and cut: a raw byte never
+// reaches the terminal, a huge cell never floods it
+TEST(CsvTable, AMessageQuotingACellIsEscapedAndBounded) {
+  const std::string huge(100000, 'x');
+  const std::string e = number_error("t_s,v\n0," + huge + "\n", 0, "v");
+  EXPECT_LT(e.size(), 800u) << e.size();
+  EXPECT_NE(e.find("bytes in all)"), std::string::npos) << e.substr(0, 200);
+  const std::string raw = number_error("t_s,v\n0,\xFF\x1b[2J\n", 0, "v");
+  EXPECT_EQ(raw.find('\x1b'), std::string::npos) << raw;
+  EXPECT_NE(raw.find("\\xFF"), std::string::npos) << raw;
 }
 
 }  // namespace
