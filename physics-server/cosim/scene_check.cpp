@@ -44,7 +44,8 @@ SceneCheck check_scene(const Scene& scene, const std::string& firmware_dir) {
   r.message = scene.source + ": ok: " + std::to_string(scene.modules.size()) + " modules, " +
               std::to_string(bodies) + " bodies, " + std::to_string(types.size()) + " programs found" +
               (on_pic ? " (" + std::to_string(on_pic) + " as .hex for the PIC, their modules' sensors on the board's pins)" : "") +
-              "; nothing was started";
+              "; no run was started (a native program the scene gives parameters ran once with "
+              "--chainsim-params, to list the ones it declares)";
   return r;
 }
 
