@@ -11,6 +11,7 @@ PACKAGES=(
   nlohmann-json3-dev libssl-dev libgtest-dev
   libnlopt-cxx-dev                # chainsim calibrate: the optimiser (NLopt BOBYQA)
   libpagmo-dev                    # chainsim optimize: the genetic algorithm (pagmo sga)
+  libre2-dev                      # chainsim test: log patterns matched by RE2, in linear time
   libopenmpi-dev openmpi-bin      # chainsim optimize under mpirun (MPI ranks)
   slurm-wlm munge                 # tools/slurm's job script, tested under a one-node Slurm the test starts itself
   clang libclang-rt-14-dev        # libFuzzer target of the protocol decoder

@@ -172,10 +172,10 @@ CheckResult log_match(const Expectation& e, RunRecord& run) {
   double first = 0;
   std::string first_text;
   int count = 0;
-  for (const LogLine& l : lines)
-    if (std::regex_search(l.text, e.regex)) {
-      if (count++ == 0) first = l.t_s, first_text = l.text;
-    }
+  for (size_t i = 0; i < lines.size(); ++i) {
+    run.poll_stop(i);
+    if (pattern_found(e, lines[i].text) && count++ == 0) first = lines[i].t_s, first_text = lines[i].text;
+  }
   if (first_text.size() > 60) first_text = first_text.substr(0, 57) + "...";
   return timed(e.timing, first, count, ": \"" + first_text + "\"", run.end_s());
 }
@@ -189,8 +189,11 @@ CheckResult bus_match(const Expectation& e, RunRecord& run, const std::string& e
                       const std::function<bool(const BusEvent&)>& match) {
   double first = 0;
   int count = 0;
-  for (const BusEvent& ev : run.bus())
-    if (ev.event == event && match(ev) && count++ == 0) first = ev.t_us * 1e-6;
+  const auto& events = run.bus();
+  for (size_t i = 0; i < events.size(); ++i) {
+    run.poll_stop(i);
+    if (events[i].event == event && match(events[i]) && count++ == 0) first = events[i].t_us * 1e-6;
+  }
   return timed(e.timing, first, count, "", run.end_s());
 }
 

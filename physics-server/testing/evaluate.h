@@ -26,7 +26,8 @@ struct CheckResult {
 };
 
 // measures e in run; throws EvaluationError, or RunRecordError when a file
-// of the run directory is missing or broken
+// of the run directory is missing or broken, or RunRecordStopped when the
+// run record's stop check says so
 CheckResult evaluate(const Expectation& e, RunRecord& run);
 
 }  // namespace chainsim

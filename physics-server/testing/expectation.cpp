@@ -1,5 +1,7 @@
 #include "testing/expectation.h"
 
+#include <re2/re2.h>
+
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -13,6 +15,7 @@ struct Token {
   std::string text;
   size_t at = 0;
   bool regex = false;  // /.../, text without the slashes
+  std::vector<size_t> src;  // a pattern: where each of its characters is in the expectation
 };
 
 // splits at blanks; /.../ is one token (a '\/' inside stays in the regex)
@@ -30,6 +33,7 @@ std::vector<Token> tokenize(const std::string& s) {
       size_t j = i + 1;
       std::string re;
       while (j < s.size() && s[j] != '/') {
+        t.src.push_back(j);
         if (s[j] == '\\' && j + 1 < s.size() && s[j + 1] == '/') {
           re += '/';
           j += 2;
@@ -168,6 +172,73 @@ class Parser {
   size_t i_ = 0;
 };
 
+// A log pattern for RE2. Patterns are written in the ECMAScript syntax
+// (docs/testing.md), which RE2 shares but for a few constructs: the ones that
+// need backtracking, which RE2 does not do so as to match in linear time,
+// are refused here, where they are written; \uXXXX and (?<name>...) are
+// rewritten to RE2's \x{XXXX} and (?P<name>...). Anything else RE2 cannot
+// read is refused by RE2 itself.
+std::string re2_pattern(const Token& t) {
+  const std::string& p = t.text;
+  auto refuse = [&](size_t k, const std::string& what) {
+    throw ExpectationError(t.src[k], "unsupported pattern /" + p + "/: " + what);
+  };
+  const std::string linear =
+      ": patterns are matched by RE2, in time linear in the line, without backreferences or lookaround "
+      "(docs/testing.md)";
+  std::string out;
+  bool in_class = false;
+  for (size_t k = 0; k < p.size(); ++k) {
+    const char c = p[k];
+    if (c == '\\' && k + 1 < p.size()) {
+      const char d = p[k + 1];
+      if (!in_class && d >= '1' && d <= '9') refuse(k, std::string("'\\") + d + "' is a backreference" + linear);
+      if (!in_class && d == 'k' && k + 2 < p.size() && p[k + 2] == '<')
+        refuse(k, "'\\k<' is a backreference" + linear);
+      if (d == 'u' && k + 6 <= p.size() &&
+          std::isxdigit(static_cast<unsigned char>(p[k + 2])) && std::isxdigit(static_cast<unsigned char>(p[k + 3])) &&
+          std::isxdigit(static_cast<unsigned char>(p[k + 4])) && std::isxdigit(static_cast<unsigned char>(p[k + 5]))) {
+        out += "\\x{" + p.substr(k + 2, 4) + "}";
+        k += 5;
+        continue;
+      }
+      out += c;
+      out += d;
+      ++k;
+      continue;
+    }
+    if (in_class) {
+      if (c == ']') in_class = false;
+      out += c;
+      continue;
+    }
+    if (c == '[') {
+      // ECMAScript's [] matches nothing and [^] any character; RE2 reads a
+      // ']' first in a class as the character ']'
+      const size_t first = k + 1 < p.size() && p[k + 1] == '^' ? k + 2 : k + 1;
+      if (first < p.size() && p[first] == ']')
+        refuse(k, "'" + p.substr(k, first - k + 1) + "' would be read otherwise by RE2, which takes a ']' first in " +
+                      "a class as the character ']': write '.' for any character, '\\]' for the character ']'");
+      in_class = true;
+      out += c;
+      continue;
+    }
+    if (c == '(' && k + 2 < p.size() && p[k + 1] == '?') {
+      const char d = p[k + 2];
+      if (d == '=' || d == '!') refuse(k, std::string("'(?") + d + "' is a lookahead" + linear);
+      if (d == '<' && k + 3 < p.size() && (p[k + 3] == '=' || p[k + 3] == '!'))
+        refuse(k, std::string("'(?<") + p[k + 3] + "' is a lookbehind" + linear);
+      if (d == '<') {  // a named group
+        out += "(?P<";
+        k += 2;
+        continue;
+      }
+    }
+    out += c;
+  }
+  return out;
+}
+
 void parse_bus(Parser& p, Expectation* e) {
   const Token& ev = p.next("a bus event (i2c, i2c-drop, addr or sout)");
   e->event = ev.text;
@@ -230,6 +301,10 @@ std::string Comparison::text() const {
   return s.str();
 }
 
+bool pattern_found(const Expectation& e, const std::string& line) {
+  return e.regex && RE2::PartialMatch(line, *e.regex);
+}
+
 Expectation parse_expectation(const std::string& text) {
   Expectation e;
   e.text = text;
@@ -247,11 +322,11 @@ Expectation parse_expectation(const std::string& text) {
     const Token& re = p.next("a pattern /.../");
     if (!re.regex) p.fail_at(re, "expected a pattern between slashes, e.g. /contact/, got '" + re.text + "'");
     e.pattern = re.text;
-    try {
-      e.regex = std::regex(re.text, std::regex::ECMAScript);
-    } catch (const std::regex_error& x) {
-      p.fail_at(re, "bad pattern /" + re.text + "/: " + x.what());
-    }
+    RE2::Options opt;
+    opt.set_log_errors(false);  // the error is ours to report, at its place
+    auto rx = std::make_shared<const RE2>(re2_pattern(re), opt);
+    if (!rx->ok()) p.fail_at(re, "bad pattern /" + re.text + "/: " + rx->error());
+    e.regex = std::move(rx);
     e.timing = p.timing();
   } else if (w == "bus") {
     e.kind = Expectation::Kind::bus;

@@ -4,10 +4,14 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
-#include <regex>
 #include <stdexcept>
 #include <string>
+
+namespace re2 {
+class RE2;
+}
 
 namespace chainsim {
 
@@ -64,8 +68,10 @@ struct Expectation {
   Timing timing;     // trace_when, log, bus, touch
 
   EndpointName who;             // log, touch; bus addr/sout
-  std::string pattern;      // log: the regex as written
-  std::regex regex;         // log
+  std::string pattern;      // log: the pattern as written, '\/' read as '/'
+  // log: the pattern compiled by RE2, which matches in time linear in the
+  // line; shared, as RE2 cannot be copied
+  std::shared_ptr<const re2::RE2> regex;
   std::string event;        // bus: i2c, i2c-drop, addr, sout
   std::optional<EndpointName> from;  // bus i2c, i2c-drop: sender
   std::optional<int> address;    // bus i2c, i2c-drop: `to`; addr: the address taken
@@ -75,5 +81,8 @@ struct Expectation {
 
 // parses one expectation; throws ExpectationError
 Expectation parse_expectation(const std::string& text);
+
+// does a log pattern (Expectation::regex) match anywhere in line?
+bool pattern_found(const Expectation& e, const std::string& line);
 
 }  // namespace chainsim

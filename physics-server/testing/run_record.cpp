@@ -64,7 +64,8 @@ void RunRecord::load_trace() {
   columns_ = split(line, ',');
   values_.assign(columns_.size(), {});
   for (size_t i = 0; i < columns_.size(); ++i) column_index_[columns_[i]] = i;
-  while (std::getline(f, line)) {
+  for (size_t n = 0; std::getline(f, line); ++n) {
+    poll_stop(n);
     if (line.empty()) continue;
     const std::vector<std::string> cells = split(line, ',');
     if (cells.size() != columns_.size()) break;  // a row cut short by a stopped run
@@ -99,7 +100,8 @@ const std::vector<BusEvent>& RunRecord::bus() {
   std::ifstream f = open(dir_ + "/bus.log");
   bus_.emplace();
   std::string line;
-  while (std::getline(f, line)) {
+  for (size_t n = 0; std::getline(f, line); ++n) {
+    poll_stop(n);
     std::istringstream s(line);
     BusEvent ev;
     if (!(s >> ev.t_us >> ev.event)) continue;
@@ -130,7 +132,8 @@ const std::vector<LogLine>& RunRecord::log(int endpoint) {
     if (name.rfind(prefix, 0) != 0 || de.path().extension() != ".log") continue;
     std::ifstream f = open(de.path().string());
     std::string line;
-    while (std::getline(f, line)) {
+    for (size_t n = 0; std::getline(f, line); ++n) {
+      poll_stop(n);
       const size_t sp = line.find(' ');
       if (sp == std::string::npos) continue;
       out.push_back({std::atof(line.substr(0, sp).c_str()), line.substr(sp + 1)});

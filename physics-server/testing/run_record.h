@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -16,6 +17,12 @@ namespace chainsim {
 
 // a missing or unreadable file of the run directory, or one that does not parse
 struct RunRecordError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// reading or measuring given up because the stop check said so (chainsim
+// test interrupted)
+struct RunRecordStopped : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
@@ -36,6 +43,9 @@ struct LogLine {
 class RunRecord {
  public:
   explicit RunRecord(std::string dir) : dir_(std::move(dir)) {}
+  // stop is asked every few thousand lines read or measured; when it says
+  // true, the read or the measurement throws RunRecordStopped
+  RunRecord(std::string dir, std::function<bool()> stop) : dir_(std::move(dir)), stop_(std::move(stop)) {}
 
   const std::string& dir() const { return dir_; }
   const nlohmann::json& summary();              // throws when summary.json is missing
@@ -53,9 +63,15 @@ class RunRecord {
   // an endpoint's log lines (none when it logged nothing)
   const std::vector<LogLine>& log(int endpoint);
 
+  // for loops over lines: asks the stop check at every 4096th i
+  void poll_stop(size_t i) {
+    if ((i & 4095) == 0 && stop_ && stop_()) throw RunRecordStopped("stopped while reading " + dir_);
+  }
+
  private:
   void load_trace();
   std::string dir_;
+  std::function<bool()> stop_;
   std::optional<nlohmann::json> summary_;
   bool trace_loaded_ = false;
   std::vector<std::string> columns_;

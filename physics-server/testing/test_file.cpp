@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -28,21 +29,49 @@ std::vector<std::string> lines_of(const std::string& text) {
   return out;
 }
 
-// file:line:column of character `offset` of the expectation in scalar node n:
-// found in the file's line by its text (quotes and escapes shift columns)
+// where character `offset` of a scalar's value is written in its line raw,
+// the value starting at start (after the quote, if any): a double-quoted
+// scalar's escapes (\\, \", \x41, \u00e9...) and a single-quoted one's ''
+// are written longer than the bytes they stand for. npos when the scalar's
+// line ends first (it goes on on the next one)
+size_t written_column(const std::string& raw, size_t start, char quote, size_t offset) {
+  size_t i = start, k = 0;
+  while (k < offset) {
+    if (i >= raw.size() || (quote && raw[i] == quote && !(quote == '\'' && i + 1 < raw.size() && raw[i + 1] == '\'')))
+      return std::string::npos;
+    if (quote == '"' && raw[i] == '\\' && i + 1 < raw.size()) {
+      const char e = raw[i + 1];
+      const size_t digits = e == 'x' ? 2 : e == 'u' ? 4 : e == 'U' ? 8 : 0;
+      const unsigned long cp = digits ? std::strtoul(raw.substr(i + 2, digits).c_str(), nullptr, 16) : 0;
+      i += 2 + digits;
+      k += !digits ? 1 : cp < 0x80 ? 1 : cp < 0x800 ? 2 : cp < 0x10000 ? 3 : 4;  // its UTF-8 bytes
+    } else {
+      i += quote == '\'' && raw[i] == '\'' ? 2 : 1;
+      ++k;
+    }
+  }
+  return i;
+}
+
+// file:line:column of character `offset` of the expectation in scalar node n
 std::string expectation_where(const SceneYaml& y, const YAML::Node& n, const std::vector<std::string>& lines,
                               const std::string& text, size_t offset) {
   const YAML::Mark m = n.Mark();
   if (m.line < 0 || m.line >= static_cast<int>(lines.size())) return y.where(n);
   const std::string& raw = lines[m.line];
-  const size_t start = static_cast<size_t>(m.column) + ((raw.size() > static_cast<size_t>(m.column) &&
-                                                         (raw[m.column] == '"' || raw[m.column] == '\'')) ? 1 : 0);
-  size_t col = start + offset;
-  const std::string probe = text.substr(std::min(offset, text.size()), 8);
-  if (!probe.empty()) {
-    // escapes only lengthen the written text: the token is at or after start + offset
-    const size_t guess = raw.find(probe, start + offset);
-    if (guess != std::string::npos) col = guess;
+  const char first = raw.size() > static_cast<size_t>(m.column) ? raw[m.column] : '\0';
+  const char quote = first == '"' || first == '\'' ? first : '\0';
+  const size_t start = static_cast<size_t>(m.column) + (quote ? 1 : 0);
+  size_t col = written_column(raw, start, quote, offset);
+  if (col == std::string::npos) {
+    // over several lines: found in the first line by its text, if it is there
+    col = start + offset;
+    const std::string probe = text.substr(std::min(offset, text.size()), 8);
+    if (!probe.empty()) {
+      // escapes only lengthen the written text: the token is at or after start + offset
+      const size_t guess = raw.find(probe, start + offset);
+      if (guess != std::string::npos) col = guess;
+    }
   }
   return y.file() + ":" + std::to_string(m.line + 1) + ":" + std::to_string(col + 1);
 }

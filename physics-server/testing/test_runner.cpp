@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cerrno>
 #include <chrono>
@@ -32,7 +33,18 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Ctrl-C or SIGTERM, at any moment of chainsim test (docs/testing.md): the
+// handler notes it, and ends every run going on at once with a SIGTERM of
+// its own, whatever the main loop is doing then (loading, waiting,
+// measuring); the main loop then stops starting runs and measuring, waits
+// for the runs to end and exits 130
 volatile sig_atomic_t g_interrupted = 0;
+// the pids of the runs going on (0: a free slot), for the handler; a pid
+// leaves its slot before the run is reaped, so the handler never signals a
+// pid the system may have given to another process
+static_assert(std::atomic<pid_t>::is_always_lock_free, "the signal handler reads the pids");
+std::atomic<pid_t>* g_runs = nullptr;
+size_t g_run_slots = 0;
 
 struct Case {
   const TestFile* test = nullptr;
@@ -40,6 +52,7 @@ struct Case {
   int partner = -1;  // --compare: the index of the same test and seed on the other target
   std::string dir;
   pid_t pid = 0;
+  size_t slot = 0;  // in g_runs while it runs
   Clock::time_point started;
   TestCaseResult result;
 };
@@ -75,10 +88,13 @@ std::string tail_of(const std::string& path, size_t n) {
   return t;
 }
 
-// the forked process: one normal run, its messages into the run directory
-[[noreturn]] void run_child(const Case& c, const TestRunOptions& o, pid_t parent) {
+// the forked process: one normal run, its messages into the run directory;
+// SIGINT and SIGTERM come blocked from the parent, and are let in (mask) once
+// this process has its own disposition of them (the run's, below)
+[[noreturn]] void run_child(const Case& c, const TestRunOptions& o, pid_t parent, const sigset_t& mask) {
   signal(SIGINT, SIG_DFL);
   signal(SIGTERM, SIG_DFL);
+  sigprocmask(SIG_SETMASK, &mask, nullptr);
   prctl(PR_SET_PDEATHSIG, SIGTERM);  // the run ends cleanly if chainsim test is killed
   if (getppid() != parent) _exit(kExitInterrupted);
   std::error_code ec;
@@ -109,20 +125,17 @@ std::string tail_of(const std::string& path, size_t n) {
   _exit(rc);
 }
 
-void measure(Case& c, int exit_code) {
+// measures a finished run: each expectation (evaluate.h); a read or a
+// measurement stops with RunRecordStopped once interrupted
+void measure_run(Case& c, int exit_code) {
   TestCaseResult& r = c.result;
-  if (exit_code == kExitInterrupted) {
-    r.status = TestCaseResult::Status::interrupted;
-    r.error = "interrupted";
-    return;
-  }
   if (exit_code != kExitOk && exit_code != kExitModuleFault && exit_code != kExitSilentModule) {
     r.status = TestCaseResult::Status::error;
     r.error = "the run could not start or did not finish (exit " + std::to_string(exit_code) +
               "): " + tail_of(c.dir + "/chainsim.log", 600);
     return;
   }
-  RunRecord run(c.dir);
+  RunRecord run(c.dir, [] { return g_interrupted != 0; });
   try {
     const auto& s = run.summary();
     r.trace_sha256 = s.value("trace_sha256", "");
@@ -144,7 +157,29 @@ void measure(Case& c, int exit_code) {
   }
 }
 
-void on_signal(int) { g_interrupted = 1; }
+void interrupted(TestCaseResult& r, const std::string& why) {
+  r.status = TestCaseResult::Status::interrupted;
+  r.error = why;
+  r.checks.clear();
+}
+
+void measure(Case& c, int exit_code) {
+  TestCaseResult& r = c.result;
+  if (exit_code == kExitInterrupted || g_interrupted) return interrupted(r, "interrupted");
+  try {
+    measure_run(c, exit_code);
+  } catch (const RunRecordStopped&) {
+    interrupted(r, "interrupted while measuring");
+  }
+}
+
+void on_signal(int) {
+  const int saved = errno;
+  g_interrupted = 1;
+  for (size_t i = 0; i < g_run_slots; ++i)
+    if (const pid_t p = g_runs[i].load(); p > 0) kill(p, SIGTERM);
+  errno = saved;
+}
 
 }  // namespace
 
@@ -165,7 +200,15 @@ std::string result_line(const TestCaseResult& r) {
   return s;
 }
 
-int run_tests(const TestRunOptions& o, const FailureViewer& viewer, FILE* out) {
+namespace {
+
+// interrupted before any run started
+int interrupted_before_running(FILE* out) {
+  std::fprintf(out, "chainsim test: interrupted; nothing was run\n");
+  return kExitInterrupted;
+}
+
+int run_all(const TestRunOptions& o, const FailureViewer& viewer, FILE* out, std::atomic<pid_t>* slots) {
   const auto t0 = Clock::now();
   std::vector<TestCaseResult> errors;  // malformed files
   std::list<TestFile> tests;
@@ -177,6 +220,7 @@ int run_tests(const TestRunOptions& o, const FailureViewer& viewer, FILE* out) {
     return kTestExitMalformed;
   }
   for (const std::string& f : files) {
+    if (g_interrupted) return interrupted_before_running(out);
     try {
       tests.push_back(load_test_file(f));
     } catch (const TestFileError& e) {
@@ -203,6 +247,7 @@ int run_tests(const TestRunOptions& o, const FailureViewer& viewer, FILE* out) {
     bool bad = false;
     for (const auto& seed : seeds) {
       for (const auto& target : targets) {
+        if (g_interrupted) return interrupted_before_running(out);
         Case c;
         c.test = &t;
         c.result.file = t.file;
@@ -237,6 +282,8 @@ int run_tests(const TestRunOptions& o, const FailureViewer& viewer, FILE* out) {
       if (bad) break;
     }
   }
+  // a program listing its parameters may have been ended by the same Ctrl-C
+  if (g_interrupted) return interrupted_before_running(out);
   if (!errors.empty()) {
     for (const auto& e : errors) std::fprintf(stderr, "chainsim: %s\n", e.error.c_str());
     std::fprintf(stderr, "chainsim: %zu malformed test file%s; nothing was run\n", errors.size(),
@@ -252,13 +299,10 @@ int run_tests(const TestRunOptions& o, const FailureViewer& viewer, FILE* out) {
     return kTestExitMalformed;
   }
 
-  struct sigaction sa {}, old_int {}, old_term {};
-  sa.sa_handler = on_signal;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, &old_int);
-  sigaction(SIGTERM, &sa, &old_term);
-  g_interrupted = 0;
-  bool forwarded = false;
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
   const pid_t self = getpid();
   size_t next = 0;
   int running = 0;
@@ -270,27 +314,38 @@ int run_tests(const TestRunOptions& o, const FailureViewer& viewer, FILE* out) {
       std::fflush(stderr);
       fs::remove_all(c.dir, ec);  // a run kept from an earlier time
       c.started = Clock::now();
+      // SIGINT and SIGTERM wait until the run's pid is in its slot, where the
+      // handler finds it
+      sigset_t mask;
+      sigprocmask(SIG_BLOCK, &stop_signals, &mask);
       const pid_t pid = fork();
-      if (pid == 0) run_child(c, o, self);
+      if (pid == 0) run_child(c, o, self, mask);
+      const int fork_errno = errno;
+      if (pid > 0) {
+        while (slots[c.slot].load() != 0) ++c.slot;  // one is free: at most jobs runs at once
+        slots[c.slot] = pid;
+      }
+      sigprocmask(SIG_SETMASK, &mask, nullptr);
       if (pid < 0) {
         c.result.status = TestCaseResult::Status::error;
-        c.result.error = std::string("cannot start the run: fork: ") + std::strerror(errno);
+        c.result.error = std::string("cannot start the run: fork: ") + std::strerror(fork_errno);
         continue;
       }
       c.pid = pid;
       ++running;
     }
     if (running == 0) break;
-    if (g_interrupted && !forwarded) {  // a SIGTERM meant for us alone ends the runs too
-      for (Case& c : cases)
-        if (c.pid > 0) kill(c.pid, SIGTERM);
-      forwarded = true;
-    }
-    int st = 0;
-    const pid_t pid = waitpid(-1, &st, 0);
-    if (pid < 0) {
+    // a run that ended: out of its slot first, then reaped
+    siginfo_t info{};
+    if (waitid(P_ALL, 0, &info, WEXITED | WNOWAIT) < 0) {
       if (errno == EINTR) continue;
       break;
+    }
+    const pid_t pid = info.si_pid;
+    for (Case& c : cases)
+      if (c.pid == pid) slots[c.slot] = 0;
+    int st = 0;
+    while (waitpid(pid, &st, 0) < 0 && errno == EINTR) {
     }
     for (Case& c : cases) {
       if (c.pid != pid) continue;
@@ -304,8 +359,6 @@ int run_tests(const TestRunOptions& o, const FailureViewer& viewer, FILE* out) {
       std::fflush(out);
     }
   }
-  sigaction(SIGINT, &old_int, nullptr);
-  sigaction(SIGTERM, &old_term, nullptr);
 
   // --compare: each test and seed, one target against the other
   for (size_t i = 0; i < cases.size(); ++i) {
@@ -316,7 +369,8 @@ int run_tests(const TestRunOptions& o, const FailureViewer& viewer, FILE* out) {
     const std::string file = root + "/" + safe_name(a.test->name) + "-seed" + std::to_string(a.result.seed) +
                              "-compare.txt";
     try {
-      RunRecord ra(a.dir), rb(b.dir);
+      const auto stop = [] { return g_interrupted != 0; };
+      RunRecord ra(a.dir, stop), rb(b.dir, stop);
       const CompareReport rep = compare_runs(ra, rb, target_name(o.compare[0]), target_name(o.compare[1]));
       std::ofstream(file) << compare_text(rep);
       const Divergence* d = rep.first();
@@ -383,6 +437,30 @@ int run_tests(const TestRunOptions& o, const FailureViewer& viewer, FILE* out) {
   if (g_interrupted) return kExitInterrupted;
   if (errored) return kTestExitMalformed;
   return failed ? kTestExitFailed : kTestExitPassed;
+}
+
+}  // namespace
+
+int run_tests(const TestRunOptions& o, const FailureViewer& viewer, FILE* out) {
+  // the handler is in place from the start to the end: an interruption
+  // while the files are loaded, the runs go, the results are measured or a
+  // failure is drawn ends it all with 130
+  std::vector<std::atomic<pid_t>> slots(static_cast<size_t>(std::max(1, o.jobs)));
+  for (auto& s : slots) s = 0;
+  g_runs = slots.data();
+  g_run_slots = slots.size();
+  g_interrupted = 0;
+  struct sigaction sa {}, old_int {}, old_term {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, &old_int);
+  sigaction(SIGTERM, &sa, &old_term);
+  const int rc = run_all(o, viewer, out, slots.data());
+  sigaction(SIGINT, &old_int, nullptr);
+  sigaction(SIGTERM, &old_term, nullptr);
+  g_run_slots = 0;
+  g_runs = nullptr;
+  return rc;
 }
 
 }  // namespace chainsim

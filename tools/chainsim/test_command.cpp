@@ -2,12 +2,14 @@
 
 #include <CLI/CLI.hpp>
 
+#include <csignal>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "chainsim/view_command.h"
+#include "cosim/run_options.h"
 #include "testing/run_compare.h"
 #include "testing/test_file.h"
 #include "testing/test_runner.h"
@@ -41,8 +43,12 @@ std::vector<std::string> view_failure(const std::string& dir, double t_s, std::s
   ViewArgs png = page;
   png.png_time = t_s;
   png.out = dir + name;
-  if (cmd_view(png) == 0) files.push_back(png.out);
+  const int rc = cmd_view(png);
+  if (rc == 0) files.push_back(png.out);
   else *error = "no picture of the failure (see the message above)";
+  // Ctrl-C or SIGTERM while Chromium drew: cmd_view took it (and ended
+  // Chromium); chainsim test's own handler, in place again, is told too
+  if (rc == kExitInterrupted) raise(SIGINT);
   return files;
 }
 

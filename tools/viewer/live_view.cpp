@@ -11,12 +11,14 @@
 #include <boost/beast/websocket.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <condition_variable>
 #include <cstring>
 #include <deque>
 #include <future>
+#include <initializer_list>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -41,6 +43,29 @@ constexpr auto kFlushEvery = std::chrono::milliseconds(40);
 
 Msg make_msg(const nlohmann::json& j) { return std::make_shared<const std::string>(j.dump()); }
 
+// a header's value for a message: at most 80 characters, anything but
+// printable ASCII as \xNN
+std::string shown(beast::string_view v) {
+  std::string o;
+  for (size_t i = 0; i < v.size() && i < 80; ++i) {
+    const unsigned char c = static_cast<unsigned char>(v[i]);
+    if (c >= 0x20 && c < 0x7f && c != '\'') {
+      o += static_cast<char>(c);
+    } else {
+      char b[8];
+      std::snprintf(b, sizeof b, "\\x%02x", c);
+      o += b;
+    }
+  }
+  return v.size() > 80 ? o + "..." : o;
+}
+
+std::string lower(beast::string_view v) {
+  std::string o(v);
+  for (char& c : o) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return o;
+}
+
 }  // namespace
 
 struct LiveView::Impl {
@@ -51,6 +76,7 @@ struct LiveView::Impl {
   asio::steady_timer timer{io};
   std::thread thread;
   int port = 0;
+  bool said_refused = false;  // the first refused request is said on stderr, the others not
 
   // filled by the simulation thread
   std::mutex in_mu;
@@ -150,6 +176,7 @@ struct LiveView::Impl {
     }
     void handle() {
       const std::string target(req.target());
+      if (const std::string why = impl.refusal(req); !why.empty()) return refuse(why);
       if (websocket::is_upgrade(req) && target == "/ws") {
         stream.expires_never();
         std::make_shared<Page>(impl, std::move(stream))->accept(std::move(req));
@@ -164,12 +191,66 @@ struct LiveView::Impl {
       res.set(http::field::cache_control, "no-store");
       res.body() = page ? impl.page_html : "not found: the live view is at /\n";
       res.prepare_payload();
+      send();
+    }
+    // 403 with the reason, and nothing of the run
+    void refuse(const std::string& why) {
+      res.version(req.version());
+      res.keep_alive(false);
+      res.result(http::status::forbidden);
+      res.set(http::field::content_type, "text/plain; charset=utf-8");
+      res.set(http::field::cache_control, "no-store");
+      res.body() = "forbidden: " + why + "\n";
+      res.prepare_payload();
+      send();
+    }
+    void send() {
       http::async_write(stream, res, [self = shared_from_this()](beast::error_code, size_t) {
         beast::error_code ignored;
         self->stream.socket().shutdown(tcp::socket::shutdown_send, ignored);
       });
     }
   };
+
+  // Only the page this server serves may read the run: a request must name
+  // this server in its Host (127.0.0.1:PORT or localhost:PORT), which a page
+  // of another site that had its own name resolved to 127.0.0.1 (DNS
+  // rebinding) cannot; a WebSocket upgrade must come from this server's own
+  // page, its Origin http://127.0.0.1:PORT or http://localhost:PORT, which a
+  // page of another site that opens a WebSocket here cannot fake (browsers
+  // set Origin themselves). An upgrade with no Origin is refused too: every
+  // browser sends one, and the live page is opened in a browser. A plain
+  // request may have no Origin (a browser sends none when it opens the page),
+  // but one that has another is refused as well. Returns why a request is
+  // refused, "" when it is not.
+  std::string refusal(const http::request<http::string_body>& r) {
+    const std::string p = std::to_string(port);
+    auto one_of = [&](const std::string& v, std::initializer_list<std::string> names) {
+      for (const std::string& n : names)
+        if (v == n + ":" + p || (port == 80 && v == n)) return true;  // a browser leaves out port 80
+      return false;
+    };
+    std::string why;
+    const auto host = r.find(http::field::host);
+    const auto origin = r.find(http::field::origin);
+    if (r.count(http::field::host) != 1) {
+      why = r.count(http::field::host) == 0 ? "no Host header" : "more than one Host header";
+    } else if (!one_of(lower(host->value()), {"127.0.0.1", "localhost"})) {
+      why = "Host '" + shown(host->value()) + "' is not this live view (127.0.0.1:" + p + " or localhost:" + p + ")";
+    } else if (r.count(http::field::origin) > 1) {
+      why = "more than one Origin header";
+    } else if (origin == r.end()) {
+      if (websocket::is_upgrade(r)) why = "a WebSocket without an Origin header: only the live page may connect";
+    } else if (!one_of(std::string(origin->value()), {"http://127.0.0.1", "http://localhost"})) {
+      why = "Origin '" + shown(origin->value()) + "' is not the live page (http://127.0.0.1:" + p +
+            " or http://localhost:" + p + ")";
+    }
+    if (!why.empty() && !said_refused) {
+      said_refused = true;
+      std::fprintf(stderr, "chainsim: live view: refused a request: %s (further refusals are not said)\n", why.c_str());
+    }
+    return why;
+  }
 
   void accept_loop() {
     acceptor.async_accept([this](beast::error_code ec, tcp::socket s) {

@@ -9,6 +9,11 @@
 // every 40 ms; a page too slow to keep up loses rows (it is told how many),
 // never bus events or the start and end. A page that connects late gets the
 // run so far (up to a bounded history).
+//
+// Only the page it serves may read the run: a request must name the server
+// in its Host (127.0.0.1:PORT or localhost:PORT), and a WebSocket upgrade
+// must come with that page's Origin; anything else gets 403 with the reason
+// (docs/viewer.md, "Live mode").
 #pragma once
 
 #include <memory>

@@ -188,3 +188,17 @@ TEST_F(RunDir, AMissingFileFailsTheExpectation) {
   EXPECT_FALSE(r.pass);
   EXPECT_NE(r.measured.find("cannot read"), std::string::npos) << r.measured;
 }
+
+// chainsim test interrupted: a run record whose stop check says so gives up
+// reading and matching with RunRecordStopped, a log as a trace or the bus
+TEST_F(RunDir, AStopCheckEndsReadingAndMatching) {
+  bool stop = false;
+  RunRecord run(dir_, [&] { return stop; });
+  EXPECT_TRUE(evaluate(parse_expectation("log central /sensors 0x20/ count == 2"), run).pass);
+  stop = true;
+  for (const char* e : {"log central /sensors 0x20/ count == 2", "log m0 /contact/ never", "bus i2c-drop never",
+                        "trace.m0.s0.current_a max < 1"}) {
+    RunRecord fresh(dir_, [&] { return stop; });
+    EXPECT_THROW(evaluate(parse_expectation(e), fresh), RunRecordStopped) << e;
+  }
+}

@@ -2,6 +2,8 @@
 // measures, and a mistake is reported at the character at fault.
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include "testing/expectation.h"
 
 using namespace chainsim;
@@ -71,7 +73,8 @@ TEST(Expectation, LogPatternsKeepBlanksAndEscapedSlashes) {
   EXPECT_EQ(e.kind, Expectation::Kind::log);
   EXPECT_TRUE(e.who.central);
   EXPECT_EQ(e.pattern, "chain: RRR \\(3 modules\\)");
-  EXPECT_TRUE(std::regex_search("chain: RRR (3 modules)", e.regex));
+  EXPECT_TRUE(pattern_found(e, "chain: RRR (3 modules)"));
+  EXPECT_FALSE(pattern_found(e, "chain: RRR 3 modules"));
   const Expectation s = parse_expectation("log m12 /a\\/b/ count >= 2");
   EXPECT_EQ(s.who.module, 12);
   EXPECT_EQ(s.pattern, "a/b");
@@ -134,4 +137,81 @@ TEST(Expectation, ErrorsPointAtTheCharacterAtFault) {
   EXPECT_EQ(error_at("2fast > 1", &what), 0);
   EXPECT_NE(what.find("unknown expectation"), std::string::npos) << what;
   EXPECT_EQ(error_at(""), 0);
+}
+
+// Patterns are matched by RE2: nested quantifiers over a long line take one
+// pass, not the 2^n steps of a backtracking engine (no time is measured: a
+// backtracking engine would not finish, and the test's TIMEOUT would end it)
+TEST(Expectation, NestedQuantifiersOverALongLineAreMatchedInLinearTime) {
+  const std::string as(100000, 'a');
+  const Expectation e = parse_expectation("log m0 /^(a+)+$/ never");
+  EXPECT_FALSE(pattern_found(e, as + "b"));
+  EXPECT_TRUE(pattern_found(e, as));
+  const Expectation f = parse_expectation("log m0 /(a|aa)+c/ never");
+  EXPECT_FALSE(pattern_found(f, as + "b"));
+  EXPECT_TRUE(pattern_found(f, as + "c"));
+  const Expectation g = parse_expectation("log m0 /(.*a){20}$/ never");
+  EXPECT_FALSE(pattern_found(g, as + "b"));
+}
+
+// the ECMAScript syntax the test files use means the same under RE2
+TEST(Expectation, PatternSyntaxOfTheTestFiles) {
+  struct Case {
+    const char* pattern;
+    const char* line;
+    bool found;
+  } const cases[] = {
+      {"chain: RRRRRRRR \\(8 modules\\)", "chain: RRRRRRRR (8 modules)", true},
+      {"sensors 0x20:", "t=1 sensors 0x20: 12 3", true},
+      {"^start", "a start", false},
+      {"modules\\)$", "chain: R (1 modules)", true},
+      {"\\d+ modules", "chain: R (12 modules)", true},
+      {"\\bgait\\b", "gaits", false},
+      {"[^ ]+: contact", "touch 0x20: contact", true},
+      {"(?:ab)+c", "xababc", true},
+      {"a.c", "abc", true},
+      {"a.+?c", "abbbc", true},
+      {"x{2,3}", "axxb", true},
+      {"A|B", "C", false},
+      {"\\u0041\\u00e9", "A\xc3\xa9", true},       // \uXXXX, read as UTF-8
+      {"(?<n>ab)c", "abc", true},                  // a named group
+      {"a\\/b", "a/b", true},                      // '\/' for a slash
+      {"[\\]x]+", "]x]", true},
+  };
+  for (const Case& c : cases) {
+    const Expectation e = parse_expectation(std::string("log m0 /") + c.pattern + "/ never");
+    EXPECT_EQ(pattern_found(e, c.line), c.found) << c.pattern << " on " << c.line;
+  }
+}
+
+// what RE2 has not (it would need backtracking) is refused where it is
+// written, when the file is loaded, not when the log is matched
+TEST(Expectation, BackreferencesAndLookaroundAreRefusedWhereWritten) {
+  std::string what;
+  EXPECT_EQ(error_at("log m0 /(a)\\1/ never", &what), 11);
+  EXPECT_NE(what.find("unsupported pattern /(a)\\1/: '\\1' is a backreference: patterns are matched by RE2, in "
+                      "time linear in the line, without backreferences or lookaround"),
+            std::string::npos) << what;
+  EXPECT_EQ(error_at("log m0 /(?<x>a)\\k<x>/ never", &what), 15);
+  EXPECT_NE(what.find("'\\k<' is a backreference"), std::string::npos) << what;
+  EXPECT_EQ(error_at("log m0 /chain(?= RRR)/ never", &what), 13);
+  EXPECT_NE(what.find("'(?=' is a lookahead"), std::string::npos) << what;
+  EXPECT_EQ(error_at("log m0 /a(?!b)/ never", &what), 9);
+  EXPECT_NE(what.find("'(?!' is a lookahead"), std::string::npos) << what;
+  EXPECT_EQ(error_at("log m0 /(?<=a)b/ never", &what), 8);
+  EXPECT_NE(what.find("'(?<=' is a lookbehind"), std::string::npos) << what;
+  EXPECT_EQ(error_at("log m0 /(?<!a)b/ never", &what), 8);
+  EXPECT_NE(what.find("'(?<!' is a lookbehind"), std::string::npos) << what;
+  // after an escaped slash: the offset is in the expectation as written
+  EXPECT_EQ(error_at("log m0 /a\\/b(?=c)/ never", &what), 12);
+  // [] and [^] mean another thing to RE2
+  EXPECT_EQ(error_at("log m0 /x[^]/ never", &what), 9);
+  EXPECT_NE(what.find("'[^]' would be read otherwise by RE2"), std::string::npos) << what;
+  // what RE2 cannot read is a bad pattern, at the pattern
+  EXPECT_EQ(error_at("log m0 /a{2,1}/ never", &what), 7);
+  EXPECT_NE(what.find("bad pattern /a{2,1}/: "), std::string::npos) << what;
+  EXPECT_EQ(error_at("log m0 /a\\cJ/ never", &what), 7);
+  EXPECT_NE(what.find("bad pattern"), std::string::npos) << what;
+  // inside a class, \1 and (?= are no backreference or lookahead
+  EXPECT_EQ(error_at("log m0 /[(?=]/ never"), -1);
 }

@@ -107,6 +107,13 @@ TEST(TestFile, ExpectationErrorsPointIntoTheLine) {
   EXPECT_EQ(error_of(head + "  - 'log m0 /contact before 8'\n").rfind("dir/t.test.yaml:5:13: ", 0), 0u);
   // the same text twice in the line: the second one is at fault
   EXPECT_EQ(error_of(head + "  - \"trace.m0.x > 0.1 before 0.1 0.1\"\n").rfind("dir/t.test.yaml:5:34: unexpected", 0), 0u);
+  // escapes before the fault are written longer than they read: \\( is one character
+  EXPECT_EQ(error_of(head + "  - \"log central /chain: \\\\(R\\\\) (R)\\\\1/ never\"\n")
+                .rfind("dir/t.test.yaml:5:37: unsupported pattern /chain: \\(R\\) (R)\\1/: '\\1' is a "
+                       "backreference",
+                       0),
+            0u);
+  EXPECT_EQ(error_of(head + "  - 'log m0 /it''s(?=x)/ never'\n").rfind("dir/t.test.yaml:5:19: unsupported", 0), 0u);
   EXPECT_EQ(error_of(head + "  - {a: 1}\n"),
             "dir/t.test.yaml:5:5: an expectation must be one line of text, e.g. \"chain.distance_m >= 0.2\"");
 }

@@ -1,11 +1,20 @@
 // `chainsim test` end to end with real runs: the test files in testfiles/
 // (a passing one, a failing one with two seeds, malformed ones), the exit
 // codes, one line per test and seed, the JUnit XML parsed back, the failed
-// runs kept with replay.html and a picture of the failure.
+// runs kept with replay.html and a picture of the failure; log patterns a
+// backtracking engine never finishes; SIGINT and SIGTERM during a run.
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+#include <thread>
+
+#include "scenario_util.h"
 
 #include <boost/property_tree/ptree.hpp>
 #include <boost/property_tree/xml_parser.hpp>
@@ -191,6 +200,11 @@ TEST(TestCommand, MalformedFilesAreNamedAndExitTwo) {
        "mean 'gait'? "},
       // a program that is nowhere: named at the override that gives it
       {"cannot-start.test.yaml", "5:3: program 'fw-not-built-anywhere' of module 0 (rotation) not found"},
+      // what RE2 has not, refused when the file is loaded, where it is written
+      {"backreference.test.yaml",
+       "6:22: unsupported pattern /(R)\\1/: '\\1' is a backreference: patterns are matched by RE2, in time linear "
+       "in the line, without backreferences or lookaround"},
+      {"lookahead.test.yaml", "6:23: unsupported pattern /chain(?= RRR)/: '(?=' is a lookahead: "},
   };
   for (const Want& w : wants) {
     const Result r = chainsim(dir, std::string("test ") + m + w.file + " --junit j.xml");
@@ -215,4 +229,103 @@ TEST(TestCommand, MalformedFilesAreNamedAndExitTwo) {
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("/no/such/file.test.yaml: no such test file or folder"), std::string::npos) << r.err;
   fs::remove_all(dir);
+}
+
+// Patterns with nested quantifiers over lines of 80 'a' and a 'b', which a
+// backtracking engine (std::regex was used before) never finishes: RE2 takes
+// one pass per line. What guards the test is its ctest TIMEOUT, not a clock
+// here: the run completes, with the right verdict for each pattern.
+TEST(TestCommand, NestedQuantifiersOverLongLinesGiveTheirVerdict) {
+  const std::string dir = temp_dir();
+  const Result r = chainsim(dir, "test " TESTFILES "/catastrophic-pattern.test.yaml --firmware-dir " TEST_FIRMWARE_DIR
+                                 " --junit j.xml");
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  const auto pass = lines_starting(r.out, "PASS  catastrophic pattern seed ");
+  ASSERT_EQ(pass.size(), 1u) << r.out << r.err;
+  EXPECT_NE(pass[0].find("| log m0 /^(a+)+$/ count == 1: 1 |"), std::string::npos) << pass[0];
+  EXPECT_NE(pass[0].find("| log m0 /(a|aa)+c/ never: never"), std::string::npos) << pass[0];
+  EXPECT_NE(pass[0].find("| log m0 /^(a+)+b$/ before 0.1: at 0.0"), std::string::npos) << pass[0];
+  pt::ptree doc;
+  const auto cases = junit_cases(dir + "/j.xml", &doc);
+  ASSERT_EQ(cases.size(), 1u);
+  EXPECT_TRUE(cases[0].failures.empty());
+  fs::remove_all(dir);
+}
+
+namespace {
+
+// `chainsim test <args>` started in dir (stdout and stderr to files there)
+pid_t start_test_command(const std::string& dir, const std::vector<std::string>& args) {
+  std::vector<std::string> all{CHAINSIM_EXE, "test"};
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    if (chdir(dir.c_str()) != 0) _exit(127);
+    dup2(open("out.txt", O_WRONLY | O_CREAT | O_TRUNC, 0644), 1);
+    dup2(open("err.txt", O_WRONLY | O_CREAT | O_TRUNC, 0644), 2);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+// the exit code of pid (-1: a signal, or still running after timeout_s, then killed)
+int exit_code_within(pid_t pid, double timeout_s) {
+  int st = 0;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  while (waitpid(pid, &st, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &st, 0);
+      return -1;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+}  // namespace
+
+// Ctrl-C (SIGINT) or a SIGTERM to chainsim test alone while a run goes on:
+// the run is ended at once and keeps what it wrote, chainsim test exits 130,
+// and no process of it is left (the run's server and its module processes
+// are found by their environment: TMPDIR is this test's directory)
+TEST(TestCommand, InterruptedDuringARunEndsWith130AndLeavesNoProcess) {
+  for (const int sig : {SIGINT, SIGTERM}) {
+    SCOPED_TRACE(strsignal(sig));
+    const std::string dir = temp_dir();
+    const scenario::TmpDirForChildren tmp(dir);
+    const pid_t pid = start_test_command(
+        dir, {TESTFILES "/long-run.test.yaml", "--firmware-dir", TEST_FIRMWARE_DIR, "--keep", "kept"});
+    // the run is going: its module process is there
+    const bool going = scenario::wait_until(
+        [&] {
+          for (const pid_t p : scenario::processes_with_env("TMPDIR=" + dir))
+            if (scenario::read_file("/proc/" + std::to_string(p) + "/environ").find("CHAINSIM_MODULE_INDEX=0") !=
+                std::string::npos)
+              return true;
+          return false;
+        },
+        60);
+    ASSERT_TRUE(going) << scenario::read_file(dir + "/err.txt");
+    kill(pid, sig);
+    const int code = exit_code_within(pid, 60);
+    const std::string out = scenario::read_file(dir + "/out.txt");
+    EXPECT_EQ(code, 130) << out << scenario::read_file(dir + "/err.txt");
+    EXPECT_NE(out.find("INTR  long run seed 1: interrupted"), std::string::npos) << out;
+    EXPECT_NE(out.find("chainsim test: 0 passed, 0 failed, 1 errors"), std::string::npos) << out;
+    // the run ended as an interrupted chainsim run does: its summary says so
+    const auto summary = nlohmann::json::parse(scenario::read_file(dir + "/kept/long_run-seed1/summary.json"),
+                                               nullptr, false);
+    ASSERT_TRUE(summary.is_object()) << out;
+    EXPECT_EQ(summary.value("exit_code", -1), 130);
+    EXPECT_LT(summary.value("sim_time_s", 600.0), 600.0);
+    // nothing is left: the run's server, its module and its central control
+    // ended before chainsim test did
+    EXPECT_EQ(scenario::processes_with_env("TMPDIR=" + dir).size(), 0u);
+    fs::remove_all(dir);
+  }
 }

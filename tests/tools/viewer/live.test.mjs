@@ -1,11 +1,15 @@
 // `chainsim run --live`: the page served on 127.0.0.1 gets trace frames while
 // the simulation runs, then `finished`; the trace is byte-identical to that of
 // a run without the live view, and chainsim exits once the page has the end.
+// Only that page may read the run: another Host (DNS rebinding) or another
+// Origin (a WebSocket opened by another site's page), or none, gets 403.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
+import { randomBytes } from 'node:crypto';
+import http from 'node:http';
 import { join } from 'node:path';
 import { launch, makeRun, newPage, sha256File, startChainsim, tempDir, waitFor, within, cleanup } from './util.mjs';
-import { readFileSync } from 'node:fs';
+import { existsSync, readFileSync } from 'node:fs';
 
 let browser, dir;
 const DURATION = 6;  // about a second of wall time: many 40 ms frames
@@ -58,4 +62,107 @@ test('with no page connected, chainsim exits after a short grace period', async 
   assert.equal(code, 0, cs.stderrText);
   assert.match(cs.stderrText, /live view at http:\/\/127\.0\.0\.1:\d+\//);
   assert.ok(Date.now() - t0 < 30000);
+});
+
+// one request to the live server on a real connection, with exactly these
+// headers (Host too: none when host is null); resolves {status, body}, or
+// {status: 101, socket} when it is upgraded to a WebSocket
+function request(port, { path = '/', host, origin, upgrade = false }) {
+  const headers = {};
+  if (host !== null) headers.Host = host;
+  if (origin !== undefined) headers.Origin = origin;
+  if (upgrade) {
+    Object.assign(headers, { Connection: 'Upgrade', Upgrade: 'websocket', 'Sec-WebSocket-Version': '13',
+      'Sec-WebSocket-Key': randomBytes(16).toString('base64') });
+  }
+  return new Promise((resolve, reject) => {
+    const req = http.request({ host: '127.0.0.1', port, path, headers, setHost: false, agent: false });
+    req.on('response', (res) => {
+      let body = '';
+      res.setEncoding('utf8');
+      res.on('data', (d) => (body += d));
+      res.on('end', () => resolve({ status: res.statusCode, body }));
+    });
+    req.on('upgrade', (res, socket, head) => resolve({ status: res.statusCode, socket, head }));
+    req.on('error', reject);
+    req.end();
+  });
+}
+
+test('only the live page may read the run: another Host or Origin gets 403', async () => {
+  const out = join(dir, 'guarded');
+  const cs = startChainsim(['run', '--duration', '0.5', '--out', out, '--live', '--live-wait', '120']);
+  const url = await waitFor(() => /live view at (http:\/\/127\.0\.0\.1:\d+\/)/.exec(cs.stderrText)?.[1], 30000,
+    'the live URL on stderr');
+  const port = Number(new URL(url).port);
+  const ours = `127.0.0.1:${port}`, local = `localhost:${port}`;
+
+  // refused, each with its reason and nothing of the run
+  const refused = [
+    [{ host: `rebind.test:${port}` }, /Host 'rebind\.test:\d+' is not this live view/],
+    [{ host: `127.0.0.1:${port + 1}` }, /Host '127\.0\.0\.1:\d+' is not this live view/],
+    [{ host: null }, /no Host header/],
+    [{ host: `rebind.test:${port}`, origin: `http://rebind.test:${port}`, path: '/ws', upgrade: true },
+      /Host 'rebind\.test:\d+'/],
+    [{ host: ours, origin: 'http://evil.test', path: '/ws', upgrade: true }, /Origin 'http:\/\/evil\.test' is not the live page/],
+    [{ host: ours, origin: `http://127.0.0.1:${port + 1}`, path: '/ws', upgrade: true }, /Origin .* is not the live page/],
+    [{ host: ours, origin: `https://127.0.0.1:${port}`, path: '/ws', upgrade: true }, /Origin .* is not the live page/],
+    [{ host: ours, origin: 'null', path: '/ws', upgrade: true }, /Origin 'null' is not the live page/],
+    [{ host: ours, path: '/ws', upgrade: true }, /a WebSocket without an Origin header/],
+    [{ host: ours, origin: 'http://evil.test' }, /Origin 'http:\/\/evil\.test' is not the live page/],
+  ];
+  for (const [req, why] of refused) {
+    const r = await request(port, req);
+    assert.equal(r.status, 403, JSON.stringify(req));
+    assert.match(r.body, /^forbidden: /, JSON.stringify(req));
+    assert.match(r.body, why, JSON.stringify(req));
+    assert.doesNotMatch(r.body, /<html|chainsim live|"type"/i, JSON.stringify(req));
+  }
+  assert.match(cs.stderrText, /live view: refused a request: /);
+
+  // a real browser: a name of another site resolved to 127.0.0.1 (DNS
+  // rebinding) gets 403; a page of another site (another port) that opens a
+  // WebSocket to the live view gets no connection and no message
+  const other = await launch(['--host-resolver-rules=MAP rebind.test 127.0.0.1']);
+  const site = http.createServer((req, res) => {
+    res.writeHead(200, { 'Content-Type': 'text/html' });
+    res.end(`<script>
+      window.result = new Promise((resolve) => {
+        const ws = new WebSocket('ws://127.0.0.1:${port}/ws');
+        let messages = 0;
+        ws.onmessage = () => messages++;
+        ws.onopen = () => resolve('open');
+        ws.onerror = () => resolve('error, ' + messages + ' messages');
+      });
+    </script>`);
+  });
+  await new Promise((r) => site.listen(0, '127.0.0.1', r));
+  try {
+    const page = await other.newPage();
+    const res = await page.goto(`http://rebind.test:${port}/`);
+    assert.equal(res.status(), 403);
+    assert.match(await page.content(), /Host 'rebind\.test:\d+' is not this live view/);
+    await page.goto(`http://127.0.0.1:${site.address().port}/`);
+    assert.equal(await page.evaluate(() => window.result), 'error, 0 messages');
+  } finally {
+    await other.close();
+    site.close();
+  }
+  // none of these was a page: the run still waits for one
+  assert.equal(existsSync(join(out, 'trace.csv')), false, 'the run started: a refused request counted as a page');
+
+  // the right ones: the page by either name, and its WebSocket
+  for (const host of [ours, local]) {
+    const r = await request(port, { host });
+    assert.equal(r.status, 200);
+    assert.match(r.body, /<html/i);
+  }
+  const ws = await request(port, { host: local, origin: `http://localhost:${port}`, path: '/ws', upgrade: true });
+  assert.equal(ws.status, 101);
+  let got = ws.head.toString('latin1');
+  ws.socket.on('data', (d) => (got += d.toString('latin1')));
+  await waitFor(() => got.includes('"type":"started"'), 60000, 'the run on the WebSocket');
+  ws.socket.destroy();
+  const code = await within(cs.exited, 60000, 'still running');
+  assert.equal(code, 0, cs.stderrText);
 });
