@@ -25,6 +25,9 @@ SimulatedPool::SimulatedPool(const std::vector<HistoryRow>& recorded, double fai
   missing_.why = "not in the recorded history";
 }
 
+SimulatedPool::SimulatedPool(const std::vector<double>& times, size_t n_measures, int cores, double scale)
+    : times_(times), n_measures_(n_measures), cores_(std::max(1, cores)), scale_(scale) {}
+
 std::string SimulatedPool::describe() const {
   return std::to_string(cores_) + " simulated cores";
 }
@@ -46,9 +49,19 @@ void SimulatedPool::start_queued() {
   const Clock::time_point now = Clock::now();
   while (queue_head_ < queue_.size() && static_cast<int>(running_.size()) < cores_) {
     const auto& [id, task] = queue_[queue_head_++];
-    const auto it = recorded_.find(task.key);
-    const double wall = it != recorded_.end() ? it->second.wall_s : missing_wall_s_;
-    EvalResult r = it != recorded_.end() ? it->second.result : missing_;
+    double wall = missing_wall_s_;
+    EvalResult r = missing_;
+    if (!times_.empty()) {
+      uint64_t h = 0xcbf29ce484222325ull;  // FNV-1a of the key
+      for (unsigned char c : task.key) h = (h ^ c) * 0x100000001b3ull;
+      wall = times_[h % times_.size()];
+      r = EvalResult{};
+      r.fitness = static_cast<double>((h * 0x9E3779B97F4A7C15ull) >> 11) * 0x1.0p-53;
+      r.measures.assign(n_measures_, r.fitness);
+    } else if (const auto it = recorded_.find(task.key); it != recorded_.end()) {
+      wall = it->second.wall_s;
+      r = it->second.result;
+    }
     r.wall_s = wall;
     const double sleep = wall * scale_;
     busy_s_ += sleep;

@@ -25,6 +25,10 @@ class SimulatedPool : public EvaluatorPool {
   // the history lacks gets the failed fitness and the recorded times' median.
   SimulatedPool(const std::vector<HistoryRow>& recorded, double failed_fitness, size_t n_measures, int cores,
                 double scale);
+  // times only: every key gets a wall time drawn from `times` by a hash of
+  // the key, and a fitness drawn the same way, uniform in [0, 1) (a rugged
+  // landscape: the scheduler, not the search, is what is measured)
+  SimulatedPool(const std::vector<double>& times, size_t n_measures, int cores, double scale);
   void submit(uint64_t id, const EvalTask& task) override;
   bool poll(double wait_s, std::vector<std::pair<uint64_t, EvalResult>>* done) override;
   size_t pending() const override { return queue_.size() + running_.size(); }
@@ -52,6 +56,8 @@ class SimulatedPool : public EvaluatorPool {
   void start_queued();
 
   std::map<std::string, Recorded> recorded_;
+  std::vector<double> times_;  // times-only mode when not empty
+  size_t n_measures_ = 0;
   EvalResult missing_;
   double missing_wall_s_ = 0;
   int cores_;

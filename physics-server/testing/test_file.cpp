@@ -7,18 +7,19 @@
 #include <fstream>
 #include <sstream>
 
+#include "readers/strict_yaml.h"
 #include "scene/scene_yaml.h"
 
 namespace chainsim {
 namespace fs = std::filesystem;
 namespace {
 
+[[noreturn]] void raise_test_error(const std::string& message) { throw TestFileError(message); }
+
+// a test file or its scene through the strict reader's bounds: a regular file
+// of at most 16 MiB (no device, no FIFO)
 std::string read_text(const std::string& path, const std::string& what) {
-  std::ifstream in(path);
-  if (!in) throw TestFileError(path + ": cannot open " + what);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  return StrictYaml(path, raise_test_error).read_file(what);
 }
 
 std::vector<std::string> lines_of(const std::string& text) {
@@ -186,13 +187,8 @@ TestFile load_test_text(const std::string& text, const std::string& name) {
   TestFile t;
   t.file = name;
   try {
-    YAML::Node root;
-    try {
-      root = YAML::Load(text);
-    } catch (const YAML::ParserException& e) {
-      throw TestFileError(name + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1) +
-                          ": " + e.msg);
-    }
+    // a syntax error, a second document or a key given twice is an error at its line and column
+    const YAML::Node root = StrictYaml(name, raise_test_error).parse(text);
     if (!root || !root.IsMap()) throw TestFileError(name + ": a test file must be a YAML mapping");
     y.keys(root, "test",
            {"name", "description", "scene", "duration_s", "seed", "seeds", "overrides", "params", "on_module_fault",
@@ -330,9 +326,22 @@ std::vector<std::string> find_test_files(const std::vector<std::string>& paths) 
     std::error_code ec;
     if (fs::is_directory(p, ec)) {
       std::vector<std::string> found;
-      for (const auto& de : fs::recursive_directory_iterator(p, ec)) {
-        const std::string f = de.path().string();
-        if (de.is_regular_file() && f.size() > 10 && f.compare(f.size() - 10, 10, ".test.yaml") == 0) found.push_back(f);
+        // symbolic links are not followed into folders; one that loops or
+      // dangles under a test file's name is an error naming it
+      fs::recursive_directory_iterator it(p, ec), end;
+      for (;; it.increment(ec)) {
+        if (ec) throw TestFileError(p + ": cannot read this folder: " + ec.message());
+        if (it == end) break;
+        const std::string f = it->path().string();
+        if (f.size() <= 10 || f.compare(f.size() - 10, 10, ".test.yaml") != 0) continue;
+        std::error_code fe;
+        if (it->is_regular_file(fe)) {
+          found.push_back(f);
+        } else if (fe) {
+          throw TestFileError(f + ": cannot read this test file: " + fe.message());
+        } else if (!it->is_directory(fe)) {
+          throw TestFileError(f + ": not a regular file (a FIFO, device or socket)");
+        }
       }
       std::sort(found.begin(), found.end());
       if (found.empty()) throw TestFileError(p + ": no *.test.yaml files in this folder");

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <sys/stat.h>
+
 #include "testing/test_file.h"
 
 using namespace chainsim;
@@ -97,6 +99,42 @@ TEST(TestFile, ErrorsNameFileLineColumn) {
   EXPECT_EQ(error_of(head + "expect: [no_faults]\nbad: [\n").rfind("dir/t.test.yaml:5:", 0), 0u);
 }
 
+// the strict reader's rules, as for scenes: a key given twice and a second
+// document are errors at their place, not "the first value wins"
+TEST(TestFile, DuplicateKeysAndSecondDocumentsAreRefused) {
+  const std::string head = "name: a\nscene: s.yaml\n";
+  EXPECT_EQ(error_of(head + "expect: [no_faults]\nname: b\n").rfind("dir/t.test.yaml:4:1: ", 0), 0u)
+      << error_of(head + "expect: [no_faults]\nname: b\n");
+  EXPECT_NE(error_of(head + "expect: [no_faults]\nname: b\n").find("'name'"), std::string::npos);
+  EXPECT_EQ(error_of(head + "expect: [no_faults]\n---\nname: b\n").rfind("dir/t.test.yaml:5:", 0), 0u)
+      << error_of(head + "expect: [no_faults]\n---\nname: b\n");
+  EXPECT_NE(error_of(head + "expect: [no_faults]\n---\nname: b\n").find("second YAML document"), std::string::npos);
+}
+
+// a device, a FIFO or a file past the strict reader's 16 MiB is refused by
+// name before it is read (a FIFO would block, /dev/zero never end)
+TEST(TestFile, OnlyBoundedRegularFilesAreRead) {
+  const auto error_loading = [](const std::string& path) -> std::string {
+    try {
+      load_test_file(path);
+    } catch (const TestFileError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(error_loading("/dev/zero"), "/dev/zero: cannot read test file: not a regular file (a directory, FIFO or device)");
+  const std::string dir = temp_dir();
+  ASSERT_EQ(mkfifo((dir + "/f.test.yaml").c_str(), 0600), 0);
+  EXPECT_NE(error_loading(dir + "/f.test.yaml").find("not a regular file"), std::string::npos);
+  {
+    std::ofstream big(dir + "/big.test.yaml");
+    big << "name: a\n#" << std::string(17u << 20, 'x') << "\n";
+  }
+  EXPECT_NE(error_loading(dir + "/big.test.yaml").find("over the limit of 16777216"), std::string::npos)
+      << error_loading(dir + "/big.test.yaml");
+  std::filesystem::remove_all(dir);
+}
+
 TEST(TestFile, ExpectationErrorsPointIntoTheLine) {
   const std::string head = "name: a\nscene: s.yaml\nexpect:\n  - no_faults\n";
   // plain, double-quoted and single-quoted: the column of the bad word in the file
@@ -183,5 +221,22 @@ TEST(TestFile, FoldersAreSearchedForTestFiles) {
   EXPECT_EQ(files[0], dir + "/b.test.yaml");
   EXPECT_EQ(files[1], dir + "/sub/a.test.yaml");
   EXPECT_THROW(find_test_files({dir + "/missing"}), TestFileError);
+  std::filesystem::remove_all(dir);
+}
+
+// a symbolic link that loops, under a test file's name, is named; a link to a
+// folder is not followed (a loop of folders cannot recurse)
+TEST(TestFile, LinksInFoldersAreNamedNotFollowed) {
+  const std::string dir = temp_dir();
+  write(dir, "a.test.yaml", "");
+  std::filesystem::create_directory_symlink(dir, dir + "/again");
+  EXPECT_EQ(find_test_files({dir}), std::vector<std::string>{dir + "/a.test.yaml"});
+  std::filesystem::create_symlink(dir + "/loop.test.yaml", dir + "/loop.test.yaml");
+  try {
+    find_test_files({dir});
+    ADD_FAILURE() << "a looping link was accepted";
+  } catch (const TestFileError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(dir + "/loop.test.yaml: cannot read this test file: ", 0), 0u) << e.what();
+  }
   std::filesystem::remove_all(dir);
 }

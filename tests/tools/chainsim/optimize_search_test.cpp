@@ -597,6 +597,26 @@ TEST(Optimize, TheSchedulerOnSimulatedCoresGivesTheSameHistoryWhateverTheCores) 
   EXPECT_EQ(rows, 6) << out;
   ASSERT_EQ(hashes.size(), 2u) << out;
   for (const auto& [islands, h] : hashes) EXPECT_EQ(h.size(), 1u) << islands << " islands: " << out;
+
+  // times only (--times): the recorded wall times with synthetic results, for
+  // populations other than the recorded search's; the history is again the
+  // same whatever the cores
+  const auto [t_out, t_rc] = scenario::chainsim_stdout("bench-search " + p + " --times " + d + "/all/history.csv" +
+                                                       " --cores 2 16 --islands 2 --population 7 --generations 2 "
+                                                       "--scale 0.05");
+  ASSERT_EQ(t_rc, 0) << t_out;
+  EXPECT_NE(t_out.find("# results: synthetic"), std::string::npos) << t_out;
+  std::set<std::string> t_hashes;
+  for (const auto& l : lines(t_out)) {
+    if (l.empty() || l[0] == '#' || l.find("cores") != std::string::npos) continue;
+    std::istringstream f(l);
+    std::string cores, islands, population, evaluations, simulated, busy, wall, ideal, hash;
+    ASSERT_TRUE(static_cast<bool>(f >> cores >> islands >> population >> evaluations >> simulated >> busy >> wall >> ideal >> hash)) << l;
+    EXPECT_EQ(population, "7") << l;
+    EXPECT_EQ(std::stoi(evaluations), 2 * 7 * 3) << l;
+    t_hashes.insert(hash);
+  }
+  EXPECT_EQ(t_hashes.size(), 1u) << t_out;
 }
 
 // a fault of the machine is no verdict on a design: a run that cannot write
