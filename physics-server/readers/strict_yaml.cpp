@@ -61,7 +61,7 @@ YAML::Node StrictYaml::parse(const std::string& text) const {
     std::ostringstream s;
     s << file_;
     if (e.mark.line >= 0) s << ":" << (e.mark.line + 1) << ":" << (e.mark.column + 1);
-    s << ": YAML syntax error: " << e.msg;
+    s << ": YAML syntax error: " << shown_text_cut(e.msg);  // it may quote a raw byte of the file
     raise_(s.str());
     throw YamlError(s.str());  // a raise that returned
   }

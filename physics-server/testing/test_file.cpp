@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "readers/safe_text.h"
 #include "readers/strict_yaml.h"
 #include "scene/scene_yaml.h"
 
@@ -132,12 +133,16 @@ void apply_at(YAML::Node node, const std::vector<std::string>& path, size_t i, c
       node["chain"] = seq;
       chain = node["chain"];
     }
+    if (!chain.IsSequence()) throw std::string("the scene's 'chain' is not a list of modules");
     const size_t n = chain.size();
     if (path[i + 1] == "*") {
       for (size_t k = 0; k < n; ++k) apply_at(chain[k], path, i + 2, value);
       return;
     }
-    const size_t k = std::stoul(path[i + 1]);
+    const std::string& index = path[i + 1];
+    if (index.empty() || index.size() > 6 || index.find_first_not_of("0123456789") != std::string::npos)
+      throw "'chain' is edited by module number (chain.0, chain.1, ...), not '" + shown_text_cut(index, 40) + "'";
+    const size_t k = std::stoul(index);
     if (k >= n)
       throw "m" + path[i + 1] + ": the chain has " + std::to_string(n) + " modules (m0..m" + std::to_string(n - 1) + ")";
     if (!chain[k].IsMap()) throw "chain[" + path[i + 1] + "] is not a mapping";

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdlib>
+#include <string>
 #include <vector>
 
 namespace scenario {
@@ -380,6 +382,172 @@ Mutation mutate(const std::string& text, MutationKind kind, uint64_t seed) {
     m = truncate(text, r);
     m.what = std::string(mutation_name(kind)) + " found nothing to change; " + m.what;
   }
+  return m;
+}
+
+}  // namespace scenario
+
+// --- CSV records -------------------------------------------------------------
+
+namespace scenario {
+namespace {
+
+struct Csv {
+  std::vector<std::string> comments;             // '#' lines, before the header
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+};
+
+std::vector<std::string> split_cells(const std::string& line) {
+  std::vector<std::string> out;
+  size_t b = 0;
+  for (;;) {
+    const size_t e = line.find(',', b);
+    out.push_back(line.substr(b, e == std::string::npos ? std::string::npos : e - b));
+    if (e == std::string::npos) return out;
+    b = e + 1;
+  }
+}
+
+std::string join_cells(const std::vector<std::string>& cells) {
+  std::string out;
+  for (size_t i = 0; i < cells.size(); ++i) out += (i ? "," : "") + cells[i];
+  return out;
+}
+
+Csv parse_csv(const std::string& text) {
+  Csv c;
+  bool header = false;
+  for (const std::string& l : split_lines(text)) {
+    if (!header && (l.empty() || l[0] == '#')) {
+      c.comments.push_back(l);
+    } else if (!header) {
+      c.header = split_cells(l);
+      header = true;
+    } else if (!l.empty()) {
+      c.rows.push_back(split_cells(l));
+    }
+  }
+  return c;
+}
+
+std::string write_csv(const Csv& c) {
+  std::vector<std::string> lines = c.comments;
+  lines.push_back(join_cells(c.header));
+  for (const auto& r : c.rows) lines.push_back(join_cells(r));
+  return join_lines(lines);
+}
+
+std::string pick_of(SplitMix& r, const std::vector<std::string>& choices) { return choices[r.below(choices.size())]; }
+
+}  // namespace
+
+const char* csv_mutation_name(CsvMutationKind kind) {
+  static const char* const kNames[] = {"truncate",   "bad bytes",  "extreme number", "text cell", "drop column",
+                                       "dup column", "ragged row", "row order",      "oversize",  "empty"};
+  return kNames[static_cast<int>(kind)];
+}
+
+Mutation mutate_csv(const std::string& text, CsvMutationKind kind, uint64_t seed) {
+  SplitMix r(seed);
+  Csv c = parse_csv(text);
+  Mutation m;
+  const size_t n_rows = c.rows.size(), n_cols = c.header.size();
+  if (n_rows < 2 || n_cols < 2) return {text.substr(0, text.size() / 2), "a record too small to mutate: cut"};
+  const size_t row = r.below(n_rows), col = r.below(n_cols);
+  std::string& cell = c.rows[row][std::min(col, c.rows[row].size() - 1)];
+  const std::string where = "row " + std::to_string(row + 1) + ", column " + std::to_string(col + 1);
+  switch (kind) {
+    case CsvMutationKind::Truncate: {
+      const size_t at = r.below(text.size());
+      return {text.substr(0, at), "cut at byte " + std::to_string(at)};
+    }
+    case CsvMutationKind::BadBytes: {
+      const std::string bad = pick_of(r, {std::string("\xff"), std::string("\xc3"), std::string(1, '\0'), "\x1b[2J", "\r", "\t"});
+      cell.insert(r.below(cell.size() + 1), bad);
+      m.what = "a bad byte in " + where;
+      break;
+    }
+    case CsvMutationKind::ExtremeNumber:
+      cell = pick_of(r, {"nan", "inf", "-inf", "1e308", "-1e308", "1e-320", "123456789012345678901234567890", "1e309"});
+      m.what = where + " = " + cell;
+      break;
+    case CsvMutationKind::TextCell:
+      cell = pick_of(r, {"abc", "1,5", "0x10", "1e", "\"1\"", " ", "--1", "1.2.3"});
+      m.what = where + " = '" + cell + "'";
+      break;
+    case CsvMutationKind::DropColumn:
+      if (r.below(2)) {
+        c.header.erase(c.header.begin() + static_cast<long>(col));
+        m.what = "column " + std::to_string(col + 1) + " dropped from the header only";
+      } else {
+        c.header.erase(c.header.begin() + static_cast<long>(col));
+        for (auto& rw : c.rows)
+          if (col < rw.size()) rw.erase(rw.begin() + static_cast<long>(col));
+        m.what = "column " + std::to_string(col + 1) + " dropped";
+      }
+      break;
+    case CsvMutationKind::DuplicateColumn: {
+      const size_t other = (col + 1 + r.below(n_cols - 1)) % n_cols;
+      c.header.push_back(c.header[col]);
+      for (auto& rw : c.rows) rw.push_back(rw[std::min(other, rw.size() - 1)]);
+      m.what = "header '" + c.header[col] + "' given twice";
+      break;
+    }
+    case CsvMutationKind::RaggedRow:
+      if (r.below(2) && c.rows[row].size() > 1) {
+        c.rows[row].pop_back();
+        m.what = "row " + std::to_string(row + 1) + " a cell short";
+      } else {
+        c.rows[row].push_back("1");
+        m.what = "row " + std::to_string(row + 1) + " a cell more";
+      }
+      break;
+    case CsvMutationKind::RowOrder: {
+      const size_t other = (row + 1 + r.below(n_rows - 1)) % n_rows;
+      if (r.below(2)) {
+        std::swap(c.rows[row], c.rows[other]);
+        m.what = "rows " + std::to_string(row + 1) + " and " + std::to_string(other + 1) + " swapped";
+      } else {
+        c.rows.insert(c.rows.begin() + static_cast<long>(row), c.rows[row]);
+        m.what = "row " + std::to_string(row + 1) + " repeated";
+      }
+      break;
+    }
+    case CsvMutationKind::Oversize:
+      switch (r.below(3)) {
+        case 0: {
+          // rows continuing the first column's step
+          const std::vector<std::string> last = c.rows.back();
+          for (size_t i = 0; c.rows.size() <= 200000; ++i) {
+            std::vector<std::string> rw = last;
+            rw[0] = std::to_string(std::strtod(last[0].c_str(), nullptr) + 0.001 * static_cast<double>(i + 1));
+            c.rows.push_back(rw);
+          }
+          m.what = "200 001 rows";
+          break;
+        }
+        case 1: {
+          std::vector<std::string> rw = c.rows.back();
+          rw[0] = "1000000";
+          c.rows.push_back(rw);
+          m.what = "a last row at 10^6";
+          break;
+        }
+        default:
+          cell = std::string(2u << 20, '7');
+          m.what = where + " 2 MB long";
+      }
+      break;
+    case CsvMutationKind::Empty:
+      switch (r.below(3)) {
+        case 0: return {"", "an empty file"};
+        case 1: c.rows.clear(); m.what = "the header alone"; break;
+        default: return {join_lines(c.comments) + "# nothing else\n", "comments alone"};
+      }
+      break;
+  }
+  m.text = write_csv(c);
   return m;
 }
 

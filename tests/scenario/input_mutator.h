@@ -35,6 +35,26 @@ struct Mutation {
 // without numbers, say) cuts the file instead, and says so in `what`
 Mutation mutate(const std::string& text, MutationKind kind, uint64_t seed);
 
+// Malformed variants of a CSV record (a calibrate record: a measured servo
+// record, a speed table), in the same way: '#' lines are comments, the first
+// other line is the header
+enum class CsvMutationKind {
+  Truncate,        // the file cut at a byte offset
+  BadBytes,        // invalid UTF-8, NUL, a control character inside a cell
+  ExtremeNumber,   // nan, inf, 1e308, -1e308, 1e-320, a 30-digit integer in a cell
+  TextCell,        // a number becomes text, "1,5" (one cell more), "0x10", "1e", a quoted cell
+  DropColumn,      // a column removed: from the header only, or from every line
+  DuplicateColumn, // a header name given twice (its column copied)
+  RaggedRow,       // a row with a cell fewer or more
+  RowOrder,        // two rows swapped, or one repeated: the key or time goes back or stands
+  Oversize,        // past the bounds: 200 001 rows, a span of 10^6 s, a line of 2 MB
+  Empty,           // nothing, a header alone, comments alone
+};
+constexpr int kCsvMutationKinds = 10;
+
+const char* csv_mutation_name(CsvMutationKind kind);
+Mutation mutate_csv(const std::string& text, CsvMutationKind kind, uint64_t seed);
+
 // SplitMix64: a small generator whose sequence is the same everywhere
 class SplitMix {
  public:

@@ -1,6 +1,8 @@
 // Measured servo records (measured_record.h), read with the CSV reader.
 #include "analysis/calibration/measured_record.h"
 
+#include <cmath>
+
 #include "readers/csv_table.h"
 
 namespace chainsim {
@@ -13,6 +15,8 @@ MeasuredRecord read_measured(const std::string& file, size_t min_rows) {
   const int cols[4] = {tab.column("t_s"), tab.column("setpoint_deg"), tab.column("angle_deg"),
                        tab.find("current_a")};
   std::vector<double>* dst[4] = {&m.t, &m.sp, &m.angle, &m.current};
+  static const char* const kNames[4] = {"t_s", "setpoint_deg", "angle_deg", "current_a"};
+  static constexpr double kBound[4] = {0, kMaxMeasuredAngle_deg, kMaxMeasuredAngle_deg, kMaxMeasuredCurrent_a};
   for (size_t r = 0; r < tab.rows(); ++r) {
     for (int c = 0; c < 4; ++c) {
       if (cols[c] < 0) continue;
@@ -23,6 +27,9 @@ MeasuredRecord read_measured(const std::string& file, size_t min_rows) {
                                     " s from its first row (calibrate simulates the whole span for every candidate)");
       if (c == 0 && r >= kMaxMeasuredRows)
         tab.fail_at(r, cols[c], "more than " + std::to_string(kMaxMeasuredRows) + " rows");
+      if (c > 0 && std::fabs(v) > kBound[c])
+        tab.fail_at(r, cols[c], kNames[c] + std::string(" ") + tab.cell(r, cols[c]).text + " is beyond +-" +
+                                    std::to_string(static_cast<int>(kBound[c])) + (c == 3 ? " A" : " degrees"));
       dst[c]->push_back(v);
     }
   }

@@ -26,5 +26,8 @@ MeasuredRecord read_measured(const std::string& file, size_t min_rows);
 constexpr size_t kMaxMeasuredRows = 200000;
 constexpr double kMaxMeasuredSpan_s = 600.0;
 constexpr double kMinMeasuredSpan_s = 0.02;
+// a set-point or angle past two turns, or a current past 100 A, is no servo's
+constexpr double kMaxMeasuredAngle_deg = 720.0;
+constexpr double kMaxMeasuredCurrent_a = 100.0;
 
 }  // namespace chainsim

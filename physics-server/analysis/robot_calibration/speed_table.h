@@ -22,6 +22,12 @@ struct SpeedTable {
 // reads the table: the key column first, real_speed_cm_s, optionally
 // paper_sim_speed_cm_s (a blank cell is not given), '#' lines are comments;
 // at least 2 rows. Throws CsvError ("file:line:column: what").
+// A table of more than kMaxSpeedRows rows (each is a run of the robot per
+// candidate model), a key given twice or longer than 32 bytes, or a speed
+// beyond kMaxSpeed_cm_s is refused at its cell.
 SpeedTable read_speed_table(const std::string& path);
+
+constexpr size_t kMaxSpeedRows = 100;
+constexpr double kMaxSpeed_cm_s = 1000.0;  // 10 m/s
 
 }  // namespace chainsim

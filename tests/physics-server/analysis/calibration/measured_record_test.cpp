@@ -37,6 +37,17 @@ TEST(MeasuredRecord, SpanRowsAndLengthAreBounded) {
             std::string::npos);
 }
 
+// a set-point of 1e300 (or an angle, or a current) that no servo has is
+// refused at its cell, not simulated
+TEST(MeasuredRecord, ValuesNoServoHasAreRefusedAtTheirCell) {
+  EXPECT_EQ(error_of("t_s,setpoint_deg,angle_deg\n0,0,0\n0.1,1e300,0\n0.2,1,1\n"),
+            ":3:5: setpoint_deg 1e300 is beyond +-720 degrees");
+  EXPECT_EQ(error_of("t_s,setpoint_deg,angle_deg\n0,0,0\n0.1,1,-800\n0.2,1,1\n"),
+            ":3:7: angle_deg -800 is beyond +-720 degrees");
+  EXPECT_EQ(error_of("t_s,setpoint_deg,angle_deg,current_a\n0,0,0,0\n0.1,1,0,1e9\n0.2,1,1,0\n"),
+            ":3:9: current_a 1e9 is beyond +-100 A");
+}
+
 TEST(MeasuredRecord, TooManyRowsAreRefusedAtTheFirstOneOver) {
   std::string text = "t_s,setpoint_deg,angle_deg\n";
   for (size_t i = 0; i <= kMaxMeasuredRows; ++i) text += std::to_string(i * 0.001) + ",0,0\n";

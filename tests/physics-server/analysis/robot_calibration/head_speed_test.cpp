@@ -104,6 +104,20 @@ TEST(SpeedTable, TheShippedTableAndWhatIsWrongWithOthers) {
             std::string::npos);
   EXPECT_NE(error_of("slope_deg,real_speed_cm_s\n,3\n30,2\n").find(":2:1: empty key"), std::string::npos);
   EXPECT_NE(error_of("slope_deg,real_speed_cm_s\n0,3\n").find(":2:1: at least 2 rows are needed"), std::string::npos);
+  // bounds: a key given twice, a key that is no short printable text, a speed
+  // past 10 m/s, more rows than calibrate should run
+  EXPECT_NE(error_of("slope_deg,real_speed_cm_s\n0,3\n30,2\n0,3\n").find(":4:1: the key '0' is given twice (first at line 2)"),
+            std::string::npos)
+      << error_of("slope_deg,real_speed_cm_s\n0,3\n30,2\n0,3\n");
+  EXPECT_NE(error_of("slope_deg,real_speed_cm_s\n0\x1b[2J,3\n30,2\n").find(":2:1: the key '0\\x1B[2J' is not a printable"),
+            std::string::npos)
+      << error_of("slope_deg,real_speed_cm_s\n0\x1b[2J,3\n30,2\n");
+  EXPECT_NE(error_of("slope_deg,real_speed_cm_s\n0,1e308\n30,2\n").find(":2:3: real_speed_cm_s 1e308 is beyond +-1000 cm/s"),
+            std::string::npos)
+      << error_of("slope_deg,real_speed_cm_s\n0,1e308\n30,2\n");
+  std::string many = "slope_deg,real_speed_cm_s\n";
+  for (int i = 0; i <= 100; ++i) many += std::to_string(i) + ",1\n";
+  EXPECT_NE(error_of(many).find(":102:1: more than 100 rows"), std::string::npos) << error_of(many);
   std::remove(path.c_str());
 }
 
