@@ -5,6 +5,10 @@
 
 #include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
 
 #include <set>
 #include <sstream>
@@ -79,6 +83,32 @@ TEST(Reliability, ModuleProcessesInheritOnlyStdinStdoutAndStderr) {
     fds.insert(fd);
   }
   EXPECT_EQ(fds, (std::set<std::string>{"0", "1", "2"})) << listing;
+}
+
+// a module program running as the user who runs the server cannot open the
+// server's files through /proc/SERVER/fd: the server is not dumpable
+// (PR_SET_DUMPABLE 0), so /proc/SERVER/* belongs to root. Root may read any
+// process's /proc: run as root, the test runs the server and its modules as
+// nobody (setpriv), where the protection applies.
+TEST(Reliability, AModuleCannotOpenTheServersFilesThroughProc) {
+  const std::string dir = temp_dir("proc-fd");
+  const std::string prog = write_file(dir, "peek.sh", "#!/bin/sh\nls -l /proc/$PPID/fd 2>&1\nexit 7\n");
+  ASSERT_EQ(chmod(prog.c_str(), 0755), 0);
+  const std::string scene = write_file(dir, "s.yaml", "chain:\n  - {type: rotation}\ncentral: {program: " + prog + "}\n");
+  std::string as_user;
+  if (geteuid() == 0) {
+    if (std::system("command -v setpriv >/dev/null 2>&1") != 0) GTEST_SKIP() << "root without setpriv(1): cannot run as another user";
+    ASSERT_EQ(std::system(("chown -R 65534:65534 " + dir).c_str()), 0);
+    as_user = "setpriv --reuid=65534 --regid=65534 --clear-groups env TMPDIR=" + dir + " ";
+  }
+  const std::string cmd = "cd " + dir + " && " + as_user + CHAINSIM_EXE + " run s.yaml --duration 1 --out " + dir +
+                          "/run >" + dir + "/err.txt 2>&1";
+  const int st = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(st)) << cmd;
+  EXPECT_EQ(WEXITSTATUS(st), 2) << read_file(dir + "/err.txt");  // the central control never connects
+  const std::string listing = read_file(dir + "/run/modules/01-central.out");
+  EXPECT_NE(listing.find("Permission denied"), std::string::npos) << listing;
+  EXPECT_EQ(listing.find(" -> "), std::string::npos) << "the module listed the server's descriptors:\n" << listing;
 }
 
 // ODE aborts on a NaN position (dxNormalize4): the reader refuses it first,
