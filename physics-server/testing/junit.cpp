@@ -15,20 +15,14 @@ std::string seconds(double s) {
   return b;
 }
 
-void property(std::ostringstream& x, const std::string& name, const std::string& value) {
-  x << "        <property name=\"" << xml_escape(name) << "\" value=\"" << xml_escape(value) << "\"/>\n";
-}
-
+// one testcase. Only what both common schemas allow (the Jenkins xunit
+// plugin's junit-10.xsd and junit5's jenkins-junit.xsd): name, classname and
+// time on the testcase, and no properties in it; the run's details (seed,
+// trace fingerprint, run directory, artefacts) go to its system-out, where
+// GitLab shows them with a failure and reads [[ATTACHMENT|path]] as a picture
 void testcase(std::ostringstream& x, const TestCaseResult& r) {
   x << "    <testcase classname=\"" << xml_escape(r.name) << "\" name=\"" << xml_escape(r.name) << " seed "
-    << r.seed << "\" file=\"" << xml_escape(r.file) << "\" time=\"" << seconds(r.wall_s) << "\">\n";
-  x << "      <properties>\n";
-  property(x, "seed", std::to_string(r.seed));
-  if (!r.trace_sha256.empty()) property(x, "trace_sha256", r.trace_sha256);
-  if (!r.run_dir.empty()) property(x, "run_dir", r.run_dir);
-  if (r.failure_t_s >= 0) property(x, "failure_time_s", seconds(r.failure_t_s));
-  for (const std::string& a : r.artefacts) property(x, "artefact", a);
-  x << "      </properties>\n";
+    << r.seed << "\" time=\"" << seconds(r.wall_s) << "\">\n";
   if (r.status == TestCaseResult::Status::error || r.status == TestCaseResult::Status::interrupted) {
     const std::string msg = r.error.empty() ? "interrupted" : r.error;
     x << "      <error message=\"" << xml_escape(msg) << "\" type=\"error\">" << xml_escape(msg) << "</error>\n";
@@ -39,10 +33,17 @@ void testcase(std::ostringstream& x, const TestCaseResult& r) {
     x << "      <failure message=\"" << xml_escape(msg) << "\" type=\"expectation\">"
       << xml_escape(c.where + ": expected " + c.expectation + "\nmeasured " + c.result.measured) << "</failure>\n";
   }
-  std::string out;
+  std::string out = "file: " + r.file + "\nseed: " + std::to_string(r.seed) + "\n";
+  if (!r.trace_sha256.empty()) out += "trace_sha256: " + r.trace_sha256 + "\n";
+  if (!r.run_dir.empty()) out += "run_dir: " + r.run_dir + "\n";
+  if (r.failure_t_s >= 0) out += "failure_time_s: " + seconds(r.failure_t_s) + "\n";
+  for (const std::string& a : r.artefacts) {
+    out += "artefact: " + a + "\n";
+    if (a.size() > 4 && a.compare(a.size() - 4, 4, ".png") == 0) out += "[[ATTACHMENT|" + a + "]]\n";
+  }
   for (const CheckOutcome& c : r.checks)
     out += std::string(c.result.pass ? "pass" : "FAIL") + "  " + c.expectation + ": " + c.result.measured + "\n";
-  if (!out.empty()) x << "      <system-out>" << xml_escape(out) << "</system-out>\n";
+  x << "      <system-out>" << xml_escape(out) << "</system-out>\n";
   x << "    </testcase>\n";
 }
 

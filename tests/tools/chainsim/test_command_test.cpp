@@ -88,8 +88,13 @@ std::vector<Case> junit_cases(const std::string& path, pt::ptree* doc) {
         Case k;
         k.name = c.second.get<std::string>("<xmlattr>.name");
         k.time = c.second.get<double>("<xmlattr>.time");
-        for (const auto& p : c.second.get_child("properties"))
-          k.props[p.second.get<std::string>("<xmlattr>.name")] = p.second.get<std::string>("<xmlattr>.value");
+        // the run's details: "key: value" lines of its system-out, before the expectations
+        std::istringstream sysout(c.second.get<std::string>("system-out"));
+        for (std::string line; std::getline(sysout, line);) {
+          const size_t colon = line.find(": ");
+          if (line.rfind("pass  ", 0) == 0 || line.rfind("FAIL  ", 0) == 0 || colon == std::string::npos) continue;
+          k.props[line.substr(0, colon)] = line.substr(colon + 2);
+        }
         for (const auto& f : c.second) {
           if (f.first == "failure") k.failures.push_back(f.second.get<std::string>("<xmlattr>.message"));
           if (f.first == "error") k.error = f.second.get<std::string>("<xmlattr>.message");
@@ -122,6 +127,14 @@ TEST(TestCommand, PassingAndFailingFilesGiveLinesExitCodeAndJunit) {
   for (const std::string& l : fail) {
     EXPECT_NE(l.find("chain.distance_m >= 5: 0.0"), std::string::npos) << l;
     EXPECT_NE(l.find(" FAILED | log m0 /flying/ before 0.5: never (run ended at 1 s) FAILED"), std::string::npos) << l;
+  }
+
+  // a real report (with failure pictures when Chromium is there) takes the
+  // constraints both common JUnit schemas share (docs/testing.md)
+  if (std::system("command -v xmllint >/dev/null 2>&1") == 0) {
+    const std::string xsd = std::string(CHAINSIM_SOURCE_DIR) + "/tests/physics-server/testing/junit-common.xsd";
+    EXPECT_EQ(std::system(("xmllint --noout --schema " + xsd + " " + dir + "/report.xml >" + dir + "/xmllint.txt 2>&1").c_str()), 0)
+        << scenario::read_file(dir + "/xmllint.txt");
   }
 
   pt::ptree doc;
