@@ -35,7 +35,7 @@ i=0
 while read -r s; do
   i=$((i + 1))
   echo "$s $work/runs/$i"
-done <"$work/scenes.txt" | xargs -P "$k" -n 2 sh -c '"$0" "$1" "$2" 60 >/dev/null 2>&1' "$bin-evaluate"
+done <"$work/scenes.txt" | xargs -P "$k" -n 2 sh -c '"$0" "$1" "$2" 60 >/dev/null 2>&1 || true' "$bin-evaluate"  # a run that faults is a result, as in the search
 t3=$(now)
 python3 - "$n" "$k" "$t0" "$t1" "$t2" "$t3" <<'PY'
 import sys
