@@ -197,6 +197,7 @@ void Evaluation::start_trial() {
   char timeout[32];
   std::snprintf(timeout, sizeof timeout, "%g", pr.evaluation.module_timeout_s);
   spec.args = {scene_path(r), run_dir(r), timeout};
+  if (!pr.evaluation.firmware_dir.empty()) spec.args.push_back(pr.evaluation.firmware_dir);
   spec.stdout_path = dir_ + "/chainsim.out";
   try {
     child_.spawn(spec);

@@ -27,10 +27,12 @@ struct ChainGenome {
 
 // one program parameter: value = min + k * step, k = 0 .. count() - 1
 struct ParamGene {
-  enum class Scope { Central, Module, AllModules };
-  std::string target;   // as written: "central.bend_ms", "chain[2].mode", "chain[*].control_ms"
+  enum class Scope { Central, Module, AllModules, Program };
+  // as written: "central.bend_ms", "chain[2].mode", "chain[*].control_ms", "program[fw-sine].amp_cdeg"
+  std::string target;
   Scope scope = Scope::Central;
   int module = -1;      // Scope::Module: the chain index
+  std::string program;  // Scope::Program: every endpoint (modules, central) whose program has this file name
   std::string name;     // the parameter's name (hal_param)
   int64_t min = 0, max = 0, step = 1;
   std::string where;    // "file:line:column" of its entry in the problem file

@@ -92,6 +92,10 @@ StartPerturbation start_perturbation(const Problem& pr, uint64_t seed, bool pipe
   return s;
 }
 
+std::string program_file_name(const std::string& program) {
+  return std::filesystem::path(program).filename().string();
+}
+
 std::string individual_scene_yaml(const Problem& pr, const Phenotype& p, uint64_t seed, const std::string& solver,
                                   const std::string& target_override) {
   const std::string& target = !target_override.empty() ? target_override : pr.evaluation.target;
@@ -159,6 +163,19 @@ std::string individual_scene_yaml(const Problem& pr, const Phenotype& p, uint64_
         if (!target.empty()) chain[i].remove("target");
       }
 
+  // program[NAME].param: the endpoints whose program (as written, or their
+  // module type's) has that file name, from the scene as loaded
+  std::vector<std::string> programs;  // per chain module, then the central control's
+  for (const ParamGene& g : pr.genome.params)
+    if (g.scope == ParamGene::Scope::Program) {
+      YAML::Emitter e;
+      e << root;
+      const Scene s = load_scene_text(std::string(e.c_str()) + "\n", pr.scene_file);
+      for (const SceneModule& m : s.modules) programs.push_back(program_file_name(m.firmware));
+      programs.push_back(program_file_name(s.central.firmware));
+      break;
+    }
+
   for (size_t k = 0; k < pr.genome.params.size() && k < p.values.size(); ++k) {
     const ParamGene& g = pr.genome.params[k];
     const int64_t v = p.values[k];
@@ -171,6 +188,11 @@ std::string individual_scene_yaml(const Problem& pr, const Phenotype& p, uint64_
         break;
       case ParamGene::Scope::AllModules:
         for (size_t i = 0; i < chain.size(); ++i) chain[i]["params"][g.name] = v;
+        break;
+      case ParamGene::Scope::Program:
+        for (size_t i = 0; i < chain.size() && i < programs.size(); ++i)
+          if (programs[i] == g.program) chain[i]["params"][g.name] = v;
+        if (!programs.empty() && programs.back() == g.program) root["central"]["params"][g.name] = v;
         break;
     }
   }

@@ -16,6 +16,10 @@ struct Problem;
 
 // the seed of an individual's run: from the search seed and the individual's
 // key only (never from the worker that runs it), in 0 .. 2^62 - 1
+// the file name of a program as a scene names it ("fw-sine" of "../build/fw-sine"):
+// what a program[NAME] target matches
+std::string program_file_name(const std::string& program);
+
 uint64_t evaluation_seed(uint64_t search_seed, const std::string& key);
 
 // the scene text; throws SceneError if the base scene cannot take the genome.

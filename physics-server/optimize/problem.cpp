@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "environment/pipe_path.h"
+#include "readers/safe_text.h"
 #include "optimize/individual_scene.h"
 #include "scene/scene.h"
 #include "scene/scene_stop.h"
@@ -78,13 +79,17 @@ void load_param_gene(const SceneYaml& y, const YAML::Node& n, const std::string&
   const std::string head = dot == std::string::npos ? "" : t.substr(0, dot);
   g->name = dot == std::string::npos ? "" : t.substr(dot + 1);
   const std::string form = "'" + p + ".target' '" + t +
-                           "' must be central.NAME, chain[INDEX].NAME or chain[*].NAME (NAME: 1 to 15 letters, "
-                           "digits or _)";
+                           "' must be central.NAME, chain[INDEX].NAME, chain[*].NAME or program[PROGRAM].NAME (NAME: 1 "
+                           "to 15 letters, digits or _; PROGRAM: a program's file name, e.g. fw-rotation)";
   if (!is_identifier(g->name, 15)) y.fail(n["target"], form);
   if (head == "central") {
     g->scope = ParamGene::Scope::Central;
   } else if (head == "chain[*]") {
     g->scope = ParamGene::Scope::AllModules;
+  } else if (head.size() > 9 && head.rfind("program[", 0) == 0 && head.back() == ']') {
+    g->scope = ParamGene::Scope::Program;
+    g->program = head.substr(8, head.size() - 9);
+    if (!is_path_name(g->program)) y.fail(n["target"], form);
   } else if (head.size() > 7 && head.rfind("chain[", 0) == 0 && head.back() == ']') {
     const std::string idx = head.substr(6, head.size() - 7);
     if (idx.empty() || idx.size() > 2 || idx.find_first_not_of("0123456789") != std::string::npos)

@@ -66,6 +66,9 @@ struct EvaluationSettings {
   std::vector<StopRule> stop_when;   // copied into every individual's scene
   bool stop_on_constraints = true;   // a time_to_reach constraint's max also stops the run
   std::string target;                // "": as the scene says; native or pic for every endpoint (--target)
+  // where every evaluation looks for programs first (DIR[:DIR...], absolute),
+  // before next to chainsim: --firmware-dir, not a key of the problem file
+  std::string firmware_dir;
 };
 
 constexpr int kAutoProbeTrials = 3;

@@ -21,6 +21,8 @@ void check_problem_params(const Problem& pr, const std::string& firmware_dir) {
     });
   };
   const std::vector<int64_t> lowest(pr.genome.gene_count(), 0);
+  std::vector<int> program_targets(pr.genome.params.size(), 0);  // endpoints a program[NAME] gene reached
+  std::string programs_seen;
   for (const std::vector<int64_t>& genes : {lowest, pr.genome.gene_upper()}) {
     Scene scene;
     try {
@@ -31,11 +33,16 @@ void check_problem_params(const Problem& pr, const std::string& firmware_dir) {
     const int n = static_cast<int>(scene.modules.size());
     for (const ParamGene& g : pr.genome.params) {
       for (int i = 0; i <= n; ++i) {
-        const bool targeted = g.scope == ParamGene::Scope::Central ? i == n
-                              : g.scope == ParamGene::Scope::Module ? i == g.module
-                                                                     : i < n;
-        if (!targeted) continue;
         const SceneModule& e = i < n ? scene.modules[i] : scene.central;
+        const bool targeted = g.scope == ParamGene::Scope::Central  ? i == n
+                              : g.scope == ParamGene::Scope::Module ? i == g.module
+                              : g.scope == ParamGene::Scope::Program
+                                  ? !e.firmware.empty() && program_file_name(e.firmware) == g.program
+                                  : i < n;
+        if (!e.firmware.empty() && programs_seen.find(" " + program_file_name(e.firmware) + ",") == std::string::npos)
+          programs_seen += " " + program_file_name(e.firmware) + ",";
+        if (!targeted) continue;
+        ++program_targets[static_cast<size_t>(&g - pr.genome.params.data())];
         const ProgramParams& decls = decls_of(g, e);
         const ParamDecl* d = decls.find(g.name);
         const std::string who = scene_endpoint_name(scene, i);
@@ -53,6 +60,12 @@ void check_problem_params(const Problem& pr, const std::string& firmware_dir) {
                              " declares (" + d->meaning + ")");
       }
     }
+  }
+  for (size_t k = 0; k < pr.genome.params.size(); ++k) {
+    const ParamGene& g = pr.genome.params[k];
+    if (g.scope == ParamGene::Scope::Program && program_targets[k] == 0)
+      throw ProblemError(g.where + ": '" + g.target + "': no module and no central control runs a program named " +
+                         g.program + " (they run:" + programs_seen.substr(0, programs_seen.size() - 1) + ")");
   }
 }
 

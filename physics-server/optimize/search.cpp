@@ -41,6 +41,8 @@ std::string fingerprint_of(const Problem& pr) {
   }
   std::string data = pr.text + '\0' + pr.scene_text + '\0' + settings;
   if (!pr.evaluation.target.empty()) data += std::string(1, '\0') + "target=" + pr.evaluation.target;
+  // other programs are another search
+  if (!pr.evaluation.firmware_dir.empty()) data += std::string(1, '\0') + "firmware_dir=" + pr.evaluation.firmware_dir;
   Sha256 sha;
   sha.update(data.data(), data.size());
   return sha.hex();

@@ -1,6 +1,7 @@
-// chainsim-evaluate SCENE.yaml OUT_DIR MODULE_TIMEOUT_S: one run of a scene for
-// `chainsim optimize`, through the same run_scene as `chainsim run SCENE --out
-// OUT_DIR --quiet --module-timeout T`, with the same exit codes. A program of
+// chainsim-evaluate SCENE.yaml OUT_DIR MODULE_TIMEOUT_S [FIRMWARE_DIR]: one run
+// of a scene for `chainsim optimize`, through the same run_scene as `chainsim
+// run SCENE --out OUT_DIR --quiet --module-timeout T [--firmware-dir DIR]`,
+// with the same exit codes. A program of
 // its own because the search starts hundreds of these: `chainsim` itself
 // links pagmo and OpenMPI, whose start-up (pagmo's static registrations
 // above all) cost about 0.2 s per process here, this one does not.
@@ -15,20 +16,22 @@
 using namespace chainsim;
 
 int main(int argc, char** argv) {
-  if (argc != 4) {
-    std::fprintf(stderr, "usage: chainsim-evaluate SCENE.yaml OUT_DIR MODULE_TIMEOUT_S\n");
+  if (argc != 4 && argc != 5) {
+    std::fprintf(stderr, "usage: chainsim-evaluate SCENE.yaml OUT_DIR MODULE_TIMEOUT_S [FIRMWARE_DIR[:DIR...]]\n");
     return kExitBadInput;
   }
+  const std::string firmware_dir = argc == 5 ? argv[4] : "";
   Scene scene;
   try {
     scene = load_scene_file(argv[1]);
-    check_scene_programs(scene, "");
+    check_scene_programs(scene, firmware_dir);
   } catch (const SceneError& e) {
     std::fprintf(stderr, "chainsim-evaluate: %s\n", e.what());
     return kExitBadInput;
   }
   RunOptions opt;
   opt.out_dir = argv[2];
+  opt.firmware_dir = firmware_dir;
   opt.quiet = true;
   opt.module_timeout_s = std::atof(argv[3]);
   if (!(opt.module_timeout_s > 0)) {

@@ -45,6 +45,7 @@ struct OptimizeArgs {
   double rank_timeout = 60;
   bool quiet = false;
   std::string target;         // every evaluation's programs native or on the PIC
+  std::string firmware_dir;   // --firmware-dir: where evaluations look for programs first
   std::string verify_dir;     // --verify DIR: verify a search's winners, no search
   int verify_top = 3;         // leaders verified at the end (0: none)
   int verify_trials = 0;      // fresh trials each (0: the search's, at least 3)
@@ -229,6 +230,23 @@ int exit_code_of(const std::exception& e) {
   return kExitBadInput;
 }
 
+// DIR[:DIR...] with each DIR absolute (evaluations run in their own directories)
+std::string absolute_dirs(const std::string& dirs) {
+  std::string out;
+  for (size_t b = 0; b < dirs.size();) {
+    const size_t e = std::min(dirs.find(':', b), dirs.size());
+    if (e > b) {
+      const std::string d = dirs.substr(b, e - b);
+      std::error_code ec;
+      if (!std::filesystem::is_directory(d, ec)) throw std::runtime_error("--firmware-dir: " + d + " is no folder");
+      if (!out.empty()) out += ':';
+      out += std::filesystem::absolute(d).lexically_normal().string();
+    }
+    b = e + 1;
+  }
+  return out;
+}
+
 // what a search was started with, beside it (DIR/search.json): --verify DIR
 // loads the same problem with the same overrides
 void write_search_args(const OptimizeArgs& a) {
@@ -238,6 +256,7 @@ void write_search_args(const OptimizeArgs& a) {
   if (a.generations >= 0) j["generations"] = a.generations;
   if (a.exhaustive) j["exhaustive"] = true;
   if (!a.target.empty()) j["target"] = a.target;
+  if (!a.firmware_dir.empty()) j["firmware_dir"] = absolute_dirs(a.firmware_dir);  // --verify may run elsewhere
   write_file_atomic(a.out + "/search.json", j.dump(1) + "\n");
 }
 
@@ -260,6 +279,7 @@ bool read_search_args(OptimizeArgs* a, std::string* why) {
   a->generations = j.value("generations", -1);
   a->exhaustive = j.value("exhaustive", false);
   a->target = j.value("target", std::string());
+  if (a->firmware_dir.empty()) a->firmware_dir = j.value("firmware_dir", std::string());
   a->out = a->verify_dir;
   return true;
 }
@@ -290,7 +310,9 @@ int run_optimize(const OptimizeArgs& given) {
   Problem pr;
   try {
     pr = load_problem_file(a.problem);
-    check_problem_params(pr, "");  // the evaluations find the programs next to chainsim
+    pr.evaluation.firmware_dir = absolute_dirs(a.firmware_dir);
+    // the evaluations find the programs there first, then next to chainsim
+    check_problem_params(pr, pr.evaluation.firmware_dir);
   } catch (const std::exception& e) {
     if (rank == 0) std::fprintf(stderr, "chainsim: %s\n", e.what());
     return leave(kExitBadInput, false);
@@ -308,7 +330,7 @@ int run_optimize(const OptimizeArgs& given) {
     try {  // the .hex of the base scene's programs are there
       Scene s = load_scene_text(pr.scene_text, pr.scene_file);
       set_target(&s, a.target == "pic" ? Target::Pic : Target::Native);
-      check_scene_programs(s, "");
+      check_scene_programs(s, pr.evaluation.firmware_dir);
     } catch (const std::exception& e) {
       if (rank == 0) std::fprintf(stderr, "chainsim: --target %s: %s\n", a.target.c_str(), e.what());
       return leave(kExitBadInput, false);
@@ -505,6 +527,9 @@ void add_optimize_command(CLI::App& app) {
   sub->add_option("--rank-timeout", g_args.rank_timeout,
                   "under mpirun: seconds of silence after which a rank holding work is given up")
       ->check(CLI::PositiveNumber);
+  sub->add_option("--firmware-dir", g_args.firmware_dir,
+                  "where every evaluation looks for programs first (DIR[:DIR...]), before next to chainsim: your own "
+                  "programs, built out of tree (docs/firmware.md)");
   sub->add_option("--target", g_args.target,
                   "every evaluation's programs native, or the board's own .hex in gpsim (pic: about 1 CPU second "
                   "per simulated second per module; for checking a few designs, docs/pic-in-the-loop.md)")

@@ -116,6 +116,17 @@ PY
       grep -q 'tests="1" failures="0" errors="0"' "$work/build/triangle-wave-crawl.junit.xml" || fail "JUnit report"
       grep -q '"program": ".*fw-triangle-wave"' "$work/build/triangle-wave-crawl-runs/triangle-wave-crawl-seed1/summary.json" ||
         fail "the run did not use the example's program"
+      # a design search over the example's own program: --firmware-dir, program[...] targets
+      chainsim_bin="$pkg/bin/chainsim"  # the build tree's or the prefix's
+      [ -x "$chainsim_bin" ] || fail "no $chainsim_bin"
+      (cd "$work/build" && "$chainsim_bin" optimize "$EXAMPLE/search.yaml" --out search --population 3 --generations 0 \
+         --verify-top 0 --no-replay -q) 2>"$work/no-dir.txt" && fail "a search found fw-triangle-wave without --firmware-dir"
+      grep -q "fw-triangle-wave" "$work/no-dir.txt" || { cat "$work/no-dir.txt"; fail "the missing program is not named"; }
+      (cd "$work/build" && "$chainsim_bin" optimize "$EXAMPLE/search.yaml" --firmware-dir . --out search --population 3 \
+         --generations 0 --workers 2 --verify-top 0 --no-replay -q) || fail "the search over the example's program"
+      [ "$(wc -l <"$work/build/search/history.csv")" = 4 ] || { cat "$work/build/search/history.csv"; fail "3 individuals"; }
+      grep -q "control_ms" "$work/build/search/best.yaml" || fail "best.yaml does not set control_ms"
+      grep -q '"firmware_dir": "'"$work"'/build' "$work/build/search/search.json" || fail "search.json lacks the folder"
       echo "built and run against $mode $pkg"
     fi
     ;;

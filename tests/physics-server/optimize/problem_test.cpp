@@ -291,6 +291,47 @@ objective: {maximize: x}
               std::filesystem::path(s.modules[i].firmware).lexically_normal());
 }
 
+// program[NAME].param sets the parameter on every endpoint whose program has
+// that file name, as written or as its module type's default, and on no other
+TEST(Problem, AProgramTargetSetsEveryEndpointRunningThatProgram) {
+  write("mixed.yaml", R"(name: mixed
+duration_s: 1
+chain:
+  - {type: rotation, firmware: ../build/fw-mine}
+  - {type: helicoidal}
+  - {type: rotation}
+  - {type: rotation, firmware: fw-mine}
+central: {params: {gait: 1}}
+)");
+  const Problem pr = load_problem_file(write("prog.yaml", R"(scene: mixed.yaml
+genome:
+  params:
+    - {target: "program[fw-mine].control_ms", min: 10, max: 40, step: 10}
+    - {target: "program[fw-rotation].control_ms", min: 5, max: 15, step: 5}
+measures: {x: {kind: distance}}
+objective: {maximize: x}
+)"));
+  ASSERT_EQ(pr.genome.params.size(), 2u);
+  EXPECT_EQ(pr.genome.params[0].scope, ParamGene::Scope::Program);
+  EXPECT_EQ(pr.genome.params[0].program, "fw-mine");
+  const Scene s = load_scene_text(individual_scene_yaml(pr, {"", {30, 5}}, 1), "/elsewhere/individual.yaml");
+  auto param = [&](size_t i, const std::string& name) -> int64_t {
+    const auto& ps = s.modules.at(i).params;
+    return ps.count(name) ? ps.at(name) : -1;
+  };
+  EXPECT_EQ(param(0, "control_ms"), 30);  // ../build/fw-mine
+  EXPECT_EQ(param(1, "control_ms"), -1);  // fw-helicoidal: neither
+  EXPECT_EQ(param(2, "control_ms"), 5);   // fw-rotation, its type's default
+  EXPECT_EQ(param(3, "control_ms"), 30);  // fw-mine
+  EXPECT_EQ(s.central.params.count("control_ms"), 0u);
+  // a program no endpoint runs is no target, and the form is named
+  EXPECT_NE(error_of(R"(scene: base.yaml
+genome: {params: [{target: "program[fw/x].a", min: 0, max: 1}]}
+measures: {x: {kind: distance}}
+objective: {maximize: x}
+)").find("program[PROGRAM].NAME"), std::string::npos);
+}
+
 TEST(Problem, EvaluationSeedsComeFromTheSearchSeedAndTheKeyOnly) {
   EXPECT_EQ(evaluation_seed(1, "THRH"), evaluation_seed(1, "THRH"));
   EXPECT_NE(evaluation_seed(1, "THRH"), evaluation_seed(2, "THRH"));
@@ -322,8 +363,9 @@ genome:
 measures: {x: {kind: distance}}
 objective: {maximize: x}
 )"),
-            f + ":4:16: 'genome.params[0].target' 'amplitude_cdeg' must be central.NAME, chain[INDEX].NAME or "
-                "chain[*].NAME (NAME: 1 to 15 letters, digits or _)");
+            f + ":4:16: 'genome.params[0].target' 'amplitude_cdeg' must be central.NAME, chain[INDEX].NAME, "
+                "chain[*].NAME or program[PROGRAM].NAME (NAME: 1 to 15 letters, digits or _; PROGRAM: a program's "
+                "file name, e.g. fw-rotation)");
   // a module index past the chain
   EXPECT_EQ(error_of(R"(scene: base.yaml
 genome:
