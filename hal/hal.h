@@ -1,4 +1,5 @@
-/* The chainsim HAL: the only interface module firmware includes.
+/** @file
+ * The chainsim HAL: the only interface module firmware includes.
  * The same firmware links with hal-sim (a simulator process) or hal-pic (the
  * PIC18 board); it cannot tell which. C99, no dynamic memory. */
 #ifndef HAL_H

@@ -13,6 +13,7 @@ PACKAGES=(
   libpagmo-dev                    # chainsim optimize: the genetic algorithm (pagmo sga)
   libre2-dev                      # chainsim test: log patterns matched by RE2, in linear time
   libxml2-utils                   # xmllint: the tests validate the JUnit report against the CI schemas
+  doxygen                         # the HAL reference (build/docs/hal-reference), built with the project
   libopenmpi-dev openmpi-bin      # chainsim optimize under mpirun (MPI ranks)
   slurm-wlm munge                 # tools/slurm's job script, tested under a one-node Slurm the test starts itself
   clang libclang-rt-14-dev        # libFuzzer target of the protocol decoder

@@ -1,4 +1,5 @@
-/* Fixed-point sine for the module firmware: no floating point, one 65-entry
+/** @file
+ * Fixed-point sine for the module firmware: no floating point, one 65-entry
  * quarter-wave table of int16 (130 bytes of ROM), linear interpolation.
  *
  *   angles:  binary angle (BAM16, 65536 = one turn) or milliradians
@@ -15,22 +16,22 @@
 
 #include <stdint.h>
 
-#define FS_ONE_Q15 32767       /* sin(pi/2) */
-#define FS_TWO_PI_MRAD 6283L   /* one turn in milliradians (the period used here) */
+#define FS_ONE_Q15 32767       /**< sin(pi/2) */
+#define FS_TWO_PI_MRAD 6283L   /**< one turn in milliradians (the period used here) */
 
-/* sin of a binary angle (0x4000 = pi/2), Q15 */
+/** sin of a binary angle (0x4000 = pi/2), Q15 */
 int16_t fs_sin_bam(uint16_t angle);
 
-/* sin of an angle in milliradians (any value, reduced modulo FS_TWO_PI_MRAD), Q15 */
+/** sin of an angle in milliradians (any value, reduced modulo FS_TWO_PI_MRAD), Q15 */
 int16_t fs_sin_mrad(int32_t angle_mrad);
 
-/* cos of an angle in milliradians, Q15 */
+/** cos of an angle in milliradians, Q15 */
 int16_t fs_cos_mrad(int32_t angle_mrad);
 
-/* angle_mrad reduced to 0..FS_TWO_PI_MRAD-1 */
+/** angle_mrad reduced to 0..FS_TWO_PI_MRAD-1 */
 int16_t fs_wrap_mrad(int32_t angle_mrad);
 
-/* amplitude * q15 / 32768, rounded to nearest (halves away from zero);
+/** amplitude * q15 / 32768, rounded to nearest (halves away from zero);
  * e.g. fs_scale(4000, fs_sin_mrad(x)) is 4000*sin(x) */
 int16_t fs_scale(int16_t amplitude, int16_t q15);
 

@@ -1,4 +1,5 @@
-/* The inchworm gait's schedule (gait 8), shared by the support and the
+/** @file
+ * The inchworm gait's schedule (gait 8), shared by the support and the
  * extension modules: every module computes its own state from the shared
  * gait clock (ms since START), so no frames pass while it runs.
  *
@@ -16,19 +17,19 @@
 
 #include <stdint.h>
 
-/* this module's part in the schedule, from SET_GAIT (gait 8) */
+/** this module's part in the schedule, from SET_GAIT (gait 8) */
 typedef struct {
-    uint16_t step_ms; /* >= 40 */
-    uint8_t index;    /* the module's number among its type, head first */
-    uint8_t n_sup;    /* supports in the chain, >= 1 */
+    uint16_t step_ms; /**< >= 40 */
+    uint8_t index;    /**< the module's number among its type, head first */
+    uint8_t n_sup;    /**< supports in the chain, >= 1 */
 } iw_schedule;
 
-/* read step_ms, index and n_sup of a SET_GAIT frame, clamped */
+/** read step_ms, index and n_sup of a SET_GAIT frame, clamped */
 void iw_read_schedule(const uint8_t *frame, iw_schedule *s);
 
-/* 1 when support i grips at gait time t_ms */
+/** 1 when support i grips at gait time t_ms */
 uint8_t iw_support_grips(uint32_t t_ms, uint16_t step_ms, uint8_t n, uint8_t i);
-/* 1 when extension j is extended at gait time t_ms */
+/** 1 when extension j is extended at gait time t_ms */
 uint8_t iw_extension_extended(uint32_t t_ms, uint16_t step_ms, uint8_t n, uint8_t j);
 
 #endif
