@@ -1,5 +1,10 @@
 #include "output/scene_json.h"
 
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
 #include "model/module_def.h"
 #include "output/environment_json.h"
 
@@ -13,11 +18,31 @@ const char* module_color(const std::string& type) {
   if (type == "touch") return "#a8c686";
   if (type == "traveller") return "#8e5572";
   if (type == "passive") return "#9a9a9a";
-  return "#cccccc";
+  return nullptr;
+}
+
+// the colour of each module: its type's own, or for a type of the user's the
+// next of a palette apart from the shipped types' colours, in the order the
+// chain first meets the types (the same scene, the same colours)
+std::vector<std::string> module_colors(const Scene& scene) {
+  static const char* const kOwn[] = {"#2a9d8f", "#b5179e", "#e9c46a", "#4361ee", "#6a994e",
+                                     "#f28482", "#7b2cbf", "#00b4d8", "#bc6c25", "#3a5a40"};
+  std::map<std::string, std::string> own;
+  std::vector<std::string> out;
+  for (const SceneModule& m : scene.modules) {
+    if (const char* c = module_color(m.type)) {
+      out.push_back(c);
+      continue;
+    }
+    if (!own.count(m.type)) own[m.type] = kOwn[own.size() % (sizeof kOwn / sizeof kOwn[0])];
+    out.push_back(own[m.type]);
+  }
+  return out;
 }
 
 nlohmann::json scene_json(const Scene& scene) {
   nlohmann::json modules = nlohmann::json::array();
+  const std::vector<std::string> colors = module_colors(scene);
   for (size_t i = 0; i < scene.modules.size(); ++i) {
     const ModuleDef def = find_module_def(scene.world.module_types, scene.modules[i].type);
     nlohmann::json bodies = nlohmann::json::array();
@@ -28,6 +53,9 @@ nlohmann::json scene_json(const Scene& scene) {
       else
         j["radius_m"] = b.radius_m;
       if (b.shape == Shape::Capsule || b.shape == Shape::Cylinder) j["length_m"] = b.length_m;
+      // the module's up (its frame's z) in the body's frame: how a viewer tells a chain's roll
+      const Eigen::Vector3d up = b.pose.orientation.conjugate() * Eigen::Vector3d::UnitZ();
+      j["up"] = {std::round(up.x() * 1e9) / 1e9, std::round(up.y() * 1e9) / 1e9, std::round(up.z() * 1e9) / 1e9};
       bodies.push_back(j);
     }
     nlohmann::json servos = nlohmann::json::array();
@@ -35,7 +63,7 @@ nlohmann::json scene_json(const Scene& scene) {
     modules.push_back({{"index", i},
                        {"type", scene.modules[i].type},
                        {"firmware", scene.modules[i].firmware},
-                       {"color", module_color(scene.modules[i].type)},
+                       {"color", colors[i]},
                        {"bodies", bodies},
                        {"servos", servos}});
   }

@@ -5,13 +5,20 @@
 
 #include <nlohmann/json.hpp>
 
+#include <string>
+#include <vector>
+
 #include "output/run_output.h"
 #include "scene/scene.h"
 
 namespace chainsim {
 
-// display colour of a module type ("#rrggbb"), the same in every view
+// display colour of a shipped module type ("#rrggbb"), the same in every
+// view; nullptr for a type of the user's
 const char* module_color(const std::string& type);
+// the colour of each module of the scene: its type's, or for each type of the
+// user's one of ten others, in the order the chain first meets the types
+std::vector<std::string> module_colors(const Scene& scene);
 
 nlohmann::json scene_json(const Scene& scene);
 

@@ -41,7 +41,11 @@ test('replay.html is one self-contained file that loads without errors', async (
   const st = await page.evaluate(() => ({ ...window.chainsimViewer.state, dur: window.chainsimViewer.data.duration }));
   assert.equal(st.rowsReceived, rows);
   assert.ok(Math.abs(st.dur - 2) < 0.02, `duration ${st.dur}`);
-  assert.equal(await page.locator('.plot').count(), 4, 'four plots');
+  // servo, currents, the module's sensor channels, the chain's orientation, its centre of mass, energy
+  assert.equal(await page.locator('.plot').count(), 6, 'six plots');
+  // the default snake starts upright along +x
+  const o = await page.evaluate(() => Array.from(window.chainsimViewer.data.orientationSeries().roll.slice(0, 1)));
+  assert.ok(Math.abs(o[0]) < 5, `an upright chain's roll ${o[0]}`);
   assert.ok((await page.locator('.cs-buslist .ev').count()) > 0, 'bus log lines listed');
   // choose another module and joint for the plots
   await page.selectOption('.sel-module', '3');
@@ -146,6 +150,65 @@ test('clicking a bus event jumps to its time; faults and touches are highlighted
   });
   await page.mouse.click(box.x + x + 3, box.y + y);
   assert.equal(await page.evaluate(() => window.chainsimViewer.view.time), 1.5);
+  assert.deepEqual(page.problems, []);
+  await page.close();
+});
+
+// every module type a colour and a line of the legend (types of one's own
+// too); the chain's heading, pitch and roll plotted, a chain placed on its
+// side reads 90 degrees of roll and is drawn with the stripe of its modules'
+// tops on the side; every sensor channel of trace.csv in the module's plot
+test('module types have a legend, the roll is plotted and drawn, every sensor channel is plotted', async () => {
+  const dir = tempDir('replay-roll');
+  const scene = join(dir, 'side.yaml');
+  const rot = readFileSync(new URL('../../../scenes/modules/rotation.yaml', import.meta.url), 'utf8');
+  appendFileSync(join(dir, 'mine.yaml'), rot.replace(/\ntype: rotation/, '\ntype: mine'));
+  appendFileSync(scene, [
+    'name: on-its-side',
+    'duration_s: 0.3',
+    'chain:',
+    '  - {type: rotation}',
+    '  - {type: mine, firmware: fw-rotation}',
+    '  - {type: rotation}',
+    'module_types: {mine: mine.yaml}',
+    'placement: {position_m: [0, 0, 0.02], roll_deg: 90}',
+    'central: {params: {gait: 0}}',
+    ''].join('\n'));
+  const r = chainsim(['run', scene, '--out', join(dir, 'run'), '--quiet']);
+  assert.equal(r.code, 0, r.stderr);
+  const page = await open(join(dir, 'run'));
+  const legend = await page.locator('.cs-legend').textContent();
+  assert.match(legend, /rotation ×2/);
+  assert.match(legend, /mine ×1/);
+  const colors = await page.evaluate(() => window.chainsimViewer.data.scene.modules.map((m) => m.color));
+  assert.notEqual(colors[1], colors[0], 'a type of its own has a colour of its own');
+  const o = await page.evaluate(() => {
+    const s = window.chainsimViewer.data.orientationSeries();
+    return { roll: Array.from(s.roll), heading: Array.from(s.heading) };
+  });
+  assert.ok(Math.abs(Math.abs(o.roll[0]) - 90) < 5, `roll at the start ${o.roll[0]}`);
+  assert.ok(Math.abs(o.heading[0]) < 5, `heading ${o.heading[0]}`);
+  const titles = await page.locator('.plot .u-title').allTextContents();
+  assert.ok(titles.some((x) => /chain: heading, pitch and roll/.test(x)), titles.join(' | '));
+  const channels = await page.evaluate(() => window.chainsimViewer.data.sensorColumns(0));
+  const header = readFileSync(join(dir, 'run', 'trace.csv'), 'utf8').split('\n')[0].split(',');
+  for (const h of header.filter((h) => /^m0\.[a-z_]+\.counts$/.test(h))) assert.ok(channels.includes(h), `${h} not plotted`);
+  assert.ok(channels.length > 0, 'the rotation module has sensor channels');
+  // the stripes of the modules' tops: on the side of a chain on its side
+  const side = await page.evaluate(() => {
+    const v = window.chainsimViewer.scene3d;
+    const out = [];
+    v.scene.traverse((o) => {
+      if (o.userData?.stripe) {
+        const p = o.getWorldPosition(new o.position.constructor());
+        const c = o.parent.getWorldPosition(new o.position.constructor());
+        out.push([p.x - c.x, p.y - c.y, p.z - c.z]);
+      }
+    });
+    return out;
+  });
+  assert.ok(side.length >= 3, `stripes ${side.length}`);
+  for (const [x, y, z] of side) assert.ok(Math.abs(y) > Math.abs(z), `a stripe at ${[x, y, z]} is not on the side`);
   assert.deepEqual(page.problems, []);
   await page.close();
 });

@@ -197,6 +197,81 @@ export class RunData {
     return { dist, speed };
   }
 
+  // the chain's heading, pitch and roll per row, degrees: heading (from +x,
+  // counter-clockwise) and pitch (up positive) of the line from the last
+  // module to the first; roll of the modules' mean up (their frames' z,
+  // scene.json's `up` of each body) about that line: 0 upright, about +-90
+  // on its side, 180 upside down
+  orientationSeries() {
+    const n = this.rows, mods = this.scene?.modules ?? [];
+    const heading = new Float64Array(n), pitch = new Float64Array(n), roll = new Float64Array(n);
+    const ups = [];
+    const cols = mods.map((m) => {
+      const p = `m${m.index}.${m.bodies?.[0]?.name}.`;
+      const idx = ['x', 'y', 'z', 'qw', 'qx', 'qy', 'qz'].map((s) => this.index.get(p + s));
+      if (!idx.every((v) => v !== undefined)) return null;
+      ups.push(m.bodies[0].up ?? null);
+      return idx.map((k) => this.col[k].a);
+    }).filter((c) => c);
+    if (!cols.length || !n) return { heading, pitch, roll };
+    // v rotated by the quaternion (w, x, y, z)
+    const rot = (w, x, y, z, v) => {
+      const tx = 2 * (y * v[2] - z * v[1]), ty = 2 * (z * v[0] - x * v[2]), tz = 2 * (x * v[1] - y * v[0]);
+      return [v[0] + w * tx + (y * tz - z * ty), v[1] + w * ty + (z * tx - x * tz), v[2] + w * tz + (x * ty - y * tx)];
+    };
+    const unit = (v) => { const l = Math.hypot(...v) || 1; return v.map((c) => c / l); };
+    const dot = (a, b) => a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    const cross = (a, b) => [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]];
+    const meanQ = (r) => {
+      const q0 = cols[0];
+      const s = [0, 0, 0, 0];
+      for (const c of cols) {
+        const sign = c[3][r] * q0[3][r] + c[4][r] * q0[4][r] + c[5][r] * q0[5][r] + c[6][r] * q0[6][r] < 0 ? -1 : 1;
+        for (let k = 0; k < 4; k++) s[k] += sign * c[3 + k][r];
+      }
+      const l = Math.hypot(...s) || 1;
+      return s.map((v) => v / l);
+    };
+    const axisAt = (r) => {
+      const head = cols[0], tail = cols[cols.length - 1];
+      const a = [head[0][r] - tail[0][r], head[1][r] - tail[1][r], head[2][r] - tail[2][r]];
+      if (Math.hypot(...a) > 1e-9) return unit(a);
+      const q = meanQ(r);  // one module: its body's x
+      return unit(rot(q[0], q[1], q[2], q[3], [1, 0, 0]));
+    };
+    // without scene.json's up (an older run): the body axis that was up at the start
+    const q0 = meanQ(0);
+    const up0 = rot(q0[0], -q0[1], -q0[2], -q0[3], [0, 0, 1]);
+    for (let r = 0; r < n; r++) {
+      const a = axisAt(r);
+      heading[r] = Math.atan2(a[1], a[0]) * 180 / Math.PI;
+      pitch[r] = Math.asin(Math.max(-1, Math.min(1, a[2]))) * 180 / Math.PI;
+      let u = [0, 0, 0];
+      if (ups.every((v) => v)) {
+        cols.forEach((c, k) => {
+          const w = rot(c[3][r], c[4][r], c[5][r], c[6][r], ups[k]);
+          for (let i = 0; i < 3; i++) u[i] += w[i];
+        });
+      } else {
+        const q = meanQ(r);
+        u = rot(q[0], q[1], q[2], q[3], up0);
+      }
+      const level = unit([-a[2] * a[0], -a[2] * a[1], 1 - a[2] * a[2]]);  // world up, square to the axis
+      const now = unit(u.map((c, k) => c - dot(u, a) * a[k]));
+      roll[r] = Math.atan2(dot(a, cross(level, now)), dot(level, now)) * 180 / Math.PI;
+    }
+    return { heading, pitch, roll };
+  }
+
+  // every sensor channel of module m in the trace: its columns other than the
+  // bodies' poses, the servos' and the supply current (ADC counts of
+  // pitch_current, accelerometer axes, wheel counters...)
+  sensorColumns(m) {
+    const prefix = `m${m}.`;
+    return this.header.filter((h) => h.startsWith(prefix) &&
+      !/\.(x|y|z|qw|qx|qy|qz)$/.test(h) && !/^m\d+\.s\d+\./.test(h) && h !== `${prefix}supply_a`);
+  }
+
   // cumulative energy per module (J): the integral of its supply current times
   // the supply voltage. scene.json may give supply_v; otherwise the voltage is
   // the one that makes the integral end at summary.json's energy_j. Without

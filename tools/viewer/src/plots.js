@@ -122,6 +122,15 @@ export class Plots {
     this.plots.current = makePlot(this.el, `module ${this.module}: motor currents`,
       [...servos.map((n, j) => ({ label: `s${j} ${n}`, stroke: PALETTE[j + 1], width: 1 })),
         { label: 'supply', stroke: '#444', width: 1.5 }], [amp], this.view, sync);
+    const channels = this.data.sensorColumns(this.module);
+    this.channels = channels;
+    if (channels.length)
+      this.plots.sensors = makePlot(this.el, `module ${this.module}: sensor channels (trace.csv)`,
+        channels.map((c, k) => ({ label: c.slice(c.indexOf('.') + 1), stroke: PALETTE[k % PALETTE.length], width: 1 })),
+        [{ label: 'value', size: 50 }], this.view, sync);
+    this.plots.orientation = makePlot(this.el, 'chain: heading, pitch and roll',
+      [{ label: 'heading', stroke: '#29335c', width: 1.5 }, { label: 'pitch', stroke: '#2a9d8f', width: 1.5 },
+        { label: 'roll', stroke: '#e4572e', width: 1.5 }], [deg], this.view, sync);
     this.plots.chain = makePlot(this.el, 'chain (centre of mass)',
       [{ label: 'distance (m)', stroke: '#29335c', width: 1.5, scale: 'm' },
         { label: 'speed (m/s)', stroke: '#2a9d8f', width: 1.5, scale: 'mps' }],
@@ -154,6 +163,9 @@ export class Plots {
     const p = this.plots;
     p.servo.u.setData([t, col(`m${mi}.s${sj}.setpoint_deg`), col(`m${mi}.s${sj}.angle_deg`)]);
     p.current.u.setData([t, ...(m?.servos ?? []).map((_, j) => col(`m${mi}.s${j}.current_a`)), col(`m${mi}.supply_a`)]);
+    if (p.sensors) p.sensors.u.setData([t, ...this.channels.map((c) => col(c))]);
+    const o = d.orientationSeries();
+    p.orientation.u.setData([t, o.heading, o.pitch, o.roll]);
     const { dist, speed } = d.chainSeries();
     p.chain.u.setData([t, dist, speed]);
     const e = d.energySeries();

@@ -90,12 +90,85 @@ export class Scene3D {
         mesh.castShadow = mesh.receiveShadow = true;
         mesh.userData = { module: m.index, body: b.name, base: color.clone(), k };
         group.add(mesh);
-        return { mesh, prefix: `m${m.index}.${b.name}.` };
+        return { mesh, prefix: `m${m.index}.${b.name}.`, up: b.up };
       });
       this.scene.add(group);
       return { index: m.index, type: m.type, group, bodies, state: 'ok' };
     });
+    this.stripes = false;
+    this.buildLegend(sceneJson.modules ?? []);
     this.dirty = true;
+  }
+
+  // the module types of the chain with their colours, over the view (and in
+  // pictures): every type a colour of its own, the user's types too
+  buildLegend(modules) {
+    this.legend?.remove();
+    const types = new Map();
+    for (const m of modules) {
+      const k = types.get(m.type) ?? { color: m.color ?? '#cccccc', n: 0 };
+      k.n++;
+      types.set(m.type, k);
+    }
+    this.legend = document.createElement('div');
+    this.legend.className = 'cs-legend';
+    for (const [type, { color, n }] of types) {
+      const row = document.createElement('div');
+      const sw = document.createElement('span');
+      sw.className = 'sw';
+      sw.style.background = color;
+      row.append(sw, `${type} \u00d7${n}`);
+      this.legend.append(row);
+    }
+    this.container.append(this.legend);
+  }
+
+  // a dark stripe along each module's top (the side of its up, on its largest
+  // body): a chain rolled onto its side shows it, round modules too
+  addStripes() {
+    const mat = new THREE.MeshStandardMaterial({ color: '#1b1b1b', roughness: 0.8 });
+    const up = new THREE.Vector3(0, 0, 1), q = new THREE.Quaternion();
+    const sizeOf = (b) => {
+      b.mesh.geometry.computeBoundingBox();
+      return b.mesh.geometry.boundingBox.getSize(new THREE.Vector3());
+    };
+    for (const m of this.modules) {
+      // the module's largest body (its shell), not its end plates
+      let b = null, most = -1;
+      for (const c of m.bodies) {
+        const s = sizeOf(c), v = s.x * s.y * s.z;
+        if (v > most) { most = v; b = c; }
+      }
+      if (b) {
+        const size = sizeOf(b);
+        // the module's up in the body's frame (scene.json), else the body's
+        // axis that points up at the trace's first row
+        let local;
+        if (b.up) {
+          local = new THREE.Vector3(...b.up);
+        } else {
+          const c = b.cols;
+          if (c) q.set(c[4].a[0], c[5].a[0], c[6].a[0], c[3].a[0]);
+          else q.copy(b.mesh.quaternion);
+          local = up.clone().applyQuaternion(q.invert());
+        }
+        const k = [0, 1, 2].reduce((best, i) => (Math.abs(local.getComponent(i)) > Math.abs(local.getComponent(best)) ? i : best), 0);
+        const s = Math.sign(local.getComponent(k)) || 1;
+        // a thin box on that face, as long as the body along its longest other axis
+        const dims = [size.x, size.y, size.z];
+        const other = [0, 1, 2].filter((i) => i !== k);
+        const long = dims[other[0]] >= dims[other[1]] ? other[0] : other[1];
+        const sd = [0, 0, 0];
+        sd[k] = Math.max(dims[k] * 0.06, 0.0008);
+        sd[long] = dims[long] * 0.8;
+        sd[3 - k - long] = Math.max(dims[3 - k - long] * 0.18, 0.001);
+        const stripe = new THREE.Mesh(new THREE.BoxGeometry(...sd), mat);
+        stripe.position.setComponent(k, s * (dims[k] / 2));
+        stripe.userData = { stripe: true };
+        b.mesh.add(stripe);
+      }
+    }
+    this.stripes = true;
   }
 
   // pose every body at time t from data (a RunData)
@@ -119,6 +192,7 @@ export class Scene3D {
         qb.set(v(4, j), v(5, j), v(6, j), v(3, j));
         b.mesh.quaternion.slerpQuaternions(qa, qb, f);
       }
+    if (!this.stripes && this.modules.length) this.addStripes();
     const r = f < 0.5 ? i : j;
     const c = data.comAt(r);
     const next = new THREE.Vector3(c[0], c[1], c[2]);
