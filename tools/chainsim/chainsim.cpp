@@ -450,6 +450,10 @@ int main(int argc, char** argv) {
                                           "(or, with --png, a picture of the scene at a time)");
   view->add_option("run_dir", va.run_dir, "run directory (of chainsim run --out)")->required()
       ->check(CLI::ExistingDirectory);
+  view->add_option("other_run_dir", va.other_dir,
+                   "a second run directory: RUN_DIR/compare.html shows the two side by side, plots overlaid, their "
+                   "summaries' differences and where they first differ (docs/viewer.md)")
+      ->check(CLI::ExistingDirectory);
   view->add_option("--png", va.png_time, "render a PNG of the scene at this time (s) with headless Chromium")
       ->check(CLI::NonNegativeNumber);
   view->add_option("--out,-o", va.out, "file to write (default RUN_DIR/replay.html; required with --png)");

@@ -17,6 +17,8 @@
 
 #include "viewer/headless_chromium.h"
 #include "cosim/lockstep_server.h"
+#include "testing/run_compare.h"
+#include "testing/run_record.h"
 #include "viewer/viewer_page.h"
 
 extern char** environ;
@@ -133,13 +135,42 @@ std::string find_chromium() {
   return "";
 }
 
+// the page of two runs: each run's replay data, labelled by its directory's
+// name, and the comparison of `chainsim run --compare` (run_compare.h) when
+// the runs can be compared (its absence is a warning, the page still shows both)
+nlohmann::json compare_boot(const ViewArgs& a, nlohmann::json boot_a, std::vector<std::string>* warnings,
+                            std::string* title) {
+  nlohmann::json boot_b = replay_boot(a.other_dir, warnings);
+  auto label = [](const std::string& dir) {
+    const fs::path p = fs::path(dir).lexically_normal();
+    return (p.filename().empty() ? p.parent_path().filename() : p.filename()).string();
+  };
+  std::string la = label(a.run_dir), lb = label(a.other_dir);
+  if (la == lb) la += " (A)", lb += " (B)";
+  nlohmann::json boot = {{"mode", "compare"}, {"labels", {la, lb}}};
+  try {
+    RunRecord ra(a.run_dir), rb(a.other_dir);
+    const CompareReport r = compare_runs(ra, rb, la, lb);
+    boot["report"] = compare_json(r);
+    boot["report_text"] = compare_text(r);
+  } catch (const std::exception& e) {
+    warnings->push_back(std::string("the runs are shown, but not compared channel by channel: ") + e.what());
+  }
+  *title = "chainsim: " + la + " vs " + lb;
+  boot["a"] = std::move(boot_a);
+  boot["b"] = std::move(boot_b);
+  return boot;
+}
+
 int cmd_view(const ViewArgs& a) {
   std::string page;
   try {
     std::vector<std::string> warnings;
-    const nlohmann::json boot = replay_boot(a.run_dir, &warnings);
+    nlohmann::json boot = replay_boot(a.run_dir, &warnings);
+    std::string title = "chainsim: " + boot["scene"].value("scene", std::string("run"));
+    if (!a.other_dir.empty()) boot = compare_boot(a, std::move(boot), &warnings, &title);
     for (const std::string& w : warnings) std::fprintf(stderr, "chainsim: warning: %s\n", w.c_str());
-    page = viewer_page(boot, "chainsim: " + boot["scene"].value("scene", std::string("run")));
+    page = viewer_page(boot, title);
   } catch (const ViewerError& e) {
     std::fprintf(stderr, "chainsim: %s\n", e.what());
     return kExitBadInput;
@@ -151,7 +182,8 @@ int cmd_view(const ViewArgs& a) {
     }
     return render_png(a, page);
   }
-  const std::string out = a.out.empty() ? (fs::path(a.run_dir) / "replay.html").string() : a.out;
+  const std::string out =
+      a.out.empty() ? (fs::path(a.run_dir) / (a.other_dir.empty() ? "replay.html" : "compare.html")).string() : a.out;
   if (!write_file(out, page)) {
     std::fprintf(stderr, "chainsim: cannot write %s\n", out.c_str());
     return kExitFailed;

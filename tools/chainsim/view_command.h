@@ -9,6 +9,7 @@ namespace chainsim {
 
 struct ViewArgs {
   std::string run_dir;
+  std::string other_dir;    // a second run: the page compares the two (compare.html)
   std::string out;          // replay.html path (default RUN_DIR/replay.html) or the PNG
   double png_time = -1;     // >= 0: render a PNG of this time
   std::string size = "960x540";

@@ -212,3 +212,57 @@ test('module types have a legend, the roll is plotted and drawn, every sensor ch
   assert.deepEqual(page.problems, []);
   await page.close();
 });
+
+// `chainsim view A B`: two runs side by side, in step; their plots overlaid;
+// the table of their summaries' differences, the log lines that differ and
+// where they first differ. A run against a copy of itself: nothing differs.
+test('two runs of a scene compared side by side', async () => {
+  const dir = tempDir('compare');
+  const a = join(dir, 'seed1'), b = join(dir, 'seed2'), same = join(dir, 'copy');
+  for (const [out, seed] of [[a, 1], [b, 2]]) {
+    const r = chainsim(['run', '--duration', '1', '--seed', String(seed), '--out', out, '--quiet']);
+    assert.equal(r.code, 0, r.stderr);
+  }
+  cpSync(a, same, { recursive: true });
+  const r = chainsim(['view', a, b]);
+  assert.equal(r.code, 0, r.stderr);
+  const html = join(a, 'compare.html');
+  assert.ok(existsSync(html));
+  const page = await newPage(browser);
+  await page.goto(`file://${html}`);
+  await waitFor(() => page.evaluate(() => window.chainsimViewer?.state.ready), 30000, 'the comparison to be ready');
+  assert.equal(await page.locator('.cs-view3d canvas').count(), 2, 'two 3-D views');
+  const labels = await page.locator('.cs-pane-label').allTextContents();
+  assert.deepEqual(labels, ['A: seed1', 'B: seed2']);
+  const c = await page.evaluate(() => window.chainsimViewer.comparison);
+  const row = (name) => c.rows.find((x) => x[0] === name);
+  const sa = JSON.parse(readFileSync(join(a, 'summary.json'), 'utf8'));
+  const sb = JSON.parse(readFileSync(join(b, 'summary.json'), 'utf8'));
+  assert.deepEqual(row('distance (m)').slice(1), [sa.chain.distance_m, sb.chain.distance_m]);
+  assert.ok(c.trace, 'two seeds: the traces differ somewhere');
+  assert.ok(c.trace.t >= 0 && c.trace.t <= 1, `first difference at ${c.trace.t}`);
+  assert.match(await page.locator('.cs-compare').textContent(), /traces first differ at t=/);
+  // in step: seeking moves both views
+  await page.evaluate(() => window.chainsimViewer.seek(0.7));
+  const poses = await page.evaluate(() => [window.chainsimViewer.scene3d, window.chainsimViewer.scene3dB]
+    .map((s) => s.modules[0].bodies[0].mesh.position.x));
+  assert.ok(poses.every((x) => Number.isFinite(x)), `${poses}`);
+  // overlaid: the servo plot has A's two series and B's two
+  const series = await page.evaluate(() => window.chainsimViewer.plots.plots.servo.u.series.map((s) => s.label));
+  assert.deepEqual(series.slice(1), ['set-point', 'angle', 'set-point (B)', 'angle (B)']);
+  assert.deepEqual(page.problems, []);
+  await page.close();
+
+  // the same run twice: no difference anywhere
+  assert.equal(chainsim(['view', a, same, '-o', join(dir, 'same.html')]).code, 0);
+  const p2 = await newPage(browser);
+  await p2.goto(`file://${join(dir, 'same.html')}`);
+  await waitFor(() => p2.evaluate(() => window.chainsimViewer?.state.ready), 30000, 'the comparison to be ready');
+  const c2 = await p2.evaluate(() => window.chainsimViewer.comparison);
+  assert.equal(c2.trace, null);
+  assert.equal(c2.first, null);
+  assert.deepEqual([c2.logOnlyA.length, c2.logOnlyB.length], [0, 0]);
+  assert.match(await p2.locator('.cs-compare').textContent(), /no divergence on any channel/);
+  assert.deepEqual(p2.problems, []);
+  await p2.close();
+});

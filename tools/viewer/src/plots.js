@@ -60,12 +60,29 @@ function makePlot(el, title, series, axes, view, sync) {
   return { u, box };
 }
 
+// ys of a run sampled at the times ts of another (linear between rows; NaN
+// past the run's end): a second run's series drawn over the first's
+function resample(d, ys, ts) {
+  const out = new Float64Array(ts.length);
+  for (let r = 0; r < ts.length; r++) {
+    const br = ts[r] <= d.duration + 1e-12 ? d.bracket(ts[r]) : null;
+    out[r] = br && ys ? ys[br.i] + br.f * (ys[br.j] - ys[br.i]) : NaN;
+  }
+  return out;
+}
+
+// the series of a second run: the same colours, dashed, labelled B
+const dashed = (series) => series.map((s) => ({ ...s, label: `${s.label} (B)`, dash: [5, 4], width: 1.2 }));
+
 export class Plots {
-  // el: container; data: RunData; view: {time, seek(t)}
-  constructor(el, data, view) {
+  // el: container; data: RunData; view: {time, seek(t)}; other: {data, labels}
+  // of a second run whose servo, orientation and chain series are drawn over
+  // the first's (`chainsim view A B`)
+  constructor(el, data, view, other = null) {
     this.el = el;
     this.data = data;
     this.view = view;
+    this.other = other;
     this.sync = uPlot.sync('chainsim');
     this.module = 0;
     this.joint = 0;
@@ -116,9 +133,11 @@ export class Plots {
     const amp = { label: 'A', size: 46 };
     const sync = this.sync;
     const s = this.joint;
+    const ob = this.other ? dashed : () => [];
+    const servoSeries = [{ label: 'set-point', stroke: '#29335c', width: 1.5, dash: [6, 3] },
+      { label: 'angle', stroke: '#e4572e', width: 1.5 }];
     this.plots.servo = makePlot(this.el, `module ${this.module}: ${servos[s] ?? 'no servo'}: set-point vs angle`,
-      [{ label: 'set-point', stroke: '#29335c', width: 1.5, dash: [6, 3] },
-        { label: 'angle', stroke: '#e4572e', width: 1.5 }], [deg], this.view, sync);
+      [...servoSeries, ...ob(servoSeries)], [deg], this.view, sync);
     this.plots.current = makePlot(this.el, `module ${this.module}: motor currents`,
       [...servos.map((n, j) => ({ label: `s${j} ${n}`, stroke: PALETTE[j + 1], width: 1 })),
         { label: 'supply', stroke: '#444', width: 1.5 }], [amp], this.view, sync);
@@ -128,12 +147,13 @@ export class Plots {
       this.plots.sensors = makePlot(this.el, `module ${this.module}: sensor channels (trace.csv)`,
         channels.map((c, k) => ({ label: c.slice(c.indexOf('.') + 1), stroke: PALETTE[k % PALETTE.length], width: 1 })),
         [{ label: 'value', size: 50 }], this.view, sync);
+    const orientationSeries = [{ label: 'heading', stroke: '#29335c', width: 1.5 },
+      { label: 'pitch', stroke: '#2a9d8f', width: 1.5 }, { label: 'roll', stroke: '#e4572e', width: 1.5 }];
     this.plots.orientation = makePlot(this.el, 'chain: heading, pitch and roll',
-      [{ label: 'heading', stroke: '#29335c', width: 1.5 }, { label: 'pitch', stroke: '#2a9d8f', width: 1.5 },
-        { label: 'roll', stroke: '#e4572e', width: 1.5 }], [deg], this.view, sync);
-    this.plots.chain = makePlot(this.el, 'chain (centre of mass)',
-      [{ label: 'distance (m)', stroke: '#29335c', width: 1.5, scale: 'm' },
-        { label: 'speed (m/s)', stroke: '#2a9d8f', width: 1.5, scale: 'mps' }],
+      [...orientationSeries, ...ob(orientationSeries)], [deg], this.view, sync);
+    const chainSeries = [{ label: 'distance (m)', stroke: '#29335c', width: 1.5, scale: 'm' },
+      { label: 'speed (m/s)', stroke: '#2a9d8f', width: 1.5, scale: 'mps' }];
+    this.plots.chain = makePlot(this.el, 'chain (centre of mass)', [...chainSeries, ...ob(chainSeries)],
       [{ label: 'm', scale: 'm', size: 50 }, { label: 'm/s', scale: 'mps', side: 1, size: 50, grid: { show: false } }],
       this.view, sync);
     const unit = this.data.energySeries().unit;
@@ -161,13 +181,19 @@ export class Plots {
     const mi = this.module, sj = this.joint;
     const m = d.scene.modules?.[mi];
     const p = this.plots;
-    p.servo.u.setData([t, col(`m${mi}.s${sj}.setpoint_deg`), col(`m${mi}.s${sj}.angle_deg`)]);
+    const b = this.other?.data;
+    const colB = (name) => resample(b, b.column(name), t);
+    p.servo.u.setData([t, col(`m${mi}.s${sj}.setpoint_deg`), col(`m${mi}.s${sj}.angle_deg`),
+      ...(b ? [colB(`m${mi}.s${sj}.setpoint_deg`), colB(`m${mi}.s${sj}.angle_deg`)] : [])]);
     p.current.u.setData([t, ...(m?.servos ?? []).map((_, j) => col(`m${mi}.s${j}.current_a`)), col(`m${mi}.supply_a`)]);
     if (p.sensors) p.sensors.u.setData([t, ...this.channels.map((c) => col(c))]);
     const o = d.orientationSeries();
-    p.orientation.u.setData([t, o.heading, o.pitch, o.roll]);
+    const ob = b ? b.orientationSeries() : null;
+    p.orientation.u.setData([t, o.heading, o.pitch, o.roll,
+      ...(ob ? [resample(b, ob.heading, t), resample(b, ob.pitch, t), resample(b, ob.roll, t)] : [])]);
     const { dist, speed } = d.chainSeries();
-    p.chain.u.setData([t, dist, speed]);
+    const cb = b ? b.chainSeries() : null;
+    p.chain.u.setData([t, dist, speed, ...(cb ? [resample(b, cb.dist, t), resample(b, cb.speed, t)] : [])]);
     const e = d.energySeries();
     if (e.unit !== this.energyUnit) { this.rebuild(); return; }
     p.energy.u.setData([t, ...e.series]);
