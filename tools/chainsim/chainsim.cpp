@@ -9,9 +9,14 @@
 //   chainsim params PROGRAM          the parameters a module program declares
 #include <CLI/CLI.hpp>
 
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -26,7 +31,9 @@
 #include "chainsim/bench_search_command.h"
 #include "chainsim/optimize_command.h"
 #include "chainsim/params_command.h"
+#include "chainsim/source_watch.h"
 #include "viewer/live_view.h"
+#include "cosim/child_process.h"
 #include "cosim/lockstep_bench.h"
 #include "cosim/lockstep_server.h"
 #include "cosim/program_params.h"
@@ -38,6 +45,8 @@
 #include "testing/run_record.h"
 #include "testing/test_runner.h"
 #include "chainsim/view_command.h"
+
+extern char** environ;
 
 using namespace chainsim;
 
@@ -66,6 +75,7 @@ struct RunArgs {
   bool quiet = false;
   bool check = false;      // --check: load and check, run nothing
   bool live = false;       // --live: serve the live view while running
+  bool watch = false;      // --watch: rebuild the programs and rerun when a source changes
   int live_port = 0;
   double live_wait = 0;
   double progress_every = 0;  // 0: 1 s on a terminal, 10 s otherwise
@@ -125,7 +135,9 @@ int run_compare(const Scene& scene, RunOptions opt, const std::vector<Target>& t
   return code;
 }
 
-int cmd_run(const RunArgs& a) {
+// one run of `chainsim run`; shared_live: the watch loop's live view (else
+// --live starts one for this run)
+int run_once(const RunArgs& a, LiveView* shared_live) {
   Scene scene;
   try {
     scene = a.scene.empty() ? default_scene() : load_scene_file(a.scene);
@@ -199,9 +211,11 @@ int cmd_run(const RunArgs& a) {
   }
   if (dir.had_run) say(opt, "--out '" + opt.out_dir + "' already holds a run: its files are replaced");
   opt.attach.insert(a.attach.begin(), a.attach.end());
-  std::unique_ptr<LiveView> live;
-  if (a.live && !(live = start_live_view(scene.name, a.live_port, a.live_wait))) return kExitBadInput;
-  opt.observer = live.get();
+  std::unique_ptr<LiveView> own_live;
+  if (!shared_live && a.live && !(own_live = start_live_view(scene.name, a.live_port, a.live_wait)))
+    return kExitBadInput;
+  LiveView* live = shared_live ? shared_live : own_live.get();
+  opt.observer = live;
   RunResult r;
   try {
     r = run_scene(scene, opt);
@@ -222,9 +236,102 @@ int cmd_run(const RunArgs& a) {
                  s["real_time_factor"].get<double>(), s["chain"]["distance_m"].get<double>(),
                  s["chain"]["speed_m_s"].get<double>(), opt.out_dir.c_str());
   }
-  if (live) live->wait_until_seen(3.0);
+  if (own_live) own_live->wait_until_seen(3.0);
   return r.exit_code;
 }
+
+// builds one of --watch's builds, its output on the terminal; true when it built
+bool build_programs(const WatchedBuild& b) {
+  const std::vector<std::string> argv = build_command(b);
+  std::string line = "chainsim: --watch: building:";
+  for (const std::string& x : argv) line += " " + x;
+  std::fprintf(stderr, "%s\n", line.c_str());
+  std::vector<char*> args;
+  for (const std::string& x : argv) args.push_back(const_cast<char*>(x.c_str()));
+  args.push_back(nullptr);
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  sigset_t none;
+  sigemptyset(&none);
+  posix_spawnattr_setsigmask(&attr, &none);  // Ctrl-C reaches the build too
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK);
+  pid_t pid = 0;
+  const int e = posix_spawnp(&pid, "cmake", nullptr, &attr, args.data(), environ);
+  posix_spawnattr_destroy(&attr);
+  if (e != 0) {
+    std::fprintf(stderr, "chainsim: --watch: cannot start cmake: %s\n", std::strerror(e));
+    return false;
+  }
+  int st = 0;
+  while (waitpid(pid, &st, 0) < 0 && errno == EINTR) {
+  }
+  return WIFEXITED(st) && WEXITSTATUS(st) == 0;
+}
+
+// `chainsim run --watch`: run, then on every change of a program's sources
+// rebuild it and run again, the open live page reloading for each run; on a
+// change of the scene file, run again. Ends with 130 on Ctrl-C or SIGTERM.
+int run_watch(const RunArgs& a) {
+  if (!a.compare.empty() || !a.attach.empty() || a.check) {
+    std::fprintf(stderr, "chainsim: --watch reruns one scene: not with --compare, --attach or --check\n");
+    return kExitBadInput;
+  }
+  std::vector<WatchedBuild> builds;
+  try {
+    builds = watched_builds(a.firmware_dir, executable_dir());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "chainsim: %s\n", e.what());
+    return kExitBadInput;
+  }
+  // SIGINT and SIGTERM blocked in every thread but while a run goes (the live
+  // view's thread among them): while waiting they are read by the watcher
+  sigset_t stop_signals, old;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
+  sigprocmask(SIG_BLOCK, &stop_signals, &old);
+  std::unique_ptr<SourceWatch> watch;
+  std::unique_ptr<LiveView> live;
+  try {
+    watch = std::make_unique<SourceWatch>(builds, a.scene);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "chainsim: %s\n", e.what());
+    return kExitBadInput;
+  }
+  if (!(live = start_live_view(a.scene.empty() ? "default" : a.scene, a.live_port, a.live_wait))) return kExitBadInput;
+  std::string what;
+  for (const WatchedBuild& b : builds) what += (what.empty() ? "" : ", ") + b.source_dir;
+  std::fprintf(stderr, "chainsim: --watch: %zu folders of %s%s%s; Ctrl-C ends\n", watch->folders(),
+               what.empty() ? "" : what.c_str(), what.empty() ? "" : " and ",
+               a.scene.empty() ? "no scene file" : a.scene.c_str());
+  bool built = true;
+  for (int round = 1;; ++round) {
+    if (built) {
+      sigprocmask(SIG_SETMASK, &old, nullptr);
+      const int code = run_once(a, live.get());
+      sigprocmask(SIG_BLOCK, &stop_signals, nullptr);
+      if (code == kExitInterrupted) return code;
+      std::fprintf(stderr, "chainsim: --watch: run %d ended (exit %d); waiting for a change\n", round, code);
+    }
+    const SourceWatch::Change c = watch->wait();
+    if (c.interrupted) {
+      std::fprintf(stderr, "chainsim: --watch: interrupted\n");
+      return kExitInterrupted;
+    }
+    std::fprintf(stderr, "chainsim: --watch: %s changed\n", c.first.c_str());
+    built = true;
+    if (c.sources)
+      for (const WatchedBuild& b : builds)
+        if (!build_programs(b)) {
+          std::fprintf(stderr, "chainsim: --watch: the build failed; the last programs stay, waiting for a change\n");
+          built = false;
+          break;
+        }
+    if (built) live->restart(c.sources ? "rebuilt: " + c.first : "changed: " + c.first);
+  }
+}
+
+int cmd_run(const RunArgs& a) { return a.watch ? run_watch(a) : run_once(a, nullptr); }
 
 struct BenchArgs {
   std::vector<int> sizes{2, 8, 32};
@@ -435,6 +542,9 @@ int main(int argc, char** argv) {
               "discovery (no I2C address at the scene's central.discovery_s, default 1 s, unless it may_stay_silent); "
               "130 interrupted. See docs/reliability.md.");
   run->add_flag("--live", ra.live, "show the run as it happens: serve the viewer on 127.0.0.1 (URL printed)");
+  run->add_flag("--watch", ra.watch,
+                "run, then rebuild the programs (--firmware-dir's CMake build folders, or chainsim's own) and run "
+                "again whenever a source or the scene changes; the live page reloads for each run (docs/firmware.md)");
   run->add_option("--live-port", ra.live_port, "port of the live view (default 0: any free port)")
       ->check(CLI::Range(0, 65535));
   run->add_option("--live-wait", ra.live_wait, "seconds to wait for a page to connect before the run starts")

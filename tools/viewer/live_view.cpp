@@ -81,7 +81,7 @@ struct LiveView::Impl {
   // filled by the simulation thread
   std::mutex in_mu;
   std::string in_rows, in_bus;
-  std::optional<std::string> in_started, in_finished;
+  std::optional<std::string> in_started, in_finished, in_restart;
   uint64_t in_dropped = 0;
   uint64_t rows_in = 0, rows_dropped = 0;  // whole run
 
@@ -307,15 +307,24 @@ struct LiveView::Impl {
   }
   void flush() {
     std::string rows, bus;
-    std::optional<std::string> started, finished;
+    std::optional<std::string> started, finished, restart;
     uint64_t dropped = 0;
     {
       std::lock_guard<std::mutex> l(in_mu);
+      restart.swap(in_restart);
       rows.swap(in_rows);
       bus.swap(in_bus);
       started.swap(in_started);
       finished.swap(in_finished);
       std::swap(dropped, in_dropped);
+    }
+    if (restart) {  // before the next run's start, which came after it
+      started_msg.reset();
+      finished_msg.reset();
+      row_history.clear();
+      row_history_bytes = 0;
+      bus_history.clear();
+      broadcast(make_msg({{"type", "reload"}, {"why", *restart}}));
     }
     if (started) broadcast(started_msg = std::make_shared<const std::string>(std::move(*started)));
     if (!rows.empty()) {
@@ -442,6 +451,20 @@ void LiveView::finished(const nlohmann::json& summary) {
   std::string m = nlohmann::json{{"type", "finished"}, {"summary", summary}}.dump();
   std::lock_guard<std::mutex> l(impl_->in_mu);
   impl_->in_finished = std::move(m);
+}
+
+void LiveView::restart(const std::string& why) {
+  {
+    std::lock_guard<std::mutex> l(impl_->in_mu);
+    impl_->in_rows.clear();
+    impl_->in_bus.clear();
+    impl_->in_started.reset();
+    impl_->in_finished.reset();
+    impl_->in_dropped = 0;
+    impl_->in_restart = why;
+  }
+  std::lock_guard<std::mutex> l(impl_->st_mu);
+  impl_->st.acked = false;
 }
 
 LiveView::Stats LiveView::stats() const {

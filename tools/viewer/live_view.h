@@ -49,6 +49,11 @@ class LiveView : public RunObserver {
   void module_log(int endpoint, int64_t t_us, const char* line) override;
   void finished(const nlohmann::json& summary) override;
 
+  // a new run follows (`chainsim run --watch`): what is held of the last one
+  // is dropped, and every open page is told to reload, why with it, so that
+  // it shows the next run from its start
+  void restart(const std::string& why);
+
   // counters, for tests and the end-of-run message
   struct Stats {
     uint64_t rows_in = 0, rows_dropped = 0, pages = 0, messages_sent = 0;

@@ -7,9 +7,10 @@ import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import { randomBytes } from 'node:crypto';
 import http from 'node:http';
-import { join } from 'node:path';
+import { spawnSync } from 'node:child_process';
+import { dirname, join } from 'node:path';
 import { launch, makeRun, newPage, sha256File, startChainsim, tempDir, waitFor, within, cleanup } from './util.mjs';
-import { existsSync, readFileSync } from 'node:fs';
+import { cpSync, existsSync, readFileSync, writeFileSync } from 'node:fs';
 
 let browser, dir;
 const DURATION = 6;  // about a second of wall time: many 40 ms frames
@@ -165,4 +166,42 @@ test('only the live page may read the run: another Host or Origin gets 403', asy
   ws.socket.destroy();
   const code = await within(cs.exited, 60000, 'still running');
   assert.equal(code, 0, cs.stderrText);
+});
+
+// `chainsim run --watch`: an out-of-tree program (the example project) run
+// live; its source edited, chainsim rebuilds it with CMake, runs again, and
+// the open page reloads and shows the new run; Ctrl-C ends it with 130.
+test('run --watch rebuilds a changed program, reruns, and the open page reloads', async () => {
+  const proj = join(dir, 'watch-project');
+  cpSync(new URL('../../../firmware/examples/triangle-wave', import.meta.url), proj, { recursive: true });
+  const buildTree = dirname(dirname(process.env.CHAINSIM_EXE));
+  for (const args of [['-S', proj, '-B', join(proj, 'build'), `-Dchainsim_DIR=${buildTree}`], ['--build', join(proj, 'build')]]) {
+    const r = spawnSync('cmake', args, { encoding: 'utf8' });
+    assert.equal(r.status, 0, r.stdout + r.stderr);
+  }
+  const cs = startChainsim(['run', join(proj, 'scene.yaml'), '--watch', '--firmware-dir', join(proj, 'build'),
+    '--duration', '0.5', '--out', join(dir, 'watch-run'), '-q']);
+  const url = await waitFor(() => /live view at (http:\/\/127\.0\.0\.1:\d+\/)/.exec(cs.stderrText)?.[1], 30000,
+    'the live URL on stderr');
+  const page = await newPage(browser);
+  await page.goto(url);
+  const logs = () => page.evaluate(() => window.chainsimViewer.data.events.filter((e) => e.kind === 'log').map((e) => e.text));
+  await waitFor(async () => (await page.evaluate(() => window.chainsimViewer?.state.finished)), 60000, 'the first run');
+  assert.ok((await logs()).some((t) => t.startsWith('triangle: start')), (await logs()).join(' | '));
+  // the program changed: rebuilt, run again, the page reloaded with the new run
+  const src = join(proj, 'triangle_wave.c');
+  writeFileSync(src, readFileSync(src, 'utf8').replace('"triangle: start amp_cdeg="', '"triangle v2: start amp_cdeg="'));
+  await waitFor(async () => {
+    try {
+      const st = await page.evaluate(() => ({ r: window.chainsimViewer?.state.reloadedFor, f: window.chainsimViewer?.state.finished }));
+      return st.r && st.f;
+    } catch { return false; }  // the page is reloading
+  }, 120000, 'the page to reload with the second run');
+  assert.match(await page.evaluate(() => window.chainsimViewer.state.reloadedFor), /rebuilt: .*triangle_wave\.c/);
+  assert.ok((await logs()).some((t) => t.startsWith('triangle v2: start')), (await logs()).join(' | '));
+  assert.match(cs.stderrText, /--watch: building: cmake --build /);
+  assert.deepEqual(page.problems, []);
+  await page.close();
+  cs.kill('SIGINT');
+  assert.equal(await within(cs.exited, 15000, 'still watching after SIGINT'), 130, cs.stderrText);
 });

@@ -6,6 +6,7 @@
 //   {"type":"bus","lines":"<bus.log lines>"}     (batched)
 //   {"type":"gap","rows":N}                      (rows dropped for this page)
 //   {"type":"finished","summary":{...}}
+//   {"type":"reload","why":"..."}               (`chainsim run --watch`: a new run follows)
 // and answers {"type":"ack","finished":true} once it has the end.
 export function connectLive(handlers) {
   const url = `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/ws`;
@@ -19,6 +20,7 @@ export function connectLive(handlers) {
       case 'rows': handlers.rows(msg.csv); break;
       case 'bus': handlers.bus(msg.lines); break;
       case 'gap': handlers.gap?.(msg.rows); break;
+      case 'reload': handlers.reload?.(msg.why); break;
       case 'finished':
         finished = true;
         handlers.finished(msg.summary);

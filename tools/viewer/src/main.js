@@ -245,6 +245,12 @@ if (compare) {
   firstPose();
 } else if (boot.mode === 'live') {
   ui.status('connecting');
+  const why = sessionStorage.getItem('chainsim-reload');
+  if (why) {
+    sessionStorage.removeItem('chainsim-reload');
+    ui.note(`reloaded: ${why}`);
+    state.reloadedFor = why;
+  }
   ui.liveMode(true);
   connectLive({
     status: (s) => { state.status = s; ui.status(`live: ${s}`); },
@@ -259,6 +265,11 @@ if (compare) {
     },
     bus: (lines) => { data.addBus(lines); onData(false); },
     gap: (n) => ui.note(`this page missed ${n} trace rows (it was too slow to receive them)`),
+    // `chainsim run --watch` rebuilt and runs again: the next run from its start
+    reload: (why) => {
+      sessionStorage.setItem('chainsim-reload', why);
+      location.reload();
+    },
     finished: (summary) => {
       data.setSummary(summary);
       state.messagesAtFinish = state.messages;  // rows messages that came while the run went on
