@@ -1,6 +1,8 @@
 // A problem's parameters against the programs' declarations. See problem_params.h.
 #include "optimize/problem_params.h"
 
+#include <algorithm>
+
 #include "cosim/program_params.h"
 #include "optimize/individual_scene.h"
 #include "scene/scene_params.h"
@@ -20,10 +22,22 @@ void check_problem_params(const Problem& pr, const std::string& firmware_dir) {
       throw ProblemError(g.where + ": '" + g.target + "': program " + path + " did not list its parameters: " + why);
     });
   };
-  const std::vector<int64_t> lowest(pr.genome.gene_count(), 0);
+  // the individuals checked: the lowest and highest genes, and enough others
+  // that every letter of every chain position is in one (the k-th letter of
+  // each position in the k-th), so every program a chain can run is checked
+  const std::vector<int64_t> upper = pr.genome.gene_upper();
+  const size_t chain_genes = upper.size() - pr.genome.params.size();
+  std::vector<std::vector<int64_t>> checked{std::vector<int64_t>(upper.size(), 0), upper};
+  int64_t letters = 0;
+  for (size_t i = 0; i < chain_genes; ++i) letters = std::max(letters, upper[i]);
+  for (int64_t k = 1; k < letters; ++k) {
+    std::vector<int64_t> genes(upper.size(), 0);
+    for (size_t i = 0; i < chain_genes; ++i) genes[i] = std::min(k, upper[i]);
+    checked.push_back(genes);
+  }
   std::vector<int> program_targets(pr.genome.params.size(), 0);  // endpoints a program[NAME] gene reached
   std::string programs_seen;
-  for (const std::vector<int64_t>& genes : {lowest, pr.genome.gene_upper()}) {
+  for (const std::vector<int64_t>& genes : checked) {
     Scene scene;
     try {
       scene = load_scene_text(individual_scene_yaml(pr, decode_genes(pr.genome, genes), 1), pr.scene_file);

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -66,18 +67,26 @@ std::vector<double> recorded_times(const std::string& path) {
       if (head[i] == name) return i;
     throw std::runtime_error(path + ": no column " + name + " (is it a history.csv of chainsim optimize?)");
   };
-  const size_t cached = col("cached"), wall = col("wall_s");
+  // cached and wall_s are the last two columns, which hold no comma (a fault
+  // or an early stop before them may, quoted): read from the end of the line
+  if (col("cached") + 2 != head.size() || col("wall_s") + 1 != head.size())
+    throw std::runtime_error(path + ": cached and wall_s are not the last columns (is it a history.csv of chainsim "
+                             "optimize?)");
   std::vector<double> t;
-  while (std::getline(in, line)) {
-    // the last columns hold no comma (a fault or an early stop may, quoted, before them)
+  for (int n = 2; std::getline(in, line); ++n) {
     std::vector<std::string> f;
     std::istringstream r(line);
     for (std::string c; std::getline(r, c, ',');) f.push_back(c);
     if (f.size() < 2) continue;
     const std::string w = f[f.size() - 1], c = f[f.size() - 2];
-    if (c == "no" && !w.empty()) t.push_back(std::stod(w));
+    if (c != "no" || w.empty()) continue;
+    char* end = nullptr;
+    const double v = std::strtod(w.c_str(), &end);
+    if (end == w.c_str() || *end || !(v >= 0) || v > 1e6)
+      throw std::runtime_error(path + ":" + std::to_string(n) + ": wall_s '" + w.substr(0, 40) +
+                               "' is no number of seconds");
+    t.push_back(v);
   }
-  (void)cached, (void)wall;
   return t;
 }
 

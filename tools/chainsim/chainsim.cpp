@@ -255,17 +255,22 @@ bool build_programs(const WatchedBuild& b) {
   sigemptyset(&none);
   posix_spawnattr_setsigmask(&attr, &none);  // Ctrl-C reaches the build too
   posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addclosefrom_np(&fa, 3);  // not the live view's sockets
   pid_t pid = 0;
-  const int e = posix_spawnp(&pid, "cmake", nullptr, &attr, args.data(), environ);
+  const int e = posix_spawnp(&pid, "cmake", &fa, &attr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
   posix_spawnattr_destroy(&attr);
   if (e != 0) {
     std::fprintf(stderr, "chainsim: --watch: cannot start cmake: %s\n", std::strerror(e));
     return false;
   }
   int st = 0;
-  while (waitpid(pid, &st, 0) < 0 && errno == EINTR) {
+  pid_t w;
+  while ((w = waitpid(pid, &st, 0)) < 0 && errno == EINTR) {
   }
-  return WIFEXITED(st) && WEXITSTATUS(st) == 0;
+  return w == pid && WIFEXITED(st) && WEXITSTATUS(st) == 0;
 }
 
 // `chainsim run --watch`: run, then on every change of a program's sources
@@ -323,10 +328,17 @@ int run_watch(const RunArgs& a) {
     if (c.sources)
       for (const WatchedBuild& b : builds)
         if (!build_programs(b)) {
-          std::fprintf(stderr, "chainsim: --watch: the build failed; the last programs stay, waiting for a change\n");
           built = false;
           break;
         }
+    // Ctrl-C during the build reached cmake (its own process group member) and
+    // is pending here: end, rather than have it delivered once unblocked
+    if (watch->take_signal()) {
+      std::fprintf(stderr, "chainsim: --watch: interrupted\n");
+      return kExitInterrupted;
+    }
+    if (!built)
+      std::fprintf(stderr, "chainsim: --watch: the build failed; the last programs stay, waiting for a change\n");
     if (built) live->restart(c.sources ? "rebuilt: " + c.first : "changed: " + c.first);
   }
 }

@@ -105,7 +105,7 @@ std::string pic_missing(const Problem& pr, const std::vector<HistoryRow>& top) {
     try {
       const Phenotype p = phenotype_from_key(pr.genome, r.genome);
       const Scene s = load_scene_text(individual_scene_yaml(pr, p, 1, "", "pic"), r.genome);
-      check_scene_programs(s, "");
+      check_scene_programs(s, pr.evaluation.firmware_dir);
     } catch (const std::exception& e) {
       return e.what();
     }
@@ -240,7 +240,9 @@ std::string absolute_dirs(const std::string& dirs) {
       std::error_code ec;
       if (!std::filesystem::is_directory(d, ec)) throw std::runtime_error("--firmware-dir: " + d + " is no folder");
       if (!out.empty()) out += ':';
-      out += std::filesystem::absolute(d).lexically_normal().string();
+      std::string a = std::filesystem::absolute(d).lexically_normal().string();
+      while (a.size() > 1 && a.back() == '/') a.pop_back();  // "." and "/x/build" are one folder
+      out += a;
     }
     b = e + 1;
   }

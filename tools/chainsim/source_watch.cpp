@@ -38,16 +38,7 @@ bool is_source(const std::string& name) {
 
 std::vector<WatchedBuild> watched_builds(const std::string& firmware_dirs, const std::string& exe_dir) {
   std::vector<WatchedBuild> out;
-  for (size_t b = 0; b < firmware_dirs.size();) {
-    const size_t e = std::min(firmware_dirs.find(':', b), firmware_dirs.size());
-    const fs::path d = firmware_dirs.substr(b, e - b);
-    b = e + 1;
-    if (d.empty() || !fs::exists(d / "CMakeCache.txt")) continue;  // a folder of built programs only
-    const std::string home = home_of(d);
-    if (home.empty() || !fs::is_directory(home))
-      throw std::runtime_error("--watch: " + d.string() + "/CMakeCache.txt names no source folder");
-    out.push_back({fs::absolute(d).lexically_normal().string(), {}, home, {}});
-  }
+  // chainsim's own tree first: a project built against the build tree links its hal-sim
   const fs::path own = fs::path(exe_dir).parent_path();
   if (fs::exists(own / "CMakeCache.txt")) {
     const std::string home = home_of(own);
@@ -57,6 +48,16 @@ std::vector<WatchedBuild> watched_builds(const std::string& firmware_dirs, const
                       "fw-traveller", "fw-passive"},
                      home,
                      {"firmware", "hal", "hal-sim"}});
+  }
+  for (size_t b = 0; b < firmware_dirs.size();) {
+    const size_t e = std::min(firmware_dirs.find(':', b), firmware_dirs.size());
+    const fs::path d = firmware_dirs.substr(b, e - b);
+    b = e + 1;
+    if (d.empty() || !fs::exists(d / "CMakeCache.txt")) continue;  // a folder of built programs only
+    const std::string home = home_of(d);
+    if (home.empty() || !fs::is_directory(home))
+      throw std::runtime_error("--watch: " + d.string() + "/CMakeCache.txt names no source folder");
+    out.push_back({fs::absolute(d).lexically_normal().string(), {}, home, {}});
   }
   return out;
 }
@@ -78,7 +79,8 @@ SourceWatch::SourceWatch(const std::vector<WatchedBuild>& builds, const std::str
     const fs::path p = fs::absolute(scene_file).lexically_normal();
     scene_dir_ = p.parent_path().string();
     scene_name_ = p.filename().string();
-    if (std::find(dirs_.begin(), dirs_.end(), scene_dir_) == dirs_.end()) {
+    scene_dir_is_source_ = std::find(dirs_.begin(), dirs_.end(), scene_dir_) != dirs_.end();
+    if (!scene_dir_is_source_) {
       const int wd = inotify_add_watch(fd_, scene_dir_.c_str(), IN_CLOSE_WRITE | IN_MOVED_TO | IN_CREATE);
       if (wd >= 0) {
         wds_.push_back(wd);
@@ -91,6 +93,14 @@ SourceWatch::SourceWatch(const std::vector<WatchedBuild>& builds, const std::str
   sigaddset(&s, SIGINT);
   sigaddset(&s, SIGTERM);
   sig_fd_ = signalfd(-1, &s, SFD_NONBLOCK | SFD_CLOEXEC);
+  if (sig_fd_ < 0) throw std::runtime_error("--watch: cannot read SIGINT and SIGTERM (signalfd)");
+}
+
+bool SourceWatch::take_signal() {
+  signalfd_siginfo si;
+  bool any = false;
+  while (read(sig_fd_, &si, sizeof si) == sizeof si) any = true;
+  return any;
 }
 
 SourceWatch::~SourceWatch() {
@@ -117,7 +127,7 @@ void SourceWatch::add_tree(const std::string& dir, const std::vector<std::string
       for (fs::directory_iterator it(d, ec), end; !ec && it != end; it.increment(ec)) {
         const std::string name = it->path().filename().string();
         if (!it->is_directory(ec) || it->is_symlink(ec) || name.empty() || name[0] == '.') continue;
-        if (fs::exists(it->path() / "CMakeCache.txt")) continue;  // a build folder
+        if (fs::exists(it->path() / "CMakeCache.txt", ec)) continue;  // a build folder
         todo.push_back(it->path());
       }
     }
@@ -140,12 +150,26 @@ SourceWatch::Change SourceWatch::wait(double quiet_s) {
       for (char* p = buf; p < buf + n;) {
         const auto* ev = reinterpret_cast<const inotify_event*>(p);
         p += sizeof(inotify_event) + ev->len;
+        if (ev->mask & IN_Q_OVERFLOW) {  // events were lost: build to be sure
+          if (!c.any) c.first = "(more changes than inotify could queue)";
+          c.any = c.sources = true;
+          continue;
+        }
         if (!ev->len) continue;
         const std::string name = ev->name;
         const auto at = std::find(wds_.begin(), wds_.end(), ev->wd);
         const std::string dir = at == wds_.end() ? "" : dirs_[static_cast<size_t>(at - wds_.begin())];
+        if (name[0] == '.') continue;  // hidden: an editor's lock or swap file
+        if ((ev->mask & IN_ISDIR) && (ev->mask & (IN_CREATE | IN_MOVED_TO))) {
+          if (dir == scene_dir_ && !scene_dir_is_source_) continue;
+          add_tree(dir + "/" + name, {});  // a new folder of sources
+          continue;
+        }
+        if (ev->mask & IN_ISDIR) continue;
         const bool scene = dir == scene_dir_ && name == scene_name_;
-        const bool source = is_source(name);
+        // a source in the scene's folder only when that folder is also a source folder
+        const bool source = is_source(name) && std::count(dirs_.begin(), dirs_.end(), dir) > 0 &&
+                            !(dir == scene_dir_ && !scene_dir_is_source_);
         if (!scene && !source) continue;
         if (!c.any) c.first = dir + "/" + name;
         c.any = true;

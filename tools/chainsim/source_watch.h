@@ -50,6 +50,9 @@ class SourceWatch {
   Change wait(double quiet_s = 0.3);
 
   size_t folders() const { return dirs_.size(); }
+  // true when SIGINT or SIGTERM came since the last wait (while a build ran):
+  // read without waiting, so that it is not delivered once unblocked
+  bool take_signal();
 
  private:
   void add_tree(const std::string& dir, const std::vector<std::string>& only);
@@ -58,6 +61,7 @@ class SourceWatch {
   std::vector<std::string> dirs_;  // by watch descriptor order
   std::vector<int> wds_;
   std::string scene_dir_, scene_name_;
+  bool scene_dir_is_source_ = false;
 };
 
 }  // namespace chainsim

@@ -9,6 +9,7 @@
 
 #include "optimize/individual_scene.h"
 #include "optimize/problem.h"
+#include "optimize/problem_params.h"
 #include "scene/scene.h"
 #include "temp_dir.h"
 
@@ -324,7 +325,36 @@ objective: {maximize: x}
   EXPECT_EQ(param(2, "control_ms"), 5);   // fw-rotation, its type's default
   EXPECT_EQ(param(3, "control_ms"), 30);  // fw-mine
   EXPECT_EQ(s.central.params.count("control_ms"), 0u);
-  // a program no endpoint runs is no target, and the form is named
+  // checked against the programs (as chainsim optimize does): a program no
+  // endpoint runs is refused, naming the programs that run
+  const auto check_error = [](const std::string& body) -> std::string {
+    try {
+      check_problem_params(load_problem_file(problem(body)), "");
+    } catch (const ProblemError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const std::string none = check_error(R"(scene: base.yaml
+genome: {params: [{target: "program[fw-nothing].control_ms", min: 1, max: 10}]}
+measures: {x: {kind: distance}}
+objective: {maximize: x}
+)");
+  EXPECT_NE(none.find("no module and no central control runs a program named fw-nothing (they run: fw-rotation, "
+                      "fw-central)"),
+            std::string::npos)
+      << none;
+  // a letter in the middle of a chain position's choices is checked too: the
+  // helicoidal program, only in the position's second letter, is a target
+  EXPECT_EQ(check_error(R"(scene: base.yaml
+genome:
+  chain: {positions: [R, RHS]}
+  params: [{target: "program[fw-helicoidal].control_ms", min: 5, max: 10}]
+measures: {x: {kind: distance}}
+objective: {maximize: x}
+)"),
+            "");
+  // a malformed program name is the form's error
   EXPECT_NE(error_of(R"(scene: base.yaml
 genome: {params: [{target: "program[fw/x].a", min: 0, max: 1}]}
 measures: {x: {kind: distance}}

@@ -41,11 +41,14 @@ function missing(a, b) {
   return out;
 }
 
-// the first row at which a column both traces have differs: {t, column, a, b}
-// or null when they agree over the rows both have
+// the first row at which a column both traces have differs: {t, column, a, b};
+// {none: why} when there is nothing to compare; null when they agree over
+// the rows both have
 export function firstTraceDifference(da, db) {
   const n = Math.min(da.rows, db.rows);
-  const common = da.header.filter((h) => db.index.has(h));
+  const common = da.header.filter((h) => db.index.has(h) && h !== 't_s');
+  if (!n) return { none: 'a trace has no rows' };
+  if (!common.length) return { none: 'the traces have no column in common (other chains)' };
   const ca = common.map((h) => da.col[da.index.get(h)].a), cb = common.map((h) => db.col[db.index.get(h)].a);
   for (let r = 0; r < n; r++)
     for (let k = 0; k < common.length; k++)
@@ -109,7 +112,7 @@ export function buildCompareTable(el, c) {
   line('cs-cmp-logs', `log lines only in A: ${c.logOnlyA.length}, only in B: ${c.logOnlyB.length}` +
     (c.logOnlyA.length ? ` | first only in A: ${c.logOnlyA[0]}` : '') +
     (c.logOnlyB.length ? ` | first only in B: ${c.logOnlyB[0]}` : ''));
-  line('cs-cmp-trace', c.trace
+  line('cs-cmp-trace', c.trace?.none ? `traces: not compared: ${c.trace.none}` : c.trace
     ? `traces first differ at t=${c.trace.t.toFixed(3)} s (${c.trace.column}: ${c.trace.a} vs ${c.trace.b})`
     : 'traces: the same over the rows both have');
   if (c.first)
