@@ -86,7 +86,7 @@ TEST(DecodeRejects, CountsOverTheirLimits) {
 
     // a huge count is refused before it is used, even with no data behind it
     Bytes b = TickBeginWire{}.body();
-    b.resize(2 + 8 + 1 + 1 + 2);
+    b.resize(2 + 8 + 1 + 1 + 2 + 2);  // type, time, wake, sin, digital_in, i2c_tx_queued
     b.push_back(0xFF);
     EXPECT_TRUE(Rejected(b, "n_servos"));
 }

@@ -66,7 +66,7 @@ TEST(ByteExact, HelloFrameMatchesHandWrittenBytes) {
         0x12, 0x00, 0x00, 0x00,  // body_len = 18
         0x01, 0x00,              // type HELLO
         'C',  'H',  'S',  'M',   // magic 0x4D534843
-        0x01, 0x00,              // version 1
+        0x02, 0x00,              // version 2
         0x02, 0x00,              // module_index 2
         0x04, 0x03, 0x02, 0x01,  // pid 0x01020304
         0x03, 'a',  'r',  'm',   // type name: length 3, no NUL
@@ -155,9 +155,9 @@ TEST(RoundTrip, ShutdownWithMaximalContents) {
 
 TEST(RoundTrip, MinimalMessagesOfEveryType) {
     // body sizes: HELLO with a 1-char name, WELCOME without params, empty
-    // REJECT, TICK_BEGIN with all counts 0, TICK_END with one empty log line,
-    // empty SHUTDOWN
-    const size_t sizes[] = {4 + 16, 4 + 19, 4 + 3, 4 + 18, 4 + 18, 4 + 3};
+    // REJECT, TICK_BEGIN with all counts 0 (and i2c_tx_queued), TICK_END with
+    // one empty log line, empty SHUTDOWN
+    const size_t sizes[] = {4 + 16, 4 + 19, 4 + 3, 4 + 20, 4 + 18, 4 + 3};
     auto msgs = min_messages();
     for (size_t i = 0; i < msgs.size(); i++) expect_round_trip(msgs[i], sizes[i]);
 }
