@@ -23,7 +23,6 @@ struct BenchArgs {
 };
 
 BenchArgs g_args;
-int g_exit_code = -1;
 
 // the whole file or nothing: no output file is left on error
 void write_output(const std::string& path, const std::string& text) {
@@ -58,7 +57,7 @@ int run_bench_command(const BenchArgs& a) {
 
 }  // namespace
 
-void add_bench_command(CLI::App& app) {
+Command add_bench_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "bench",
       "servo test stand: the robot's servo model on one hinge with a load, driven by a set-point "
@@ -71,9 +70,8 @@ void add_bench_command(CLI::App& app) {
   sub->add_option("--out,-o", g_args.out, "CSV to write: t_s,setpoint_deg,angle_deg,current_a")
       ->required();
   sub->add_flag("--quiet,-q", g_args.quiet, "print only errors");
-  sub->callback([] { g_exit_code = run_bench_command(g_args); });
+  return {sub, [] { return run_bench_command(g_args); }};
 }
 
-int bench_command_exit_code() { return g_exit_code; }
 
 }  // namespace chainsim

@@ -5,17 +5,15 @@
 // the continuous equations.
 #pragma once
 
+#include "chainsim/command.h"
+
 namespace CLI {
 class App;
 }
 
 namespace chainsim {
 
-// registers the `bench` subcommand on `app`; its callback runs the bench
-void add_bench_command(CLI::App& app);
-
-// after app.parse(): the bench's exit code (0 ok, 1 bad input or output
-// file, 3 internal error), or -1 when the bench subcommand was not given
-int bench_command_exit_code();
+// registers the subcommand on app: what runs it, returning its exit code
+Command add_bench_command(CLI::App& app);
 
 }  // namespace chainsim

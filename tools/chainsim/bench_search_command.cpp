@@ -32,7 +32,6 @@ struct Args {
 };
 
 Args g_args;
-int g_exit_code = -1;
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -158,7 +157,7 @@ int run(const Args& a) {
 
 }  // namespace
 
-void add_bench_search_command(CLI::App& app) {
+Command add_bench_search_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "bench-search",
       "the design search's scheduler on simulated cores: evaluations sleep the wall times a real search recorded "
@@ -180,9 +179,8 @@ void add_bench_search_command(CLI::App& app) {
   sub->add_option("--scale", g_args.scale, "wall seconds slept per recorded second (default 0.01)")
       ->check(CLI::Range(1e-6, 10.0));
   sub->add_option("--out", g_args.out, "keep each search's directory here (default: a temporary one, removed)");
-  sub->callback([] { g_exit_code = run(g_args); });
+  return {sub, [] { return run(g_args); }};
 }
 
-int bench_search_command_exit_code() { return g_exit_code; }
 
 }  // namespace chainsim

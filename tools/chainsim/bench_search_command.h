@@ -6,13 +6,15 @@
 // count and number of islands (docs/benchmarks.md).
 #pragma once
 
+#include "chainsim/command.h"
+
 namespace CLI {
 class App;
 }
 
 namespace chainsim {
 
-void add_bench_search_command(CLI::App& app);
-int bench_search_command_exit_code();
+// registers the subcommand on app: what runs it, returning its exit code
+Command add_bench_search_command(CLI::App& app);
 
 }  // namespace chainsim

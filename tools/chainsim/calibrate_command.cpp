@@ -24,7 +24,6 @@ struct CalArgs {
 
 CalArgs g_args;
 RobotCalibrationArgs g_robot;
-int g_exit = -1;
 
 // progress lines on stderr with the wall time since the start
 CalibrationProgress progress(bool quiet) {
@@ -84,7 +83,7 @@ int exit_code_of(Run run) {
 
 }  // namespace
 
-void add_calibrate_command(CLI::App& app) {
+Command add_calibrate_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "calibrate",
       "fit the servo model to a bench measurement (t_s,setpoint_deg,angle_deg[,current_a]) and find which "
@@ -110,16 +109,15 @@ void add_calibrate_command(CLI::App& app) {
   measured->excludes(robot);
   robot->needs(tmpl);
   tmpl->needs(robot);
+  // checked while parsing, so that it is a usage error
   sub->callback([measured, robot] {
-    if (robot->count() > 0) {
-      g_exit = exit_code_of([] { return run_robot(g_args); });
-      return;
-    }
-    if (measured->count() == 0) throw CLI::RequiredError("--measured or --robot");
-    g_exit = exit_code_of([] { return run_servo(g_args); });
+    if (robot->count() == 0 && measured->count() == 0) throw CLI::RequiredError("--measured or --robot");
   });
+  return {sub, [robot] {
+            return robot->count() > 0 ? exit_code_of([] { return run_robot(g_args); })
+                                      : exit_code_of([] { return run_servo(g_args); });
+          }};
 }
 
-int calibrate_command_exit_code() { return g_exit; }
 
 }  // namespace chainsim

@@ -5,17 +5,15 @@
 // calibration (physics-server/analysis/robot_calibration). docs/calibration.md.
 #pragma once
 
+#include "chainsim/command.h"
+
 namespace CLI {
 class App;
 }
 
 namespace chainsim {
 
-// registers the `calibrate` subcommand on `app`
-void add_calibrate_command(CLI::App& app);
-
-// after app.parse(): 0 ok, 1 bad input or output, 3 internal error, -1 when
-// the calibrate subcommand was not given
-int calibrate_command_exit_code();
+// registers the subcommand on app: what runs it, returning its exit code
+Command add_calibrate_command(CLI::App& app);
 
 }  // namespace chainsim

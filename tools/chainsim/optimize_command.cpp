@@ -54,7 +54,6 @@ struct OptimizeArgs {
 };
 
 OptimizeArgs g_args;
-int g_exit_code = -1;
 
 std::string self_exe() {
   char buf[4096];
@@ -494,7 +493,7 @@ int run_optimize(const OptimizeArgs& given) {
 
 }  // namespace
 
-void add_optimize_command(CLI::App& app) {
+Command add_optimize_command(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "optimize",
       "design search: a genetic algorithm (pagmo sga) over chains and program parameters, each individual a "
@@ -537,9 +536,8 @@ void add_optimize_command(CLI::App& app) {
                   "per simulated second per module; for checking a few designs, docs/pic-in-the-loop.md)")
       ->check(CLI::IsMember({"native", "pic"}));
   sub->add_flag("--quiet,-q", g_args.quiet, "print only errors");
-  sub->callback([] { g_exit_code = run_optimize(g_args); });
+  return {sub, [] { return run_optimize(g_args); }};
 }
 
-int optimize_command_exit_code() { return g_exit_code; }
 
 }  // namespace chainsim

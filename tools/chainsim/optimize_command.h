@@ -4,16 +4,15 @@
 // and the report.
 #pragma once
 
+#include "chainsim/command.h"
+
 namespace CLI {
 class App;
 }
 
 namespace chainsim {
 
-// registers the `optimize` subcommand on app
-void add_optimize_command(CLI::App& app);
-
-// after app.parse(): the command's exit code, or -1 when it was not given
-int optimize_command_exit_code();
+// registers the subcommand on app: what runs it, returning its exit code
+Command add_optimize_command(CLI::App& app);
 
 }  // namespace chainsim

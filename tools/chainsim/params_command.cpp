@@ -21,7 +21,6 @@ struct ParamsArgs {
 };
 
 ParamsArgs g_args;
-int g_exit = -1;
 
 std::string range_text(const ParamDecl& d) { return std::to_string(d.min) + ".." + std::to_string(d.max); }
 
@@ -68,7 +67,7 @@ int run() {
 
 }  // namespace
 
-void add_params_command(CLI::App& app) {
+Command add_params_command(CLI::App& app) {
   auto* sub = app.add_subcommand("params", "list the parameters a module program declares: name, type, range, "
                                            "default, meaning (what a scene's params may set)");
   sub->add_option("program", g_args.program, "program name (e.g. fw-central) or path")->required();
@@ -77,9 +76,8 @@ void add_params_command(CLI::App& app) {
   sub->add_flag("--markdown", g_args.markdown, "a Markdown table, as in docs/firmware.md");
   sub->footer("The program is run with " CS_PARAMS_ARG " (hal-sim prints its hal_param_table and exits). "
               "Exit codes: 0 listed; 1 the program is missing or printed no listing.");
-  sub->callback([] { g_exit = run(); });
+  return {sub, [] { return run(); }};
 }
 
-int params_command_exit_code() { return g_exit; }
 
 }  // namespace chainsim

@@ -3,17 +3,15 @@
 // the program itself (cosim/program_params.h).
 #pragma once
 
+#include "chainsim/command.h"
+
 namespace CLI {
 class App;
 }
 
 namespace chainsim {
 
-// registers the `params` subcommand on `app`
-void add_params_command(CLI::App& app);
-
-// after app.parse(): 0 listed, 1 the program is missing or lists no
-// parameters; -1 when the subcommand was not given
-int params_command_exit_code();
+// registers the subcommand on app: what runs it, returning its exit code
+Command add_params_command(CLI::App& app);
 
 }  // namespace chainsim

@@ -88,10 +88,7 @@ SourceWatch::SourceWatch(const std::vector<WatchedBuild>& builds, const std::str
       }
     }
   }
-  sigset_t s;
-  sigemptyset(&s);
-  sigaddset(&s, SIGINT);
-  sigaddset(&s, SIGTERM);
+  const sigset_t s = stop_signal_set();
   sig_fd_ = signalfd(-1, &s, SFD_NONBLOCK | SFD_CLOEXEC);
   if (sig_fd_ < 0) throw std::runtime_error("--watch: cannot read SIGINT and SIGTERM (signalfd)");
 }
@@ -134,13 +131,19 @@ void SourceWatch::add_tree(const std::string& dir, const std::vector<std::string
   }
 }
 
-SourceWatch::Change SourceWatch::wait(double quiet_s) {
-  Change c;
-  // SIGINT and SIGTERM are read from the signalfd while waiting, not delivered
-  sigset_t s, old;
+sigset_t stop_signal_set() {
+  sigset_t s;
   sigemptyset(&s);
   sigaddset(&s, SIGINT);
   sigaddset(&s, SIGTERM);
+  return s;
+}
+
+SourceWatch::Change SourceWatch::wait(double quiet_s) {
+  Change c;
+  // SIGINT and SIGTERM are read from the signalfd while waiting, not delivered
+  const sigset_t s = stop_signal_set();
+  sigset_t old;
   sigprocmask(SIG_BLOCK, &s, &old);
   char buf[8192] __attribute__((aligned(__alignof__(struct inotify_event))));
   auto read_events = [&]() {

@@ -10,6 +10,8 @@
 // watched too: a change to it reruns without building.
 #pragma once
 
+#include <signal.h>
+
 #include <string>
 #include <vector>
 
@@ -29,6 +31,9 @@ std::vector<WatchedBuild> watched_builds(const std::string& firmware_dirs, const
 
 // the command that builds b, as argv
 std::vector<std::string> build_command(const WatchedBuild& b);
+
+// SIGINT and SIGTERM: what ends `chainsim run --watch`
+sigset_t stop_signal_set();
 
 class SourceWatch {
  public:

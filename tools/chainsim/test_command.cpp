@@ -24,7 +24,6 @@ struct TestArgs {
 };
 
 TestArgs g_args;
-int g_exit = -1;
 const CLI::App* g_sub = nullptr;
 
 // a failed run: replay.html and a picture at the failure time (chainsim view)
@@ -76,7 +75,7 @@ int run() {
 
 }  // namespace
 
-void add_test_command(CLI::App& app) {
+Command add_test_command(CLI::App& app) {
   auto* sub = app.add_subcommand("test", "run test files (a scene, edits, expectations); one line per test, JUnit XML "
                                          "for CI (docs/testing.md)");
   sub->add_option("paths", g_args.run.paths, "test files, or folders searched for *.test.yaml")->required();
@@ -98,11 +97,9 @@ void add_test_command(CLI::App& app) {
   sub->add_option("--on-overrun", g_args.overrun, "a PIC program's step over its CPU budget: stop (a fault) or warn")
       ->check(CLI::IsMember({"stop", "warn"}))
       ->capture_default_str();
-  sub->callback([] { g_exit = run(); });
   g_sub = sub;
+  return {sub, [] { return run(); }};
 }
-
-int test_command_exit_code() { return g_exit; }
 
 bool test_command_selected() { return g_sub && g_sub->count() > 0; }
 

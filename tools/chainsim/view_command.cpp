@@ -1,5 +1,7 @@
 #include "chainsim/view_command.h"
 
+#include <CLI/CLI.hpp>
+
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
@@ -190,6 +192,27 @@ int cmd_view(const ViewArgs& a) {
   }
   std::fprintf(stderr, "chainsim: wrote %s (%.1f MB); open it in a browser\n", out.c_str(), page.size() / 1e6);
   return kExitOk;
+}
+
+namespace {
+ViewArgs g_view_args;
+}  // namespace
+
+Command add_view_command(CLI::App& app) {
+  auto* view = app.add_subcommand("view", "write RUN_DIR/replay.html, a replay of a run that opens from disk "
+                                          "(or, with --png, a picture of the scene at a time)");
+  view->add_option("run_dir", g_view_args.run_dir, "run directory (of chainsim run --out)")->required()
+      ->check(CLI::ExistingDirectory);
+  view->add_option("other_run_dir", g_view_args.other_dir,
+                   "a second run directory: RUN_DIR/compare.html shows the two side by side, plots overlaid, their "
+                   "summaries' differences and where they first differ (docs/viewer.md)")
+      ->check(CLI::ExistingDirectory);
+  view->add_option("--png", g_view_args.png_time, "render a PNG of the scene at this time (s) with headless Chromium")
+      ->check(CLI::NonNegativeNumber);
+  view->add_option("--out,-o", g_view_args.out, "file to write (default RUN_DIR/replay.html; required with --png)");
+  view->add_option("--size", g_view_args.size, "picture size WIDTHxHEIGHT (default 960x540)");
+  view->add_option("--page-options", g_view_args.hash, "more options for the pictured page, e.g. follow=0");
+  return {view, [] { return cmd_view(g_view_args); }};
 }
 
 }  // namespace chainsim

@@ -3,6 +3,8 @@
 // of the scene at that time with headless Chromium instead.
 #pragma once
 
+#include "chainsim/command.h"
+
 #include <string>
 
 namespace chainsim {
@@ -17,6 +19,9 @@ struct ViewArgs {
 };
 
 int cmd_view(const ViewArgs& a);
+
+// registers the `view` subcommand on app: what runs it, returning its exit code
+Command add_view_command(CLI::App& app);
 
 // the Chromium program: $CHAINSIM_CHROMIUM, else /usr/bin/chromium; empty when missing
 std::string find_chromium();
