@@ -221,8 +221,9 @@ TEST(Faults, NoProcessAModuleStartedOutlivesTheRun) {
     int n = 0;
     for (pid_t p; in >> p; ++n) EXPECT_FALSE(alive(p)) << "mode " << mode << ": process " << p << " outlived the run";
     EXPECT_EQ(n, 1) << "mode " << mode << ": the module's sleeper never started";
-    if (mode == 8)  // (a child in the module's group goes with the group, unannounced)
+    if (mode == 8) {  // (a child in the module's group goes with the group, unannounced)
       EXPECT_NE(o.stderr_text.find(" a module left behind ended"), std::string::npos) << o.stderr_text;
+    }
     expect_no_survivors(o);
   }
 }

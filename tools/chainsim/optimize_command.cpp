@@ -383,6 +383,10 @@ int run_optimize(const OptimizeArgs& given) {
     if (mpi_pool && !stopped) mpi_pool->stop_workers(finalize);
     stopped = true;
   };
+  // the workers released before the replay: they finalize MPI only when no
+  // rank was lost (MPI_Finalize can wait for ever for a dead rank: under load,
+  // mpirun then never ended after a search that had lost one)
+  const std::function<void()> release_workers = [&] { stop(!(mpi_pool && mpi_pool->lost_ranks() > 0)); };
   auto fail = [&](const std::exception& e, int code) {
     std::fprintf(stderr, "chainsim: %s\n", e.what());
     const bool any_lost = mpi_pool && mpi_pool->lost_ranks() > 0;
@@ -434,7 +438,7 @@ int run_optimize(const OptimizeArgs& given) {
     bool interrupted = false;
     int rc = kExitOk;
     try {
-      rc = finish(a, pr, ctx, verify_summary, *pool, &interrupted, [&] { stop(true); }, history_bytes);
+      rc = finish(a, pr, ctx, verify_summary, *pool, &interrupted, release_workers, history_bytes);
     } catch (const std::exception& e) {
       rc = exit_code_of(e);
       return fail(e, rc == kExitBadInput ? kExitInternal : rc);
@@ -476,7 +480,7 @@ int run_optimize(const OptimizeArgs& given) {
   int rc = kExitOk;
   bool interrupted = false;
   try {
-    rc = finish(a, pr, ctx, s, *pool, &interrupted, [&] { stop(true); }, 0);
+    rc = finish(a, pr, ctx, s, *pool, &interrupted, release_workers, 0);
   } catch (const std::exception& e) {
     rc = exit_code_of(e);
     return fail(e, rc == kExitBadInput ? kExitInternal : rc);

@@ -453,8 +453,12 @@ TEST(Optimize, TrialsAutoMeasuresTheSpreadAndKeepsTrialsOnlyWhenTheFitnessVaries
   ASSERT_EQ(exact.size(), 8u);
   for (const auto& r : exact) {
     const bool cached = r[13] == "yes";  // (a cache hit keeps the trials it was run with)
-    if (!cached) EXPECT_EQ(r[kTrials], r[kGen] == "0" ? "3" : "1") << r[kGenome];
-    if (r[kGen] == "0") EXPECT_EQ(r[kSd], "0") << r[kGenome];
+    if (!cached) {
+      EXPECT_EQ(r[kTrials], r[kGen] == "0" ? "3" : "1") << r[kGenome];
+    }
+    if (r[kGen] == "0") {
+      EXPECT_EQ(r[kSd], "0") << r[kGenome];
+    }
   }
   // the report shows the spread beside the fitness
   EXPECT_NE(scenario::read_file(d + "/auto/report.html").find("<th>sd</th>"), std::string::npos);
