@@ -113,6 +113,18 @@ void write_text_atomic(const std::string& path, const std::string& text) { write
 
 std::string search_fingerprint(const Problem& pr) { return fingerprint_of(pr); }
 
+SearchSummary summary_of(const Checkpoint& cp) {
+  SearchSummary s;
+  s.best = cp.best;
+  s.evaluations = cp.evaluations;
+  s.simulations = cp.simulations;
+  s.cache_hits = cp.cache_hits;
+  s.generations_done = cp.generation;
+  s.trials = cp.trials;
+  s.trials_note = cp.trials_note;
+  return s;
+}
+
 std::string history_path(const std::string& d) { return d + "/history.csv"; }
 std::string checkpoint_path(const std::string& d) { return d + "/checkpoint.json"; }
 std::string journal_path(const std::string& d) { return d + "/evaluations.jsonl"; }
@@ -337,14 +349,7 @@ SearchSummary run_search(const Problem& pr, const SearchOptions& opt, EvaluatorP
     }
   }
 
-  SearchSummary sum;
-  sum.best = cp.best;
-  sum.evaluations = cp.evaluations;
-  sum.simulations = cp.simulations;
-  sum.cache_hits = cp.cache_hits;
-  sum.generations_done = cp.generation;
-  sum.trials = cp.trials;
-  sum.trials_note = cp.trials_note;
+  SearchSummary sum = summary_of(cp);
   const uint64_t per_gen = static_cast<uint64_t>(pr.ga.population) * static_cast<uint64_t>(n_islands);
   const uint64_t total = pr.exhaustive ? everyone.size() : per_gen * static_cast<uint64_t>(last_gen + 1);
   const uint64_t done_before = pr.exhaustive ? std::min<uint64_t>(everyone.size(), per_gen * static_cast<uint64_t>(cp.generation + 1))

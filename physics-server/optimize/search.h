@@ -32,6 +32,10 @@ struct SearchSummary {
   double busy_s = 0;         // summed wall time of the simulations this session ran
 };
 
+// what a checkpoint says of the search up to it: its best, counts and
+// trials (a resume goes on from it; --verify verifies it)
+SearchSummary summary_of(const Checkpoint& cp);
+
 // what a search's directory holds
 std::string history_path(const std::string& out_dir);     // history.csv
 std::string checkpoint_path(const std::string& out_dir);  // checkpoint.json

@@ -413,13 +413,7 @@ int run_optimize(const OptimizeArgs& given) {
       if (cp.fingerprint != search_fingerprint(pr))
         throw CheckpointError(checkpoint_path(a.out) + ": the problem file or its base scene changed since the "
                               "search ran (" + a.problem + ")");
-      verify_summary.best = cp.best;
-      verify_summary.generations_done = cp.generation;
-      verify_summary.evaluations = cp.evaluations;
-      verify_summary.simulations = cp.simulations;
-      verify_summary.cache_hits = cp.cache_hits;
-      verify_summary.trials = cp.trials;
-      verify_summary.trials_note = cp.trials_note;
+      verify_summary = summary_of(cp);
       history_bytes = cp.history_bytes;
       if (cp.generation < last_generation(pr) && !a.quiet)
         std::fprintf(stderr, "optimize: the search in %s stopped after generation %d of %d: verifying what it has\n",
