@@ -69,6 +69,30 @@ nlohmann::ordered_json robot_report_json(const RobotReportInputs& in, const Robo
   j["rows"] = jr;
   j["missed"] = jmiss;
   j["candidates"] = jc;
+  nlohmann::ordered_json jpairs = nlohmann::ordered_json::array();
+  for (const PairCandidate& p : s.pairs) {
+    nlohmann::ordered_json jp = nlohmann::ordered_json::object();
+    for (const auto& [k, f] : p.fit.st)
+      jp[knob(k).name] = {{"factor", f}, {"value", f * in.nominal[k]}, {"nominal", in.nominal[k]}};
+    jpairs.push_back({{"names", {knob(p.a).name, knob(p.b).name}},
+                      {"gap", p.fit.gap},
+                      {"gap_alone", {p.single_a, p.single_b}},
+                      {"gap_leave_one_out", number_or_null(p.leave_one_out_gap)},
+                      {"settings", jp},
+                      {"evaluations", p.fit.evals},
+                      {"accepted", p.accepted},
+                      {"why", p.why}});
+  }
+  j["pairs"] = jpairs;
+  nlohmann::ordered_json jal = nlohmann::ordered_json::array();
+  for (const PairAlias& a : s.aliases) {
+    const PairCandidate& o = s.pairs[size_t(a.other)];
+    nlohmann::ordered_json jp = nlohmann::ordered_json::object();
+    for (const auto& [k, f] : o.fit.st) jp[knob(k).name] = f;
+    jal.push_back({{"names", {knob(o.a).name, knob(o.b).name}}, {"factors", jp}, {"gap", o.fit.gap},
+                   {"speed_difference_rms", a.difference}});
+  }
+  j["aliases"] = jal;
   j["runs"] = in.runs;
   j["evaluations"] = in.settings;
   j["run_wall_s"] = in.run_wall_s;
@@ -102,6 +126,19 @@ std::string robot_report_md(const RobotReportInputs& in, const RobotSearch& s, c
     md << "* `" << kb.name << "` (" << kb.meaning << "): " << kb.param << " " << fmt_fixed(in.nominal[k], 4)
        << " -> " << fmt_fixed(s.model.at(k) * in.nominal[k], 4) << " (x" << fmt_fixed(s.model.at(k)) << ")\n";
   }
+  if (!s.aliases.empty()) {
+    md << "\n**Alias**: the table cannot tell the effects above from";
+    for (const auto& a : j["aliases"]) {
+      md << " `" << a["names"][0].get<std::string>() << "` + `" << a["names"][1].get<std::string>() << "` (";
+      std::string sep;
+      for (auto it = a["factors"].begin(); it != a["factors"].end(); ++it)
+        md << sep << it.key() << " x" << fmt_fixed(it->get<double>()), sep = ", ";
+      md << "; gap " << fmt_fixed(a["gap"].get<double>()) << ", speeds within "
+         << fmt_fixed(a["speed_difference_rms"].get<double>()) << " cm/s RMS)";
+    }
+    md << ": both reproduce it within its resolution. A table with more rows (other slopes or loads) would "
+          "tell them apart.\n";
+  }
   if (!j["missed"].empty()) {
     md << "\nStill missed by more than the table's resolution:";
     for (const auto& m : j["missed"])
@@ -117,6 +154,20 @@ std::string robot_report_md(const RobotReportInputs& in, const RobotSearch& s, c
     md << "| " << c["round"].get<int>() << " | " << c["name"].get<std::string>() << " | "
        << fmt_fixed(c["gap"].get<double>()) << " | " << set << "| " << c["evaluations"].get<int>() << " | "
        << c["why"].get<std::string>() << " |\n";
+  }
+  if (!j["pairs"].empty()) {
+    md << "\n## Pairs fitted jointly\n\n| pair | gap alone | gap together | leave-one-out | factors | evaluations "
+          "| decision |\n|---|---|---|---|---|---|---|\n";
+    for (const auto& p : j["pairs"]) {
+      std::string set;
+      for (auto it = p["settings"].begin(); it != p["settings"].end(); ++it)
+        set += it.key() + " x" + fmt_fixed((*it)["factor"].get<double>()) + " ";
+      md << "| " << p["names"][0].get<std::string>() << " + " << p["names"][1].get<std::string>() << " | "
+         << fmt_fixed(p["gap_alone"][0].get<double>()) << ", " << fmt_fixed(p["gap_alone"][1].get<double>())
+         << " | " << fmt_fixed(p["gap"].get<double>()) << " | "
+         << (p["gap_leave_one_out"].is_null() ? "-" : fmt_fixed(p["gap_leave_one_out"].get<double>())) << " | "
+         << set << "| " << p["evaluations"].get<int>() << " | " << p["why"].get<std::string>() << " |\n";
+    }
   }
   md << "\n" << in.runs << " runs (" << in.settings << " settings), " << fmt_fixed(in.wall_s, 1) << " s wall.\n";
   return md.str();

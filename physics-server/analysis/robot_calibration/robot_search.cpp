@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 
 namespace chainsim {
 namespace {
@@ -34,6 +35,112 @@ double predict_left_out(const std::vector<SpeedRow>& rows, const std::vector<int
   KnobSetting st;
   for (int k : accepted) st = fit_new_knob(speeds, rows, st, k, mask).st;
   return speeds(st)[i];
+}
+
+double rms_difference(const std::vector<double>& x, const std::vector<double>& y) {
+  double s = 0;
+  for (size_t i = 0; i < x.size(); ++i) s += (x[i] - y[i]) * (x[i] - y[i]);
+  return x.empty() ? 0 : std::sqrt(s / double(x.size()));
+}
+
+std::string percent_cut(double from, double to) { return fmt_fixed(100 * (1 - to / from), 0) + " %"; }
+
+// The pair stage: pairs of knobs that each changed the table in round 1,
+// best singles' pairs first, at most kMaxPairFits, each fitted jointly from
+// the better single's fit; checks, the best acceptable pair, its aliases.
+void fit_pairs(RobotSearch& s, const std::vector<SpeedRow>& rows, const SpeedFunction& speeds,
+               const RobotProgress& say) {
+  std::map<int, const KnobCandidate*> single;
+  for (const KnobCandidate& c : s.candidates)
+    if (c.round == 1) single[c.knob] = &c;
+  std::vector<int> useful;   // knobs whose fit alone moved the gap by 1 % or more
+  for (const auto& [k, c] : single)
+    if (c->fit.gap < 0.99 * s.gap_before) useful.push_back(k);
+  std::vector<PairCandidate> pairs;
+  for (size_t i = 0; i < useful.size(); ++i)
+    for (size_t j = i + 1; j < useful.size(); ++j) {
+      int a = useful[i], b = useful[j];
+      // a pair with an accepted knob was fitted jointly in round 2 already
+      if (std::count(s.accepted.begin(), s.accepted.end(), a) || std::count(s.accepted.begin(), s.accepted.end(), b))
+        continue;
+      if (single[b]->fit.gap < single[a]->fit.gap) std::swap(a, b);
+      PairCandidate p;
+      p.a = a, p.b = b;
+      p.single_a = single[a]->fit.gap, p.single_b = single[b]->fit.gap;
+      pairs.push_back(p);
+    }
+  std::stable_sort(pairs.begin(), pairs.end(), [](const PairCandidate& x, const PairCandidate& y) {
+    return x.single_a + x.single_b < y.single_a + y.single_b;
+  });
+  if (pairs.size() > size_t(kMaxPairFits)) pairs.resize(kMaxPairFits);
+  if (pairs.empty()) return;
+
+  const double ref = s.gap_after;
+  const double keep = 1 - kMinGainRobot;
+  const size_t n = rows.size();
+  for (PairCandidate& p : pairs) {
+    const std::string name = std::string(robot_knobs()[p.a].name) + " + " + robot_knobs()[p.b].name;
+    p.fit = fit_new_knob(speeds, rows, single[p.a]->fit.st, p.b, {});
+    say("pair " + name + " -> gap " + fmt_fixed(p.fit.gap));
+    const double better_single = std::min(p.single_a, p.single_b);
+    if (p.fit.gap > keep * ref) {
+      p.why = "cuts the gap by " + percent_cut(ref, p.fit.gap) + " (< " + fmt_fixed(100 * kMinGainRobot, 0) + " %)";
+      continue;
+    }
+    if (p.fit.gap > keep * better_single) {
+      // the better single alone does nearly as well: the other knob is not needed
+      const int weaker = p.single_a <= p.single_b ? p.b : p.a;
+      p.why = std::string(robot_knobs()[weaker].name) + " not needed: the other alone reaches " +
+              fmt_fixed(better_single) + ", the pair cuts that by " + percent_cut(better_single, p.fit.gap) +
+              " (< " + fmt_fixed(100 * kMinGainRobot, 0) + " %)";
+      continue;
+    }
+    say("pair " + name + ": leave-one-row-out check");
+    p.leave_one_out.assign(n, NAN);
+    double sum = 0;
+    for (size_t i = 0; i < n; ++i) {
+      std::vector<bool> mask(n, true);
+      mask[i] = false;
+      p.leave_one_out[i] = speeds(fit_knobs(speeds, rows, p.fit.st, mask, 20).st)[i];
+      sum += std::pow(p.leave_one_out[i] - rows[i].real, 2);
+    }
+    p.leave_one_out_gap = std::sqrt(sum / double(n));
+    if (p.leave_one_out_gap > keep * ref) {
+      p.why = "leave-one-row-out gap " + fmt_fixed(p.leave_one_out_gap) + " cuts the gap by only " +
+              percent_cut(ref, p.leave_one_out_gap);
+      continue;
+    }
+    p.acceptable = true;
+    p.why = "fits; each knob needed";
+  }
+
+  int best = -1;
+  for (size_t i = 0; i < pairs.size(); ++i)
+    if (pairs[i].acceptable && (best < 0 || pairs[i].fit.gap < pairs[size_t(best)].fit.gap)) best = int(i);
+  if (best >= 0) {
+    PairCandidate& b = pairs[size_t(best)];
+    b.accepted = true;
+    b.why = "accepted";
+    const std::vector<double> chosen = speeds(b.fit.st);
+    for (size_t i = 0; i < pairs.size(); ++i) {
+      if (int(i) == best || !pairs[i].acceptable) continue;
+      const double d = rms_difference(chosen, speeds(pairs[i].fit.st));
+      if (d <= kTableResolution) {
+        s.aliases.push_back({best, int(i), d});
+        pairs[i].why = "an alias of the accepted pair: the table cannot tell them apart (speeds within " +
+                       fmt_fixed(d) + " cm/s RMS)";
+        b.why = "accepted; the table cannot tell it from an alias (see aliases)";
+      } else {
+        pairs[i].why = "fits, but less well than the accepted pair";
+      }
+    }
+    s.model = b.fit.st;
+    s.accepted = {b.a, b.b};
+    s.gap_after = b.fit.gap;
+    s.leave_one_out = b.leave_one_out;
+    s.leave_one_out_gap = b.leave_one_out_gap;
+  }
+  s.pairs = std::move(pairs);
 }
 
 }  // namespace
@@ -84,11 +191,17 @@ RobotSearch search_knobs(const std::vector<SpeedRow>& rows, const std::vector<in
     }
     if (!took) break;
   }
-  s.after = speeds(s.model);
-
   s.leave_one_out.assign(n, NAN);
   s.leave_one_out_gap = NAN;
-  if (!s.accepted.empty() && n >= 3) {
+  if (max_params >= 2 && s.accepted.size() < 2 && s.gap_after > kTableResolution) {
+    say(std::string(s.accepted.empty() ? "no single knob accepted" : "the gap stays above the table's resolution") +
+        ": pairs of knobs fitted jointly");
+    fit_pairs(s, rows, speeds, say);
+  }
+  s.after = speeds(s.model);
+
+  const bool pair_taken = std::any_of(s.pairs.begin(), s.pairs.end(), [](const PairCandidate& p) { return p.accepted; });
+  if (!s.accepted.empty() && n >= 3 && !pair_taken) {
     say("leave-one-row-out check");
     double sum = 0;
     for (size_t i = 0; i < n; ++i) {

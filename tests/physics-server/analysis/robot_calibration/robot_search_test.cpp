@@ -1,10 +1,14 @@
 // The robot calibration's fits and search on synthetic speed functions
 // (no runs): a knob that explains the table is found with its factor, one
 // that changes nothing is not accepted, n rows allow at most n - 2 knobs, two
-// knobs are fitted jointly.
+// knobs are fitted jointly; pairs of knobs whose singles fall short are
+// found together, a pair with a knob it does not need is refused, and a pair
+// the table cannot tell from another is reported as an alias.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <set>
 
 #include "analysis/robot_calibration/robot_search.h"
 
@@ -109,6 +113,118 @@ TEST(RobotSearch, ThreeRowsAllowOneKnob) {
   EXPECT_EQ(s.accepted.size(), 1u);            // n - 2 = 1, though the gap is still above the resolution
   EXPECT_GT(s.gap_after, kTableResolution);
   EXPECT_EQ(s.verdict, "unexplained");
+}
+
+// Speeds linear in the knobs' log factors: v = nominal + sum J_k log f_k,
+// six rows. The truth sets `truth`; the rows' real speeds are the model's
+// there plus `extra`.
+struct LinearModel {
+  std::vector<double> nominal;
+  std::map<int, std::vector<double>> J;
+  std::vector<double> speeds(const KnobSetting& st) const {
+    std::vector<double> v = nominal;
+    for (const auto& [k, col] : J)
+      for (size_t i = 0; i < v.size(); ++i) v[i] += col[i] * std::log(factor_of(st, k));
+    return v;
+  }
+  SpeedFunction fn() const {
+    return [this](const KnobSetting& st) { return speeds(st); };
+  }
+  std::vector<SpeedRow> rows(const KnobSetting& truth, std::vector<double> extra = {}) const {
+    std::vector<double> v = speeds(truth);
+    for (size_t i = 0; i < extra.size(); ++i) v[i] += extra[i];
+    return table(v);
+  }
+};
+
+const int kWheelFriction = robot_knob("wheel_friction");
+
+// a drive's force-speed line seen through a table: free speed raises every
+// row alike, stall torque the loaded (steep) rows most
+LinearModel drive_model() {
+  LinearModel m;
+  m.nominal = {3.0, 2.6, 2.1, 1.8, 1.5, 1.2};
+  m.J[kThrust] = {0.0, 0.4, 0.8, 1.2, 1.6, 2.0};
+  m.J[kFreeSpeed] = {3.0, 2.6, 2.1, 1.8, 1.5, 1.2};
+  m.J[kFriction] = {0, 0, 0, 0, 0, 0};
+  return m;
+}
+
+TEST(RobotSearch, APairWhoseSinglesFallShortIsFoundTogether) {
+  const LinearModel m = drive_model();
+  const auto rows = m.rows({{kThrust, 1.3}, {kFreeSpeed, 0.85}});
+  const RobotSearch s = search_knobs(rows, {kThrust, kFreeSpeed, kFriction}, m.fn(), quiet);
+  // neither knob alone cuts the gap by 30 %: the greedy rounds accept nothing
+  for (const KnobCandidate& c : s.candidates) {
+    EXPECT_EQ(c.round, 1);
+    EXPECT_FALSE(c.accepted) << robot_knobs()[c.knob].name << " " << c.fit.gap << " of " << s.gap_before;
+  }
+  // wall friction changes nothing, so the one pair is thrust + free speed
+  ASSERT_EQ(s.pairs.size(), 1u);
+  EXPECT_TRUE(s.pairs[0].accepted) << s.pairs[0].why;
+  EXPECT_EQ(s.verdict, "explained");
+  ASSERT_EQ(s.accepted.size(), 2u);
+  EXPECT_NEAR(s.model.at(kThrust), 1.3, 0.03);
+  EXPECT_NEAR(s.model.at(kFreeSpeed), 0.85, 0.02);
+  EXPECT_LE(s.gap_after, kTableResolution);
+  EXPECT_LT(s.leave_one_out_gap, kTableResolution);
+  EXPECT_TRUE(s.aliases.empty());
+  // the other way round
+  const auto rows2 = m.rows({{kThrust, 0.75}, {kFreeSpeed, 1.2}});
+  const RobotSearch s2 = search_knobs(rows2, {kThrust, kFreeSpeed, kFriction}, m.fn(), quiet);
+  EXPECT_EQ(s2.verdict, "explained");
+  ASSERT_EQ(s2.accepted.size(), 2u);
+  EXPECT_NEAR(s2.model.at(kThrust), 0.75, 0.02);
+  EXPECT_NEAR(s2.model.at(kFreeSpeed), 1.2, 0.03);
+}
+
+TEST(RobotSearch, APairWithAKnobItDoesNotNeedIsRefused) {
+  // thrust explains most of the gap; free speed adds little beyond it, and
+  // what is left no knob explains
+  LinearModel m = drive_model();
+  m.J[kFreeSpeed] = {0.6, -0.6, 0.6, -0.6, 0.6, -0.6};
+  const auto rows = m.rows({{kThrust, 1.2}, {kFreeSpeed, 1.3}}, {0.25, 0.25, -0.25, -0.25, 0.1, 0.1});
+  const RobotSearch s = search_knobs(rows, {kThrust, kFreeSpeed}, m.fn(), quiet);
+  ASSERT_EQ(s.pairs.size(), 1u) << s.verdict;
+  const PairCandidate& p = s.pairs[0];
+  std::printf("alone %.3f / %.3f, together %.3f, before %.3f: %s\n", p.single_a, p.single_b, p.fit.gap,
+              s.gap_before, p.why.c_str());
+  EXPECT_LT(p.fit.gap, 0.7 * s.gap_before);  // the pair cuts the gap by the threshold...
+  EXPECT_FALSE(p.accepted);                  // ...but the better single nearly as much
+  EXPECT_NE(p.why.find("drive_free_speed not needed"), std::string::npos) << p.why;
+  EXPECT_EQ(s.verdict, "unexplained");
+  EXPECT_TRUE(s.accepted.empty());
+  EXPECT_EQ(s.gap_after, s.gap_before);
+}
+
+TEST(RobotSearch, TwoPairsTheTableCannotTellApartAreReportedAsAliases) {
+  // wheel friction moves the rows exactly as free speed does
+  LinearModel m = drive_model();
+  m.J[kWheelFriction] = m.J[kFreeSpeed];
+  const auto rows = m.rows({{kThrust, 1.3}, {kFreeSpeed, 0.85}});
+  const RobotSearch s = search_knobs(rows, {kThrust, kFreeSpeed, kWheelFriction}, m.fn(), quiet);
+  EXPECT_EQ(s.verdict, "explained");
+  ASSERT_EQ(s.accepted.size(), 2u);
+  EXPECT_EQ(s.accepted[0] == kThrust || s.accepted[1] == kThrust, true);
+  ASSERT_EQ(s.aliases.size(), 1u);
+  const PairCandidate& chosen = s.pairs[size_t(s.aliases[0].chosen)];
+  const PairCandidate& other = s.pairs[size_t(s.aliases[0].other)];
+  EXPECT_TRUE(chosen.accepted);
+  EXPECT_FALSE(other.accepted);
+  EXPECT_NE(other.why.find("alias"), std::string::npos) << other.why;
+  EXPECT_LE(s.aliases[0].difference, kTableResolution);
+  // the alias is the other of the two look-alike knobs with thrust
+  std::set<int> both = {chosen.a, chosen.b, other.a, other.b};
+  EXPECT_EQ(both, (std::set<int>{kThrust, kFreeSpeed, kWheelFriction}));
+}
+
+TEST(RobotSearch, ThreeRowsTryNoPairs) {
+  const LinearModel m = drive_model();
+  std::vector<SpeedRow> rows = m.rows({{kThrust, 1.3}, {kFreeSpeed, 0.85}});
+  rows.resize(3);
+  const RobotSearch s = search_knobs(rows, {kThrust, kFreeSpeed}, m.fn(), quiet);
+  EXPECT_TRUE(s.pairs.empty());
+  EXPECT_LE(s.accepted.size(), 1u);
 }
 
 }  // namespace
