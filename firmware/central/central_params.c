@@ -37,8 +37,9 @@ const hal_param_decl hal_param_table[] = {
     HAL_PARAM("grip_cdeg", HAL_PARAM_I16, 0, CC_QUARTER_TURN_CDEG, CC_QUARTER_TURN_CDEG,
               "gait 8: support arm angle when gripping, cdeg"),
     HAL_PARAM("stroke_um", HAL_PARAM_I16, 0, 15000, 15000, "gait 8: extension stroke, um"),
-    HAL_PARAM("elbow_dir_deg", HAL_PARAM_I16, -1, 359, -1,
-              "gait 9: way the next elbow turns, deg (0 up, 90 left, 180 down, 270 right); -1 = no steering"),
+    HAL_PARAM("elbow_dir_deg", HAL_PARAM_I16, -2, 359, -1,
+              "gait 9: way the next elbow turns, deg (0 up, 90 left, 180 down, 270 right), overriding the touch "
+              "module's; -1 = sensed (away from where the touch module was touched); -2 = no steering"),
     HAL_PARAM("bend_cdeg", HAL_PARAM_I16, 0, CC_QUARTER_TURN_CDEG, 4500,
               "gait 9: how far each rotation module bends toward the elbow, cdeg"),
     HAL_PARAM("bend_ms", HAL_PARAM_U16, 0, 30000, 1500, "gait 9: how long each rotation module holds the bend, ms"),

@@ -8,30 +8,51 @@
 #include "gaits.h"
 #include "chain_commands.h"
 
+#define ELBOW_OFF (-2) /* elbow_dir_deg: no steering */
+
 static int16_t bend_pitch, bend_yaw; /* cdeg, held while bending */
 static uint8_t bending, bent_once;
 uint32_t elbow_bend_end; /* the steering's next change (while bending), or when it ended */
 
+/* the bend toward dir_deg */
+static void set_direction(int16_t dir_deg)
+{
+    /* direction in mrad = deg * 17.453; a positive pitch bends the chain
+     * up, a negative yaw to the left (as the turn gait's offset; measured in
+     * the simulator, docs/firmware.md) */
+    int32_t d = (int32_t)dir_deg * 17453L / 1000L;
+    bend_pitch = fs_scale(params.bend_cdeg, fs_cos_mrad(d));
+    bend_yaw = (int16_t)-fs_scale(params.bend_cdeg, fs_sin_mrad(d));
+}
+
+static uint8_t has_rotation(void)
+{
+    uint8_t i;
+    for (i = 0; i < chain_n_modules; i++)
+        if (chain_module_type[i] == MT_ROTATION)
+            return 1;
+    return 0;
+}
+
 void elbow_setup(void)
 {
-    if (params.elbow_dir_deg >= 0) {
-        /* direction in mrad = deg * 17.453; a positive pitch bends the
-         * chain up, a negative yaw to the left (as the turn gait's offset;
-         * measured in the simulator, docs/firmware.md) */
-        int32_t d = (int32_t)params.elbow_dir_deg * 17453L / 1000L;
-        bend_pitch = fs_scale(params.bend_cdeg, fs_cos_mrad(d));
-        bend_yaw = (int16_t)-fs_scale(params.bend_cdeg, fs_sin_mrad(d));
-    }
+    if (params.elbow_dir_deg >= 0)
+        set_direction(params.elbow_dir_deg);
 }
 
 void elbow_log(void)
 {
-    if (params.elbow_dir_deg < 0)
+    if (params.gait != GAIT_HELICOIDAL || params.elbow_dir_deg == ELBOW_OFF || !has_rotation())
         return;
     sb_reset(&cio_sb);
-    cio_put("elbow: dir_deg=", params.elbow_dir_deg);
-    cio_put(" pitch_cdeg=", bend_pitch);
-    cio_put(" yaw_cdeg=", bend_yaw);
+    if (params.elbow_dir_deg >= 0) {
+        cio_put("elbow: dir_deg=", params.elbow_dir_deg);
+        cio_put(" pitch_cdeg=", bend_pitch);
+        cio_put(" yaw_cdeg=", bend_yaw);
+    } else {
+        sb_str(&cio_sb, "elbow: sensed");
+        cio_put(" bend_cdeg=", params.bend_cdeg);
+    }
     cio_put(" bend_ms=", params.bend_ms);
     if (params.bend_travel_ms != 0)
         cio_put(" bend_travel_ms=", params.bend_travel_ms);
@@ -77,19 +98,35 @@ static void straighten_due(uint32_t now)
     }
 }
 
-void elbow_contact(uint32_t now)
+void elbow_contact(uint32_t now, int16_t obstacle_deg)
 {
-    if (params.elbow_dir_deg < 0 || bending)
+    int16_t turn;
+    if (params.elbow_dir_deg == ELBOW_OFF || bending || !has_rotation())
         return;
     if (bent_once && (int32_t)(now - elbow_bend_end) < (int32_t)params.bend_ms)
         return; /* the same elbow: the head meets the outgoing leg's wall */
+    if (params.elbow_dir_deg >= 0) {
+        turn = params.elbow_dir_deg;
+    } else {
+        if (obstacle_deg == CC_TOUCH_NONE) {
+            cio_log_int("elbow: head-on contact, no direction at ms ", now);
+            return;
+        }
+        /* the head meets the bend's outer wall: the pipe turns away from it */
+        turn = (int16_t)(obstacle_deg >= 180 ? obstacle_deg - 180 : obstacle_deg + 180);
+        set_direction(turn);
+    }
     t_on = now; /* the first rotation module bends at the contact: */
     next_on = rotation_from(0, chain_n_modules, &t_on); /* no places counted */
     next_off = next_on;
     t_off = now + params.bend_ms;
     t_end = t_off;
     bend_due(now); /* straightenings wait for elbow_update, after this log line */
-    cio_log_int("elbow: bend at ms ", now);
+    sb_reset(&cio_sb);
+    cio_put("elbow: bend at ms ", (int32_t)now);
+    cio_put(" toward dir_deg=", turn);
+    sb_str(&cio_sb, params.elbow_dir_deg >= 0 ? " (given)" : " (sensed)");
+    cio_log_line(cio_sb.buf);
     bending = 1;
     bent_once = 1;
 }

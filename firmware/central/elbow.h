@@ -1,27 +1,33 @@
-/* Elbow negotiation (gait 9, parameter elbow_dir_deg >= 0; paper 6.1-6.2):
- * when the touch module reports a contact, bend the rotation modules toward
- * the turn (SET_GAIT gait 10) while the helicoidal modules push, each for
- * bend_ms, then straighten them. The first rotation module bends at the
+/* Elbow negotiation (gait 9; paper 6.1-6.2): when the touch module reports
+ * a contact, bend the rotation modules toward the turn (SET_GAIT gait 10)
+ * while the helicoidal modules push, each for bend_ms, then straighten them. The first rotation module bends at the
  * contact, each one behind it bend_travel_ms per place in the chain later
  * (0: all at once), so that the bend can travel down the chain as it
  * advances. A contact while the steering lasts, or within bend_ms after it
- * ended (the head meeting the outgoing leg's wall), is the same elbow. See
+ * ended (the head meeting the outgoing leg's wall), is the same elbow. The
+ * turn is away from where the touch module was touched (the head meets the
+ * bend's outer wall), or elbow_dir_deg when the scene gives it (>= 0); -2
+ * turns the steering off. A chain without rotation modules never steers. See
  * docs/firmware.md, "Elbow negotiation". */
 #ifndef ELBOW_H
 #define ELBOW_H
 
 #include <stdint.h>
 
-/* the bend's pitch and yaw from elbow_dir_deg and bend_cdeg (central_params.h) */
+/* the bend's pitch and yaw from elbow_dir_deg, when given, and bend_cdeg
+ * (central_params.h) */
 void elbow_setup(void);
 
-/* log "elbow: dir_deg=... pitch_cdeg=... yaw_cdeg=... bend_ms=..." (and
- * " bend_travel_ms=..." when not 0) when steering is on */
+/* log "elbow: dir_deg=... pitch_cdeg=... yaw_cdeg=... bend_ms=..." (given)
+ * or "elbow: sensed bend_cdeg=... bend_ms=..." (sensed), with
+ * " bend_travel_ms=..." when not 0; nothing when steering is off, the gait
+ * is not 9 or the chain has no rotation module */
 void elbow_log(void);
 
-/* a TOUCH contact at now while gait 9 runs: bend, unless steering is off or
- * this is the elbow already being passed */
-void elbow_contact(uint32_t now);
+/* a TOUCH contact at now while gait 9 runs, the obstacle at obstacle_deg in
+ * the touch module's frame (CC_TOUCH_NONE: head-on): bend, unless steering is
+ * off, the direction is unknown, or this is the elbow already being passed */
+void elbow_contact(uint32_t now, int16_t obstacle_deg);
 
 /* the steering's next change (valid while elbow_update returns 1), or when
  * it ended */

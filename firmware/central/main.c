@@ -55,11 +55,12 @@ static void serve(void)
 {
     uint32_t now, wake = 0, left;
     uint8_t have_wake;
+    int16_t touch_dir;
 
     replies_drain();
     now = hal_millis();
-    if (replies_take_touch() && started && !stopped && params.gait == GAIT_HELICOIDAL)
-        elbow_contact(now);
+    if (replies_take_touch(&touch_dir) && started && !stopped && params.gait == GAIT_HELICOIDAL)
+        elbow_contact(now, touch_dir);
     have_wake = elbow_update(now, stopped);
     if (have_wake)
         wake = elbow_bend_end;
@@ -96,7 +97,7 @@ int main(void)
     central_params_read();
     elbow_setup();
     gaits_log();
-    elbow_log();    /* the steering, when a scene sets elbow_dir_deg */
+    elbow_log();    /* the steering: given by elbow_dir_deg, sensed, or off */
 
     replies_sleep_until(params.start_ms);
     start();

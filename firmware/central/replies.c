@@ -8,6 +8,7 @@
 #define LONG_SLEEP_MS 60000UL
 
 static uint8_t touch_contact; /* a TOUCH contact frame came in */
+static int16_t touch_dir;     /* its obstacle direction */
 
 static void log_reply(const uint8_t *buf, uint8_t len)
 {
@@ -30,11 +31,22 @@ static void log_reply(const uint8_t *buf, uint8_t len)
         sb_str(&cio_sb, " flags=");
         sb_hex8(&cio_sb, buf[5]);
     } else if (buf[0] == CC_TOUCH && len == CC_TOUCH_LEN) {
+        static const char *const side[4] = {"up", "left", "down", "right"};
+        int16_t dir = cc_get_i16(buf + CC_TOUCH_OFF_DIR), up = cc_get_i16(buf + CC_TOUCH_OFF_UP);
+        uint8_t s = buf[CC_TOUCH_OFF_SIDE];
         sb_str(&cio_sb, "touch ");
         sb_hex8(&cio_sb, buf[1]);
         sb_str(&cio_sb, buf[2] ? ": contact" : ": released");
-        if (buf[2])
+        if (buf[2]) {
+            /* e.g. "touch 02: contact switches=3 dir_deg=60 up_deg=0 side=up" */
+            cio_put(" switches=", buf[2]);
+            cio_put(" dir_deg=", dir);
+            cio_put(" up_deg=", up);
+            sb_str(&cio_sb, " side=");
+            sb_str(&cio_sb, s < 4u ? side[s] : "none");
             touch_contact = 1;
+            touch_dir = dir;
+        }
     } else if (buf[0] == CC_ENUM_REPLY || buf[0] == CC_ENUM_OFFER) {
         return; /* late discovery traffic */
     } else {
@@ -53,10 +65,11 @@ void replies_drain(void)
             log_reply(cio_rx, len);
 }
 
-uint8_t replies_take_touch(void)
+uint8_t replies_take_touch(int16_t *dir_deg)
 {
     uint8_t t = touch_contact;
     touch_contact = 0;
+    *dir_deg = touch_dir;
     return t;
 }
 

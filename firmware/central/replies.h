@@ -1,6 +1,6 @@
 /* What the modules send the central control: each reply (SENSORS,
  * STATUS_REPLY, TOUCH, anything unexpected) becomes a log line; a TOUCH
- * contact is also kept for the elbow negotiation. */
+ * contact and its direction are also kept for the elbow negotiation. */
 #ifndef REPLIES_H
 #define REPLIES_H
 
@@ -9,8 +9,10 @@
 /* log every received frame */
 void replies_drain(void);
 
-/* 1 when a TOUCH contact came in since the last call (then cleared) */
-uint8_t replies_take_touch(void);
+/* 1 when a TOUCH contact came in since the last call (then cleared); *dir_deg
+ * = the obstacle's direction it gave (in the touch module's frame, degrees;
+ * CC_TOUCH_NONE when head-on) */
+uint8_t replies_take_touch(int16_t *dir_deg);
 
 /* sleep until hal_millis() >= until_ms, logging replies */
 void replies_sleep_until(uint32_t until_ms);

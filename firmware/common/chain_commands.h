@@ -47,7 +47,7 @@
 #define CC_SENSORS 0x21u      /**< M -> C: code, addr, n, n servo angles (i16, cdeg) */
 #define CC_STATUS 0x22u       /**< C -> M: ask for the state */
 #define CC_STATUS_REPLY 0x23u /**< M -> C: code, addr, type, state (CC_STATE_*), gait, flags (CC_FLAG_*) */
-#define CC_TOUCH 0x24u        /**< M -> C: code, addr, contact (a touch module, when it changes) */
+#define CC_TOUCH 0x24u        /**< M -> C: code, addr, switches closed (bit k = switch k; 0 = released), the obstacle's direction and where up is (i16 deg each, CC_TOUCH_NONE: none) and the obstacle's side (CC_SIDE_*), when the switches change (a touch module; firmware/touch/touch_direction.h) */
 
 #define CC_ENUM_OFFER_LEN 2u          /**< bytes of an ENUM_OFFER frame */
 #define CC_ENUM_REPLY_LEN 3u          /**< bytes of an ENUM_REPLY frame */
@@ -58,7 +58,16 @@
 #define CC_SENSORS_LEN(n) (3u + 2u * (n)) /**< bytes of a SENSORS frame of n angles */
 #define CC_STATUS_LEN 1u              /**< bytes of a STATUS frame */
 #define CC_STATUS_REPLY_LEN 6u        /**< bytes of a STATUS_REPLY frame */
-#define CC_TOUCH_LEN 3u               /**< bytes of a TOUCH frame */
+#define CC_TOUCH_LEN 8u               /**< bytes of a TOUCH frame */
+#define CC_TOUCH_OFF_DIR 3u           /**< TOUCH: the obstacle's direction about the module's axis, i16 deg (0 = the module's top, 90 its left) */
+#define CC_TOUCH_OFF_UP 5u            /**< TOUCH: where up (against gravity) is about the module's axis, i16 deg */
+#define CC_TOUCH_OFF_SIDE 7u          /**< TOUCH: the obstacle's side as the world sees it, CC_SIDE_* */
+#define CC_TOUCH_NONE (-1)            /**< TOUCH: no direction (released, a push along the axis, gravity along it) */
+#define CC_SIDE_UP 0u                 /**< TOUCH side: above */
+#define CC_SIDE_LEFT 1u               /**< on the left */
+#define CC_SIDE_DOWN 2u               /**< below */
+#define CC_SIDE_RIGHT 3u              /**< on the right */
+#define CC_SIDE_NONE 255u             /**< unknown */
 
 /** the limit of the angle fields that bend a joint one way (posture, bias,
  * bend, grip): a quarter turn, in centidegrees. The amplitudes may reach the

@@ -214,7 +214,9 @@ void validate_module_def(const ModuleDef& d) {
   for (const auto& s : d.sensors) {
     switch (s.type) {
       case SensorType::MotorCurrent: wire(s, 0, s.channel); break;
-      case SensorType::Touch: wire(s, 1, s.channel); break;
+      case SensorType::Touch:
+        for (int k = 0; k < s.sectors; ++k) wire(s, 1, s.channel + k);
+        break;
       case SensorType::Accelerometer:
         for (int k = 0; k < 3; ++k) wire(s, 0, s.channel + k);
         break;
@@ -229,8 +231,12 @@ void validate_module_def(const ModuleDef& d) {
         break;
       case SensorType::Touch:
         if (!body_ok(s.body)) invalid(d, "sensor '" + s.name + "': bad body");
-        if (s.channel < 0 || s.channel >= 16)
-          invalid(d, "sensor '" + s.name + "': digital input bit must be 0..15");
+        if (s.sectors < 1 || s.sectors > 8) invalid(d, "sensor '" + s.name + "': sectors must be 1..8");
+        if (s.channel < 0 || s.channel + s.sectors > 16)
+          invalid(d, "sensor '" + s.name + "': digital input bits must be within 0..15 (first " +
+                         std::to_string(s.channel) + ", " + std::to_string(s.sectors) + " sectors)");
+        if (!(s.half_width_deg > 0 && s.half_width_deg <= 180))
+          invalid(d, "sensor '" + s.name + "': half_width_deg must be in (0, 180]");
         break;
       case SensorType::Accelerometer:
         if (!body_ok(s.body)) invalid(d, "sensor '" + s.name + "': bad body");

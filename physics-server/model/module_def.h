@@ -155,6 +155,15 @@ struct SensorDef {
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  // sensor axes in the module frame
   // WheelEncoder: counts per revolution of the joint
   int counts_per_rev = 360;
+  // Touch: sectors > 1 makes the body's surface that many switches around
+  // the module's x axis, switch k at first_deg + k 360 / sectors (0 = up,
+  // the module's +z; 90 = left, +y) on digital input bit channel + k. A
+  // contact fires the switches within half_width_deg of its direction
+  // around the axis, and all of them when it pushes along the axis (its
+  // normal within 37 degrees of x). sectors = 1: any contact, one input.
+  int sectors = 1;
+  double first_deg = 0;
+  double half_width_deg = 60;
 };
 
 struct DockingFace {

@@ -499,7 +499,8 @@ class Parser {
     if (!n.IsMap()) fail(n, "'" + p + "' must be a mapping");
     check_keys(n, p,
                {"name", "type", "actuator", "body", "joint", "channel", "range_g", "noise_g",
-                "bandwidth_hz", "rotation", "quaternion_wxyz", "counts_per_rev"});
+                "bandwidth_hz", "rotation", "quaternion_wxyz", "counts_per_rev", "sectors", "first_deg",
+                "half_width_deg"});
     SensorDef s;
     s.name = name_of(need(n, "name", p), p + ".name");
     const YAML::Node type =
@@ -511,7 +512,7 @@ class Parser {
       used.insert("actuator");
     } else if (t == "touch") {
       s.type = SensorType::Touch;
-      used.insert("body");
+      used.insert({"body", "sectors", "first_deg", "half_width_deg"});
     } else if (t == "accelerometer") {
       s.type = SensorType::Accelerometer;
       used.insert({"body", "range_g", "noise_g", "bandwidth_hz", "rotation", "quaternion_wxyz"});
@@ -533,6 +534,9 @@ class Parser {
       case SensorType::Touch:
         s.body = ref(n, "body", p, bodies_);
         s.channel = integer(n, "channel", p, 0, 0, 15);
+        s.sectors = integer(n, "sectors", p, 1, 1, 8);
+        s.first_deg = number(n, "first_deg", p, 0.0, -360.0, 360.0);
+        s.half_width_deg = number(n, "half_width_deg", p, 180.0 / s.sectors, 1.0, 180.0);
         break;
       case SensorType::Accelerometer:
         s.body = ref(n, "body", p, bodies_);

@@ -27,8 +27,10 @@ std::vector<std::string> pic_board_misfits(const ModuleDef& def) {
                         " taken by the servos' potentiometers)");
         break;
       case SensorType::Touch:
-        if (s.channel >= static_cast<int>(HP_BOARD_DIGITAL_INPUTS))
-          out.push_back("sensor '" + s.name + "' is digital input " + std::to_string(s.channel) +
+        if (s.channel + s.sectors > static_cast<int>(HP_BOARD_DIGITAL_INPUTS))
+          out.push_back("sensor '" + s.name + "' is digital input" +
+                        (s.sectors > 1 ? "s " + std::to_string(s.channel) + ".." : " ") +
+                        std::to_string(s.channel + s.sectors - 1) +
                         ", but the board has digital inputs 0.." + std::to_string(HP_BOARD_DIGITAL_INPUTS - 1) +
                         " only (RB6, RB7, RC5, RC2)");
         break;

@@ -79,7 +79,13 @@ std::vector<SensorColumn> sensor_columns(const WorldConfig& config, const std::v
             out.push_back({m, SensorColumn::Source::Adc, sd.channel + a, p + "xyz"[a] + "_counts", sd.name});
           break;
         case SensorType::Touch:
-          out.push_back({m, SensorColumn::Source::DigitalIn, sd.channel, p + "in", sd.name});
+          if (sd.sectors <= 1) {
+            out.push_back({m, SensorColumn::Source::DigitalIn, sd.channel, p + "in", sd.name});
+            break;
+          }
+          for (int k = 0; k < sd.sectors; ++k)   // m<i>.<name>.<k>.in, sensor <name>.<k>
+            out.push_back({m, SensorColumn::Source::DigitalIn, sd.channel + k, p + std::to_string(k) + ".in",
+                           sd.name + "." + std::to_string(k)});
           break;
         case SensorType::WheelEncoder:
           out.push_back({m, SensorColumn::Source::Counter, sd.channel, p + "counts", sd.name});

@@ -22,7 +22,20 @@ int Contacts::add_body(dGeomID geom, int module) {
   if (geom) dGeomSetData(geom, reinterpret_cast<void*>(static_cast<intptr_t>(index + 1)));
   body_module_.push_back(module);
   touched_.push_back(0);
+  kept_.push_back(-1);
   return index;
+}
+
+void Contacts::keep_points(int body) {
+  if (kept_[body] >= 0) return;
+  kept_[body] = static_cast<int>(points_.size());
+  points_.emplace_back();
+  points_.back().reserve(4 * kMaxContactsPerPair);
+}
+
+const std::vector<Contacts::Point>& Contacts::points(int body) const {
+  static const std::vector<Point> kNone;
+  return kept_[body] >= 0 ? points_[kept_[body]] : kNone;
 }
 
 void Contacts::warm_up(size_t n) {
@@ -33,6 +46,7 @@ void Contacts::warm_up(size_t n) {
 
 void Contacts::collide(dSpaceID space) {
   std::fill(touched_.begin(), touched_.end(), 0);
+  for (auto& p : points_) p.clear();
   count_ = 0;
   deepest_ = Deepest{};
   dSpaceCollide(space, this, &Contacts::near_callback);
@@ -60,6 +74,16 @@ void Contacts::collide_pair(dGeomID a, dGeomID b) {
   if (n <= 0) return;
   if (ia > 0) touched_[ia - 1] = 1;
   if (ib > 0) touched_[ib - 1] = 1;
+  for (auto [tag, geom] : {std::pair{ia, a}, std::pair{ib, b}}) {
+    if (tag <= 0 || kept_[tag - 1] < 0) continue;
+    const dBodyID body = dGeomGetBody(geom);
+    for (int k = 0; k < n; ++k) {
+      dVector3 p, v;
+      dBodyGetPosRelPoint(body, buf_[k].pos[0], buf_[k].pos[1], buf_[k].pos[2], p);
+      dBodyVectorFromWorld(body, buf_[k].normal[0], buf_[k].normal[1], buf_[k].normal[2], v);
+      points_[kept_[tag - 1]].push_back({{p[0], p[1], p[2]}, {v[0], v[1], v[2]}});
+    }
+  }
   for (int k = 0; k < n; ++k) {
     if (buf_[k].depth > deepest_.depth_m) deepest_ = {buf_[k].depth, static_cast<int>((ia > 0 ? ia : ib) - 1)};
     dContact c;

@@ -9,6 +9,8 @@
 
 #include <ode/ode.h>
 
+#include <Eigen/Core>
+
 #include <vector>
 
 #include "environment/material.h"
@@ -45,6 +47,16 @@ class Contacts {
   void clear();
 
   bool touched(int body) const { return touched_[body] != 0; }  // had a contact in the last step
+
+  // a contact of the last step on a body, in the frame of its ODE body:
+  // where it touched and along which line it pushed (ODE's normal, either sign)
+  struct Point {
+    Eigen::Vector3d pos, normal;
+  };
+  // keep the contact points of a body (one that a sectored touch sensor reads)
+  void keep_points(int body);
+  // the last step's contact points of a body kept with keep_points (else none)
+  const std::vector<Point>& points(int body) const;
   int count() const { return count_; }                            // contact joints of the last step
   // the deepest contact of the last step (depth 0, body -1: none): how far
   // a body went into the environment or another module
@@ -64,6 +76,8 @@ class Contacts {
   const ContactMaterials materials_;
   std::vector<int> body_module_;          // body index -> module
   std::vector<unsigned char> touched_;    // body index -> touched in the last step
+  std::vector<int> kept_;                 // body index -> index into points_, -1: not kept
+  std::vector<std::vector<Point>> points_;
   int count_ = 0;
   Deepest deepest_;
   dContactGeom buf_[kMaxContactsPerPair];

@@ -265,9 +265,18 @@ void World::Impl::add_module(int index, const ModuleDef& def, const Eigen::Isome
         md.channels.adc_actuator[sd.channel] = act[sd.actuator];
         md.channels.n_adc = std::max(md.channels.n_adc, sd.channel + 1);
         break;
-      case SensorType::Touch:
-        md.channels.touch.emplace_back(md.body0 + sd.body, sd.channel);
+      case SensorType::Touch: {
+        ModuleChannels::Touch tw;
+        tw.body = md.body0 + sd.body;
+        tw.bit = sd.channel;
+        tw.sectors = sd.sectors;
+        tw.first_rad = sd.first_deg * M_PI / 180;
+        tw.half_width_rad = sd.half_width_deg * M_PI / 180;
+        tw.module_from_body = to_isometry(def.bodies[sd.body].pose) * parts.offsets[sd.body].inverse();
+        if (sd.sectors > 1) contacts->keep_points(tw.body);
+        md.channels.touch.push_back(tw);
         break;
+      }
       case SensorType::Accelerometer:
       case SensorType::WheelEncoder:
         break;  // sensors.add_module

@@ -85,12 +85,13 @@ nlohmann::ordered_json robot_report_json(const RobotReportInputs& in, const Robo
   }
   j["pairs"] = jpairs;
   nlohmann::ordered_json jal = nlohmann::ordered_json::array();
-  for (const PairAlias& a : s.aliases) {
-    const PairCandidate& o = s.pairs[size_t(a.other)];
-    nlohmann::ordered_json jp = nlohmann::ordered_json::object();
-    for (const auto& [k, f] : o.fit.st) jp[knob(k).name] = f;
-    jal.push_back({{"names", {knob(o.a).name, knob(o.b).name}}, {"factors", jp}, {"gap", o.fit.gap},
-                   {"speed_difference_rms", a.difference}});
+  for (const Alias& a : s.aliases) {
+    nlohmann::ordered_json names = nlohmann::ordered_json::array(), jp = nlohmann::ordered_json::object(),
+                           chosen = nlohmann::ordered_json::array();
+    for (const auto& [k, f] : a.other) names.push_back(knob(k).name), jp[knob(k).name] = f;
+    for (const auto& [k, f] : a.chosen) chosen.push_back(knob(k).name);
+    jal.push_back({{"names", names}, {"factors", jp}, {"gap", a.gap_other}, {"speed_difference_rms", a.difference},
+                   {"alias_of", chosen}});
   }
   j["aliases"] = jal;
   j["runs"] = in.runs;
@@ -129,8 +130,11 @@ std::string robot_report_md(const RobotReportInputs& in, const RobotSearch& s, c
   if (!s.aliases.empty()) {
     md << "\n**Alias**: the table cannot tell the effects above from";
     for (const auto& a : j["aliases"]) {
-      md << " `" << a["names"][0].get<std::string>() << "` + `" << a["names"][1].get<std::string>() << "` (";
       std::string sep;
+      md << " ";
+      for (const auto& nm : a["names"]) md << sep << "`" << nm.get<std::string>() << "`", sep = " + ";
+      md << " (";
+      sep.clear();
       for (auto it = a["factors"].begin(); it != a["factors"].end(); ++it)
         md << sep << it.key() << " x" << fmt_fixed(it->get<double>()), sep = ", ";
       md << "; gap " << fmt_fixed(a["gap"].get<double>()) << ", speeds within "

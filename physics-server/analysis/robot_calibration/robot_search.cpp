@@ -126,7 +126,7 @@ void fit_pairs(RobotSearch& s, const std::vector<SpeedRow>& rows, const SpeedFun
       if (int(i) == best || !pairs[i].acceptable) continue;
       const double d = rms_difference(chosen, speeds(pairs[i].fit.st));
       if (d <= kTableResolution) {
-        s.aliases.push_back({best, int(i), d});
+        s.aliases.push_back({b.fit.st, pairs[i].fit.st, pairs[i].fit.gap, d});
         pairs[i].why = "an alias of the accepted pair: the table cannot tell them apart (speeds within " +
                        fmt_fixed(d) + " cm/s RMS)";
         b.why = "accepted; the table cannot tell it from an alias (see aliases)";
@@ -172,6 +172,7 @@ RobotSearch search_knobs(const std::vector<SpeedRow>& rows, const std::vector<in
   for (int round = 1; s.accepted.size() < max_params && s.gap_after > kTableResolution; ++round) {
     std::vector<KnobCandidate> cands = fit_round(round, rows, usable, speeds, s.model, say);
     if (cands.empty()) break;
+    const double gap_round = s.gap_after;
     bool took = false;
     for (size_t i = 0; i < cands.size(); ++i) {
       KnobCandidate& c = cands[i];
@@ -187,6 +188,15 @@ RobotSearch search_knobs(const std::vector<SpeedRow>& rows, const std::vector<in
       else c.accepted = true, c.why = "accepted";
       if (c.accepted && at_bound) c.why += " (at a bound of its range)";
       if (c.accepted) s.model = c.fit.st, s.gap_after = c.fit.gap, s.accepted.push_back(c.knob), took = true;
+      // a runner-up that passes too and predicts the same table within its resolution: an alias
+      if (i > 0 && took && !at_null && c.fit.gap <= (1 - kMinGainRobot) * gap_round) {
+        const double d = rms_difference(speeds(s.model), speeds(c.fit.st));
+        if (d <= kTableResolution) {
+          s.aliases.push_back({s.model, c.fit.st, c.fit.gap, d});
+          c.why = "an alias of the accepted knob: the table cannot tell them apart (speeds within " + fmt_fixed(d) +
+                  " cm/s RMS)";
+        }
+      }
       s.candidates.push_back(c);
     }
     if (!took) break;

@@ -44,10 +44,13 @@ struct PairCandidate {
   std::string why;
 };
 
-// two settings that the table cannot tell apart: both fit it, and their
-// speeds differ by no more than the table's resolution (RMS over the rows)
-struct PairAlias {
-  int chosen = 0, other = 0;   // indices into RobotSearch::pairs
+// two settings that the table cannot tell apart: both pass the acceptance
+// checks, and their speeds differ by no more than the table's resolution
+// (RMS over the rows). The accepted one is the better fit; the other is
+// reported beside it, never dropped silently.
+struct Alias {
+  KnobSetting chosen, other;   // the accepted setting, the one it cannot be told from
+  double gap_other = 0;        // the other's gap, cm/s
   double difference = 0;       // RMS of the two settings' speed difference, cm/s
 };
 
@@ -59,7 +62,7 @@ struct RobotSearch {
   std::vector<int> accepted;           // knob ids, in the order accepted
   std::vector<KnobCandidate> candidates;
   std::vector<PairCandidate> pairs;    // the pair stage (empty when it did not run)
-  std::vector<PairAlias> aliases;      // acceptable pairs the table cannot tell from the accepted one
+  std::vector<Alias> aliases;          // acceptable settings the table cannot tell from an accepted one
   std::vector<double> leave_one_out;   // per row: predicted with the knobs refitted without it (NaN: not done)
   double leave_one_out_gap = 0;        // NaN when not done
   std::string verdict;                 // explained, no_missing_effect or unexplained

@@ -1,12 +1,39 @@
 // Position, motor-current and touch channels. See module_channels.h.
 #include "physics/sensors/module_channels.h"
 
+#include <cmath>
+
 namespace chainsim {
+
+uint16_t touch_sectors(const ModuleChannels::Touch& t, const Eigen::Vector3d& pos_body,
+                       const Eigen::Vector3d& normal_body) {
+  const uint16_t all = static_cast<uint16_t>((1u << t.sectors) - 1u);
+  const Eigen::Vector3d n = t.module_from_body.linear() * normal_body;
+  if (std::fabs(n.x()) > 0.8 * n.norm()) return all;   // pushes along the axis: every switch
+  const Eigen::Vector3d p = t.module_from_body * pos_body;
+  if (p.y() == 0 && p.z() == 0) return all;
+  const double dir = std::atan2(p.y(), p.z());   // 0 = up (+z), pi/2 = left (+y)
+  uint16_t bits = 0;
+  for (int k = 0; k < t.sectors; ++k) {
+    const double a = t.first_rad + 2 * M_PI * k / t.sectors;
+    const double off = std::remainder(dir - a, 2 * M_PI);
+    if (std::fabs(off) <= t.half_width_rad) bits |= static_cast<uint16_t>(1u << k);
+  }
+  return bits;
+}
 
 uint16_t touch_inputs(const ModuleChannels& channels, const Contacts& contacts) {
   uint16_t bits = 0;
-  for (const auto& [body, bit] : channels.touch)
-    if (contacts.touched(body)) bits |= static_cast<uint16_t>(1u << bit);
+  for (const ModuleChannels::Touch& t : channels.touch) {
+    if (!contacts.touched(t.body)) continue;
+    if (t.sectors <= 1) {
+      bits |= static_cast<uint16_t>(1u << t.bit);
+      continue;
+    }
+    uint16_t fired = 0;
+    for (const Contacts::Point& p : contacts.points(t.body)) fired |= touch_sectors(t, p.pos, p.normal);
+    bits |= static_cast<uint16_t>(fired << t.bit);
+  }
   return bits;
 }
 

@@ -5,6 +5,9 @@
 // (accelerometers, wheel encoders) are in sensors.h.
 #pragma once
 
+#include <Eigen/Geometry>
+
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -19,8 +22,24 @@ struct ModuleChannels {
   // ADC channel -> the World's index of the actuator whose current it reads;
   // -1: not a current channel
   int adc_actuator[8] = {-1, -1, -1, -1, -1, -1, -1, -1};
-  std::vector<std::pair<int, int>> touch;  // (the World's body index, digital input bit)
+  // a touch sensor: the World's body index, its first digital input bit;
+  // with sectors > 1 its switches around the module's axis (module_def.h)
+  struct Touch {
+    int body = 0;
+    int bit = 0;
+    int sectors = 1;
+    double first_rad = 0, half_width_rad = 0;
+    // the module frame from the frame of the ODE body the part is in (parts
+    // joined rigidly share one ODE body: module_builder.h)
+    Eigen::Isometry3d module_from_body = Eigen::Isometry3d::Identity();
+  };
+  std::vector<Touch> touch;
 };
+
+// which of a sectored touch sensor's switches a contact fires (bit k =
+// switch k): point and normal in its ODE body's frame
+uint16_t touch_sectors(const ModuleChannels::Touch& t, const Eigen::Vector3d& pos_body,
+                       const Eigen::Vector3d& normal_body);
 
 // the touch inputs of a module now (bit n = input n)
 uint16_t touch_inputs(const ModuleChannels& channels, const Contacts& contacts);

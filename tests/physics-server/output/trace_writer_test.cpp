@@ -102,7 +102,7 @@ TEST(TraceWriter, SensorColumnsAreNamedAfterTheModuleTypesSensors) {
   World w(c, chain);
   const TraceWriter t(w, 10000, sensor_columns(c, chain));
   const std::string& h = t.header();
-  for (const char* col : {",m0.touch.in,m0.accel.x_counts,m0.accel.y_counts,m0.accel.z_counts,m1.",
+  for (const char* col : {",m0.touch.0.in,m0.touch.1.in,m0.touch.2.in,m0.accel.x_counts,m0.accel.y_counts,m0.accel.z_counts,m1.",
                           ",m1.pitch_current.counts,m1.yaw_current.counts,m2.",
                           ",m2.encoder_top.counts,m2.encoder_right.counts,m2.encoder_left.counts,m2.accel.x_counts,"
                           "m2.accel.y_counts,m2.accel.z_counts\n"})
@@ -113,7 +113,8 @@ TEST(TraceWriter, SensorColumnsAreNamedAfterTheModuleTypesSensors) {
 
 // the sensor columns read what World::sample gives the firmware: a touch
 // module at rest on the floor (tipped onto its cover) reads its cover's
-// contact and +1 g up (683 counts, 170.7 per g above 512)
+// contact on the two lower switches (1 and 2, not 0 on top) and +1 g up
+// (683 counts, 170.7 per g above 512)
 TEST(TraceWriter, SensorColumnsReadWhatTheFirmwareReads) {
   WorldConfig c;
   const std::vector<std::string> chain{"touch"};
@@ -133,8 +134,11 @@ TEST(TraceWriter, SensorColumnsReadWhatTheFirmwareReads) {
   };
   ModuleSample s;
   w.sample(0, &s);
-  EXPECT_EQ(value("m0.touch.in"), "1");
-  EXPECT_EQ(value("m0.touch.in"), std::to_string(s.digital_in & 1u));
+  EXPECT_EQ(value("m0.touch.0.in"), "0");
+  EXPECT_EQ(value("m0.touch.1.in"), "1");
+  EXPECT_EQ(value("m0.touch.2.in"), "1");
+  for (int k = 0; k < 3; ++k)
+    EXPECT_EQ(value("m0.touch." + std::to_string(k) + ".in"), std::to_string((s.digital_in >> k) & 1u));
   EXPECT_EQ(value("m0.accel.x_counts"), std::to_string(s.adc[0]));
   EXPECT_EQ(value("m0.accel.y_counts"), std::to_string(s.adc[1]));
   EXPECT_EQ(value("m0.accel.z_counts"), std::to_string(s.adc[2]));

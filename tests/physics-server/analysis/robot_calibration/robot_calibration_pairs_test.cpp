@@ -4,7 +4,9 @@
 // module file (the shipped one with its numbers scaled in the text, not
 // through the calibration's own knob code), runs it on every row's scene to
 // make the "real" table, then calibrates the shipped scenes against it and
-// checks that both changes are named with their factors within 10 %.
+// checks that both changes are named with their factors within 10 %. The
+// drive cases take about 1.5 min each; the inchworm's, about 5 min, is run
+// on demand (below).
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -66,6 +68,7 @@ struct PairCase {
   std::vector<std::string> slopes;
   std::vector<Change> changes;
   std::map<std::string, double> expect;   // knob name -> factor the calibration should find
+  bool singles_fall_short = true;         // no single knob is accepted on the way
 };
 
 // writes nominal-<slope>.yaml, hidden-<slope>.yaml and table.csv into dir
@@ -134,8 +137,10 @@ void check_pair(const PairCase& c) {
     std::printf("  pair %s + %s: gap %.3f: %s\n", p["names"][0].get<std::string>().c_str(),
                 p["names"][1].get<std::string>().c_str(), p["gap"].get<double>(), p["why"].get<std::string>().c_str());
   // neither change alone explains the table: no single knob was accepted
-  for (const auto& cand : j["candidates"])
-    EXPECT_FALSE(cand["accepted"].get<bool>()) << cand["name"] << " " << cand["why"];
+  if (c.singles_fall_short) {
+    for (const auto& cand : j["candidates"])
+      EXPECT_FALSE(cand["accepted"].get<bool>()) << cand["name"] << " " << cand["why"];
+  }
   ASSERT_EQ(j["effects"].size(), 2u) << j["verdict"];
   for (const auto& e : j["effects"]) {
     const std::string name = e["name"];
@@ -163,6 +168,18 @@ TEST(RobotCalibrationPairs, WeakerFasterDrive) {
   check_pair({"weaker-faster", "helicoidal-30.yaml", kSlopes,
               {{"helicoidal", "stall_torque_nm", 0.75}, {"helicoidal", "free_speed_rad_s", 1.2}},
               {{"drive_stall", 0.75}, {"drive_free_speed", 1.2}}});
+}
+
+// the inchworm (support, extension, support; the exact solver), its drive and
+// its grip changed together: the extension's stall force x0.8 and the pads'
+// friction x0.85. The greedy rounds take the arms' grip torque first (the
+// pads' grip seen through the force pressing them) and no second knob cuts
+// the rest by 30 %; the pair stage finds the two changes and replaces it.
+TEST(RobotCalibrationPairs, InchwormWeakerExtensionAndSlipperierPads) {
+  check_pair({"inchworm", "inchworm-30.yaml", {"0", "15", "30", "45", "60"},
+              {{"extension", "fmax_n", 0.8}, {"support", "mu", 0.85}},
+              {{"extension_force", 0.8}, {"pad_friction", 0.85}},
+              false});
 }
 
 }  // namespace

@@ -207,15 +207,33 @@ TEST(RobotSearch, TwoPairsTheTableCannotTellApartAreReportedAsAliases) {
   ASSERT_EQ(s.accepted.size(), 2u);
   EXPECT_EQ(s.accepted[0] == kThrust || s.accepted[1] == kThrust, true);
   ASSERT_EQ(s.aliases.size(), 1u);
-  const PairCandidate& chosen = s.pairs[size_t(s.aliases[0].chosen)];
-  const PairCandidate& other = s.pairs[size_t(s.aliases[0].other)];
-  EXPECT_TRUE(chosen.accepted);
-  EXPECT_FALSE(other.accepted);
-  EXPECT_NE(other.why.find("alias"), std::string::npos) << other.why;
-  EXPECT_LE(s.aliases[0].difference, kTableResolution);
+  const Alias& al = s.aliases[0];
+  EXPECT_EQ(al.chosen, s.model);
+  EXPECT_LE(al.difference, kTableResolution);
+  EXPECT_LE(al.gap_other, kTableResolution);
   // the alias is the other of the two look-alike knobs with thrust
-  std::set<int> both = {chosen.a, chosen.b, other.a, other.b};
+  std::set<int> both;
+  for (const auto& [k, f] : al.chosen) both.insert(k);
+  for (const auto& [k, f] : al.other) both.insert(k);
   EXPECT_EQ(both, (std::set<int>{kThrust, kFreeSpeed, kWheelFriction}));
+  int named = 0;
+  for (const PairCandidate& p : s.pairs) named += p.why.find("alias") != std::string::npos;
+  EXPECT_EQ(named, 2);   // the accepted pair says it has one, the other that it is one
+}
+
+TEST(RobotSearch, AnAliasOfASingleKnobIsReported) {
+  // wheel friction moves the rows exactly as thrust does: one knob explains the table either way
+  LinearModel m = drive_model();
+  m.J[kWheelFriction] = m.J[kThrust];
+  const auto rows = m.rows({{kThrust, 0.6}});
+  const RobotSearch s = search_knobs(rows, {kThrust, kFreeSpeed, kWheelFriction}, m.fn(), quiet);
+  EXPECT_EQ(s.verdict, "explained");
+  ASSERT_EQ(s.accepted.size(), 1u);
+  ASSERT_EQ(s.aliases.size(), 1u);
+  EXPECT_EQ(s.aliases[0].chosen.size(), 1u);
+  EXPECT_EQ(s.aliases[0].other.size(), 1u);
+  EXPECT_NE(s.aliases[0].chosen.begin()->first, s.aliases[0].other.begin()->first);
+  EXPECT_TRUE(s.pairs.empty());
 }
 
 TEST(RobotSearch, ThreeRowsTryNoPairs) {

@@ -33,7 +33,7 @@ ModuleSample sample(const World& w, int m) {
 // the cover reports the floor when the head is pushed into it, and nothing
 // when the chain lies straight or the head is lifted
 TEST(TouchSensor, ReportsTheFloorOnlyWhenTheHeadTouchesIt) {
-  // fraction of the steps of [0.5 s, 1 s] with bit 0 set, module 1's pitch at
+  // fraction of the steps of [0.5 s, 1 s] with a switch closed, module 1's pitch at
   // `pitch_deg` (< 0: a peak at the joint, both ends down: the head dips;
   // > 0: both ends up: the head lifts); *seen: every bit set in any step
   auto touched = [](double pitch_deg, uint16_t* seen) {
@@ -48,7 +48,7 @@ TEST(TouchSensor, ReportsTheFloorOnlyWhenTheHeadTouchesIt) {
       w.step();
       const uint16_t in = sample(w, 0).digital_in;
       *seen |= in;
-      n += in & 1u;
+      n += (in & 7u) != 0;
     }
     return n / 1000.0;
   };
@@ -56,7 +56,7 @@ TEST(TouchSensor, ReportsTheFloorOnlyWhenTheHeadTouchesIt) {
   // straight on its rings: the 20 mm cover hangs 2.5 mm above the floor
   EXPECT_EQ(touched(0, &seen), 0.0);
   const double dipped = touched(-20, &seen);
-  EXPECT_EQ(seen, 1u);  // only bit 0, ever
+  EXPECT_EQ(seen, 6u);  // the floor is below: switches 1 and 2 (120 and 240 degrees), never 0 (on top)
   EXPECT_EQ(touched(20, &seen), 0.0);
   std::printf("touch: head dipped: %.3f of the steps\n", dipped);
   EXPECT_GT(dipped, 0.95);  // pressed by a servo, the contact may open for a step now and then
@@ -67,7 +67,7 @@ TEST(TouchSensor, LoneModuleTipsOntoItsCoverAndReadsNothingInTheAir) {
   c.head_position = Eigen::Vector3d(0, 0, 0.0126);
   World on_floor(c, {"touch"});
   run(on_floor, 0.5);  // centre of mass ahead of the ring: it tips forward onto the cover
-  EXPECT_EQ(sample(on_floor, 0).digital_in, 1u);
+  EXPECT_EQ(sample(on_floor, 0).digital_in, 6u);  // switches 1 and 2: the floor is below
   on_floor.set_module_powered(0, false);
   EXPECT_EQ(sample(on_floor, 0).digital_in, 0u);  // unpowered reads nothing
   c.head_position.z() = 0.2;
@@ -76,6 +76,78 @@ TEST(TouchSensor, LoneModuleTipsOntoItsCoverAndReadsNothingInTheAir) {
   for (int k = 0; k < 1000; ++k) {
     lifted.step();
     ASSERT_EQ(sample(lifted, 0).digital_in, 0u) << "step " << k;
+  }
+}
+
+// The three switches tell where the cover was touched: a lone module rolled
+// about its axis tips forward onto its cover, so the floor meets the cover
+// at the module-frame direction of "down"; the switches within 80 degrees of
+// it close (switch k at 120 k degrees from the module's top, towards its
+// left). Pointed down onto the floor, the push is along the axis: all three.
+// the touch module's frame -> world, from its cover (a cylinder turned by 90
+// degrees about y in the module frame: touch.yaml)
+Eigen::Quaterniond touch_module_orientation(const World& w) {
+  const Eigen::Vector4d q = w.body_state(0, 0).quaternion_wxyz;
+  const Eigen::Quaterniond cover(q[0], q[1], q[2], q[3]);
+  return cover * Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY())).conjugate();
+}
+
+TEST(TouchSensor, TheSwitchesOnTheSideOfTheContactClose) {
+  int checked = 0;
+  for (int roll = 0; roll < 360; roll += 15) {
+    WorldConfig c;
+    c.head_position = Eigen::Vector3d(0, 0, 0.0126);
+    c.roll_rad = roll * kRadPerDeg;
+    World w(c, {"touch"});
+    run(w, 0.5);
+    const uint16_t in = sample(w, 0).digital_in;
+    // where the floor is in the module frame: world down seen from the module
+    const Eigen::Quaterniond q = touch_module_orientation(w);
+    const Eigen::Vector3d down = q.conjugate() * Eigen::Vector3d(0, 0, -1);
+    const double dir = std::atan2(down.y(), down.z()) / kRadPerDeg;
+    uint16_t want = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double off = std::remainder(dir - 120.0 * k, 360.0);
+      if (std::fabs(off) <= 80) want |= static_cast<uint16_t>(1u << k);
+    }
+    // within 2 degrees of a sector's edge either answer is right
+    bool near_edge = false;
+    for (int k = 0; k < 3; ++k)
+      near_edge = near_edge || std::fabs(std::fabs(std::remainder(dir - 120.0 * k, 360.0)) - 80) < 2;
+    std::printf("roll %3d: floor at %7.2f deg in the module frame, switches %u (expected %u)\n", roll, dir, in,
+                want);
+    if (near_edge) continue;
+    EXPECT_EQ(in, want) << "roll " << roll;
+    ++checked;
+  }
+  EXPECT_GE(checked, 20);
+  {  // upright: below is 180 degrees, switches 1 and 2; upside down: switch 0
+    WorldConfig c;
+    c.head_position = Eigen::Vector3d(0, 0, 0.0126);
+    World up(c, {"touch"});
+    run(up, 0.5);
+    EXPECT_EQ(sample(up, 0).digital_in, 0b110u);
+    c.roll_rad = M_PI;
+    World down(c, {"touch"});
+    run(down, 0.5);
+    EXPECT_EQ(sample(down, 0).digital_in, 0b001u);
+    c.roll_rad = M_PI / 2;   // rolled a quarter turn: is its left or its right below?
+    World side(c, {"touch"});
+    run(side, 0.5);
+    const Eigen::Vector3d below = touch_module_orientation(side).conjugate() * Eigen::Vector3d(0, 0, -1);
+    EXPECT_EQ(sample(side, 0).digital_in, below.y() > 0 ? 0b010u : 0b100u);   // 120 (left) or 240 (right)
+  }
+  {  // head-on: pointing down onto the floor, the push is along the axis
+    WorldConfig c;
+    c.head_position = Eigen::Vector3d(0, 0, 0.0005);
+    c.head_orientation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()));   // x down
+    World w(c, {"touch"});
+    uint16_t first = 0;
+    for (int k = 0; k < 400 && first == 0; ++k) {
+      w.step();
+      first = sample(w, 0).digital_in;
+    }
+    EXPECT_EQ(first, 0b111u);
   }
 }
 
