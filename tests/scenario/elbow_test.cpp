@@ -105,6 +105,10 @@ std::string text(const Head& h) {
 
 // the scene edit that makes an elbow scene step with the exact solver
 const std::pair<std::string, std::string> kExactSolver = {"tick_us: 1000", "tick_us: 1000\n  solver: exact"};
+// the scene edits that give the turn (left: elbow_dir_deg 90) instead of
+// sensing it, and that turn the steering off
+const std::pair<std::string, std::string> kGivenLeft = {"bend_cdeg: 4500", "elbow_dir_deg: 90\n    bend_cdeg: 4500"};
+const std::pair<std::string, std::string> kSteeringOff = {"bend_cdeg: 4500", "elbow_dir_deg: -2\n    bend_cdeg: 4500"};
 
 }  // namespace
 
@@ -113,15 +117,16 @@ TEST(Elbow, TRRHPassesTheElbow) {
   const Outcome o = run_scene("elbow", "elbow-TRRH", 30);
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
   const std::string log = central_log(o, 4);
-  // the steering is logged at start (the scene: 90 deg, left, 45 deg bends;
-  // the pitch is 4500 cos 90 deg in the firmware's fixed point: 3 cdeg)
-  EXPECT_NE(log.find("elbow: dir_deg=90 pitch_cdeg=3 yaw_cdeg=-4500 bend_ms=8000"), std::string::npos) << log;
-  EXPECT_NE(log.find("touch 0x20: contact"), std::string::npos) << log;
-  EXPECT_NE(log.find("elbow: bend at ms"), std::string::npos) << log;
+  // the steering is logged at start (sensed, 45 deg bends); the head meets
+  // the bend's outer wall on its right: switch 2 (240 deg), so the chain
+  // bends away from it, to 60 deg (up and left)
+  EXPECT_NE(log.find("elbow: sensed bend_cdeg=4500 bend_ms=8000"), std::string::npos) << log;
+  EXPECT_NE(log.find("touch 0x20: contact switches=4 dir_deg=240 up_deg=0 side=right"), std::string::npos) << log;
+  EXPECT_NE(log.find("toward dir_deg=60 (sensed)"), std::string::npos) << log;
   EXPECT_TRUE(steered_at_elbow(o, log, 0.55)) << log;
   const Head h = head(o, 0.55);
-  // marginal: the head peaks 5.02 cm into the outgoing leg, for "out" at 5
-  // cm (at 100 iterations 4.86, converged thrown back: the next tests)
+  // the head ends 23 cm into the outgoing leg (given the left turn,
+  // elbow_dir_deg 90, it peaked 5.02 cm in, for "out" at 5 cm)
   EXPECT_GT(h.t_out, 0) << text(h) << "\n" << log;
   EXPECT_GT(h.y, 0.125) << text(h);
   // both rotation modules bend at once (bend_travel_ms 0), and straighten at once
@@ -135,9 +140,10 @@ TEST(Elbow, TRRHPassesTheElbow) {
   EXPECT_EQ(f[2].t_us - f[0].t_us, 8000000);
 }
 
-// The head-out above is QuickStep's verdict at the scenes' 30 iterations (at
-// 100 and 300 the head ends 4.9 and 4.6 cm into the outgoing leg, just short
-// of out, the helicoidal module at the entry). With the solver converged (the exact solver; 1000
+// Given the left turn (elbow_dir_deg 90) the head got out only under
+// QuickStep's 30 iterations (at 100 and 300 the head ends 4.9 and 4.6 cm
+// into the outgoing leg, just short of out, the helicoidal module at the
+// entry). With the solver converged (the exact solver; 1000
 // iterations agree) T R R H does not get its head out: the bent chain stalls
 // 0.7 s after the contact (18.8 s), breaks free at about 25 s and brings the
 // head to the bend's end, and the straightening at 26.8 s throws the chain
@@ -146,9 +152,9 @@ TEST(Elbow, TRRHPassesTheElbow) {
 // module stalls at the elbow's entry, at stall current, where it stalls
 // alone (next test). docs/firmware.md, "Elbow negotiation"; this pins the
 // converged verdicts so that a change to either side shows.
-TEST(Elbow, TRRHDoesNotPassWhenTheSolverConverges) {
+TEST(Elbow, TRRHGivenTheTurnDoesNotPassWhenTheSolverConverges) {
   {
-    const Outcome o = run_scene("elbow", "elbow-TRRH", 35, {kExactSolver});
+    const Outcome o = run_scene("elbow", "elbow-TRRH", 35, {kExactSolver, kGivenLeft});
     ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
     EXPECT_EQ(o.summary["solver"]["name"], "exact");
     const std::string log = central_log(o, 4);
@@ -166,7 +172,8 @@ TEST(Elbow, TRRHDoesNotPassWhenTheSolverConverges) {
     EXPECT_LT(*std::max_element(hx.begin(), hx.end()), 0.56);  // the H never reached the elbow (0.547)
   }
   {
-    const Outcome o = run_scene("elbow", "elbow-TRRH", 40, {kExactSolver, {"bend_ms: 8000", "bend_ms: 12000"}});
+    const Outcome o =
+        run_scene("elbow", "elbow-TRRH", 40, {kExactSolver, kGivenLeft, {"bend_ms: 8000", "bend_ms: 12000"}});
     ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
     const Head h = head(o, 0.55);
     const auto tr = read_trace(o.dir + "/trace.csv");
@@ -181,6 +188,22 @@ TEST(Elbow, TRRHDoesNotPassWhenTheSolverConverges) {
   }
 }
 
+// Sensed, the turn is 60 degrees (up and left: the touch module tells six
+// directions, and the outer wall on its right is 240): with the solver
+// converged T R R H gets its head out, where given the left turn it does not
+// (above). docs/firmware.md, "Elbow negotiation".
+TEST(Elbow, TRRHSensingTheTurnPassesWhenTheSolverConverges) {
+  const Outcome o = run_scene("elbow", "elbow-TRRH", 35, {kExactSolver});
+  ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+  const std::string log = central_log(o, 4);
+  EXPECT_NE(log.find("toward dir_deg=60 (sensed)"), std::string::npos) << log;
+  EXPECT_TRUE(steered_at_elbow(o, log, 0.55)) << log;
+  const Head h = head(o, 0.55);
+  std::printf("[ elbow ] T R R H, exact, sensed: %s\n", text(h).c_str());
+  EXPECT_GT(h.t_out, 0) << text(h);
+  EXPECT_GT(h.y, 0.13) << text(h);
+}
+
 // What decides T R R H: its last module, with nothing behind it, has to
 // cross the bend on its own. Alone (the exact solver, no steering) a
 // helicoidal module stalls at the 80 mm elbow's entry with its motor at
@@ -191,7 +214,6 @@ TEST(Elbow, ALoneHelicoidalModuleStallsAtThe80mmElbowButCrossesOneOf120mm) {
     const Outcome o = run_scene("elbow", "elbow-TRRH", 45,
                                 {kExactSolver,
                                  {"chain: TRRH", "chain: H"},
-                                 {"elbow_dir_deg: 90", "elbow_dir_deg: -1"},
                                  {"bend_radius_m: 0.08", std::string("bend_radius_m: ") + radius}});
     ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
     const auto tr = read_trace(o.dir + "/trace.csv");
@@ -216,7 +238,7 @@ TEST(Elbow, ALoneHelicoidalModuleStallsAtThe80mmElbowButCrossesOneOf120mm) {
 TEST(Elbow, TheBendTravelsDownTheChain) {
   // the contact comes at about 16.6 s, the last straightening 5 s later
   const Outcome o = run_scene("elbow", "elbow-TRRH", 25,
-                              {{"bend_ms: 8000", "bend_ms: 3000\n    bend_travel_ms: 2000"}});
+                              {kGivenLeft, {"bend_ms: 8000", "bend_ms: 3000\n    bend_travel_ms: 2000"}});
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
   const std::string log = central_log(o, 4);
   EXPECT_NE(log.find("elbow: dir_deg=90 pitch_cdeg=3 yaw_cdeg=-4500 bend_ms=3000 bend_travel_ms=2000\n"),
@@ -241,7 +263,7 @@ TEST(Elbow, TheBendTravelsDownTheChain) {
 
 // the same chain without the steering (elbow_dir_deg -2: off) jams at the elbow
 TEST(Elbow, TRRHWithoutSteeringJams) {
-  const Outcome o = run_scene("elbow", "elbow-TRRH", 30, {{"elbow_dir_deg: 90", "elbow_dir_deg: -2"}});
+  const Outcome o = run_scene("elbow", "elbow-TRRH", 30, {kSteeringOff});
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
   EXPECT_EQ(central_log(o, 4).find("elbow:"), std::string::npos);   // no steering, nothing logged
   const Head h = head(o, 0.55);
