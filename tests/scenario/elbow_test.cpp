@@ -204,6 +204,42 @@ TEST(Elbow, TRRHSensingTheTurnPassesWhenTheSolverConverges) {
   EXPECT_GT(h.y, 0.13) << text(h);
 }
 
+// The turn is sensed for elbows turning each way: the head meets the bend's
+// outer wall, the touch module names its side (the world's: the module
+// does not roll here), and the chain bends away from it, within the 30
+// degrees the cover's six directions allow. An elbow turning up and left
+// (45) is met on the floor side, not at the outer wall's 225 degrees: the
+// head sags onto the pipe's floor, so the chain bends up, 45 degrees off.
+// Runs end at 19 s, after the contact (16.1 to 18.2 s).
+TEST(Elbow, TheTouchModuleTellsWhichWayEachElbowTurns) {
+  struct Case {
+    int turn;
+    const char* wall;
+    int tolerance;
+  };
+  for (const Case& k : {Case{90, "right", 30}, Case{270, "left", 30}, Case{0, "down", 0}, Case{180, "up", 0},
+                        Case{45, "down", 45}}) {
+    const int turn = k.turn;
+    const char* wall = k.wall;
+    SCOPED_TRACE("elbow turning " + std::to_string(turn) + " deg");
+    const Outcome o = run_scene("elbow", "elbow-TRRH", 19,
+                                {{"direction_deg: 90}", "direction_deg: " + std::to_string(turn) + "}"}});
+    ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+    const std::string log = central_log(o, 4);
+    const size_t c = log.find("touch 0x20: contact");
+    ASSERT_NE(c, std::string::npos) << log;
+    const std::string contact = log.substr(c, log.find('\n', c) - c);
+    EXPECT_NE(contact.find(std::string("side=") + wall), std::string::npos) << contact;
+    const std::string key = "toward dir_deg=";
+    const size_t b = log.find(key);
+    ASSERT_NE(b, std::string::npos) << log;
+    const int sensed = std::atoi(log.c_str() + b + key.size());
+    const int off = std::abs(((sensed - turn) % 360 + 540) % 360 - 180);
+    std::printf("[ elbow ] turning %3d deg: %s; bent toward %d deg\n", turn, contact.c_str(), sensed);
+    EXPECT_LE(off, k.tolerance) << "sensed " << sensed;
+  }
+}
+
 // What decides T R R H: its last module, with nothing behind it, has to
 // cross the bend on its own. Alone (the exact solver, no steering) a
 // helicoidal module stalls at the 80 mm elbow's entry with its motor at
