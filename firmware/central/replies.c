@@ -7,8 +7,9 @@
 
 #define LONG_SLEEP_MS 60000UL
 
-static uint8_t touch_contact; /* a TOUCH contact frame came in */
+static uint8_t touch_contact; /* a new TOUCH contact came in */
 static int16_t touch_dir;     /* its obstacle direction */
+static uint8_t touch_closed;  /* the cover's switches closed now (from the last TOUCH frame) */
 
 static void log_reply(const uint8_t *buf, uint8_t len)
 {
@@ -44,9 +45,15 @@ static void log_reply(const uint8_t *buf, uint8_t len)
             cio_put(" up_deg=", up);
             sb_str(&cio_sb, " side=");
             sb_str(&cio_sb, s < 4u ? side[s] : "none");
-            touch_contact = 1;
-            touch_dir = dir;
+            /* a new contact is the first closed set after a release: more
+             * switches closing, or some opening, on the same wall is the
+             * same contact */
+            if (!touch_closed) {
+                touch_contact = 1;
+                touch_dir = dir;
+            }
         }
+        touch_closed = buf[2];
     } else if (buf[0] == CC_ENUM_REPLY || buf[0] == CC_ENUM_OFFER) {
         return; /* late discovery traffic */
     } else {

@@ -9,7 +9,8 @@
 /* log every received frame */
 void replies_drain(void);
 
-/* 1 when a TOUCH contact came in since the last call (then cleared); *dir_deg
+/* 1 when a new TOUCH contact (the first closed set after a release) came
+ * in since the last call (then cleared); *dir_deg
  * = the obstacle's direction it gave (in the touch module's frame, degrees;
  * CC_TOUCH_NONE when head-on) */
 uint8_t replies_take_touch(int16_t *dir_deg);

@@ -21,7 +21,7 @@
 #define TD_NONE CC_TOUCH_NONE /**< no direction: nothing touched, or a push along the axis (every switch) */
 
 /** atan2(y, x) in whole degrees 0..359 (0 along +x, 90 along +y): within
- * 0.3 degree before the rounding to whole degrees (tests/firmware/common/
+ * 0.3 degree before the rounding to whole degrees (tests/firmware/touch/
  * touch_direction_test.cpp); TD_NONE when both are 0 */
 int16_t td_atan2_deg(int16_t y, int16_t x);
 

@@ -163,7 +163,7 @@ struct SensorDef {
   // normal within 37 degrees of x). sectors = 1: any contact, one input.
   int sectors = 1;
   double first_deg = 0;
-  double half_width_deg = 60;
+  double half_width_deg = 180;   // the module file's default is 180 / sectors
 };
 
 struct DockingFace {

@@ -30,7 +30,7 @@ void Contacts::keep_points(int body) {
   if (kept_[body] >= 0) return;
   kept_[body] = static_cast<int>(points_.size());
   points_.emplace_back();
-  points_.back().reserve(4 * kMaxContactsPerPair);
+  points_.back().reserve(kKeptPointsReserved);   // World::step allocates nothing below this
 }
 
 const std::vector<Contacts::Point>& Contacts::points(int body) const {

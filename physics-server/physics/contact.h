@@ -27,6 +27,9 @@ struct ContactMaterials {
 class Contacts {
  public:
   static constexpr int kMaxContactsPerPair = 8;
+  // contact points kept per body (keep_points) before a step would allocate:
+  // 32 touching geoms at 8 contacts each (a cover in a mesh pipe meets a few)
+  static constexpr int kKeptPointsReserved = 32 * kMaxContactsPerPair;
 
   Contacts(dWorldID world, ContactMaterials materials);
   ~Contacts();

@@ -36,7 +36,7 @@ TEST(Params, OutOfRangeParameterNamesTheDeclaredRange) {
   const Outcome o = run({scene}, dir);
   EXPECT_EQ(o.exit_code, 1) << o.stderr_text;
   EXPECT_NE(o.stderr_text.find(scene + ":7:20: parameter 'release_ms' of module 0 (touch) is 70000, outside the "
-                                        "range 0..60000 that program fw-touch declares (released once the input "
+                                        "range 0..60000 that program fw-touch declares (a switch is released once its input "
                                         "was low this long, ms)"),
             std::string::npos)
       << o.stderr_text;

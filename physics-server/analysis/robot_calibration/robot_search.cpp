@@ -211,6 +211,17 @@ RobotSearch search_knobs(const std::vector<SpeedRow>& rows, const std::vector<in
   s.after = speeds(s.model);
 
   const bool pair_taken = std::any_of(s.pairs.begin(), s.pairs.end(), [](const PairCandidate& p) { return p.accepted; });
+  if (pair_taken) {
+    // the pair replaced what the greedy rounds accepted: their candidates say so
+    const std::string pair = std::string(robot_knobs()[s.accepted[0]].name) + " + " + robot_knobs()[s.accepted[1]].name;
+    for (KnobCandidate& c : s.candidates)
+      if (c.accepted) c.accepted = false, c.why += "; replaced by the pair " + pair;
+  }
+  // an alias recorded for a model that a later round or the pair stage changed
+  // says nothing of the final one
+  s.aliases.erase(std::remove_if(s.aliases.begin(), s.aliases.end(),
+                                 [&](const Alias& a) { return a.chosen != s.model; }),
+                  s.aliases.end());
   if (!s.accepted.empty() && n >= 3 && !pair_taken) {
     say("leave-one-row-out check");
     double sum = 0;

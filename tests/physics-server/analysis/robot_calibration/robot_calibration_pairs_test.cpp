@@ -175,7 +175,11 @@ TEST(RobotCalibrationPairs, WeakerFasterDrive) {
 // friction x0.85. The greedy rounds take the arms' grip torque first (the
 // pads' grip seen through the force pressing them) and no second knob cuts
 // the rest by 30 %; the pair stage finds the two changes and replaces it.
-TEST(RobotCalibrationPairs, InchwormWeakerExtensionAndSlipperierPads) {
+// About 5 minutes of two cores (the exact solver's runs): a study run on
+// demand, outside the suite's quarter of an hour:
+//   robot_calibration_pairs_test --gtest_also_run_disabled_tests --gtest_filter='*Inchworm*'
+// (docs/calibration.md, "Two effects hidden together").
+TEST(RobotCalibrationPairs, DISABLED_InchwormWeakerExtensionAndSlipperierPads) {
   check_pair({"inchworm", "inchworm-30.yaml", {"0", "15", "30", "45", "60"},
               {{"extension", "fmax_n", 0.8}, {"support", "mu", 0.85}},
               {{"extension_force", 0.8}, {"pad_friction", 0.85}},

@@ -178,6 +178,32 @@ TEST(RobotSearch, APairWhoseSinglesFallShortIsFoundTogether) {
   EXPECT_NEAR(s2.model.at(kFreeSpeed), 1.2, 0.03);
 }
 
+TEST(RobotSearch, APairReplacesASingleThatLeavesTheGapAboveTheResolution) {
+  // wall friction alone mimics the two drive changes' sum but for a pattern
+  // of its own (alternating rows): accepted alone, it leaves 0.075 cm/s,
+  // and no second knob fitted onto it helps; the drive pair explains all
+  LinearModel m = drive_model();
+  const KnobSetting truth = {{kThrust, 1.3}, {kFreeSpeed, 0.85}};
+  const std::vector<double> nominal = m.speeds({}), changed = m.speeds(truth);
+  const double d[] = {0.1, -0.1, 0.1, -0.1, 0.1, -0.1};
+  std::vector<double> friction;
+  for (size_t i = 0; i < 6; ++i) friction.push_back(4 * (changed[i] - nominal[i]) + 3 * d[i]);
+  m.J[kFriction] = friction;
+  const RobotSearch s = search_knobs(m.rows(truth), {kThrust, kFreeSpeed, kFriction}, m.fn(), quiet);
+  ASSERT_FALSE(s.candidates.empty());
+  EXPECT_EQ(s.candidates[0].knob, kFriction);   // round 1's best
+  EXPECT_NE(s.candidates[0].why.find("accepted; replaced by the pair"), std::string::npos) << s.candidates[0].why;
+  for (const KnobCandidate& c : s.candidates) EXPECT_FALSE(c.accepted) << robot_knobs()[c.knob].name;
+  ASSERT_EQ(s.pairs.size(), 1u);
+  EXPECT_TRUE(s.pairs[0].accepted) << s.pairs[0].why;
+  EXPECT_EQ(std::set<int>(s.accepted.begin(), s.accepted.end()), (std::set<int>{kThrust, kFreeSpeed}));
+  EXPECT_EQ(s.model.count(kFriction), 0u);
+  EXPECT_NEAR(s.model.at(kThrust), 1.3, 0.03);
+  EXPECT_NEAR(s.model.at(kFreeSpeed), 0.85, 0.02);
+  EXPECT_EQ(s.verdict, "explained");
+  EXPECT_TRUE(s.aliases.empty());
+}
+
 TEST(RobotSearch, APairWithAKnobItDoesNotNeedIsRefused) {
   // thrust explains most of the gap; free speed adds little beyond it, and
   // what is left no knob explains
