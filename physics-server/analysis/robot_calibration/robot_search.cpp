@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
 
 namespace chainsim {
@@ -27,14 +28,16 @@ std::vector<KnobCandidate> fit_round(int round, const std::vector<SpeedRow>& row
   return cands;
 }
 
-// the accepted knobs refitted without row i, then row i predicted
-double predict_left_out(const std::vector<SpeedRow>& rows, const std::vector<int>& accepted,
-                        const SpeedFunction& speeds, size_t i) {
-  std::vector<bool> mask(rows.size(), true);
-  mask[i] = false;
-  KnobSetting st;
-  for (int k : accepted) st = fit_new_knob(speeds, rows, st, k, mask).st;
-  return speeds(st)[i];
+// each row predicted by the setting refit(mask) finds with that row masked out
+std::vector<double> leave_each_row_out(size_t n, const SpeedFunction& speeds,
+                                       const std::function<KnobSetting(const std::vector<bool>&)>& refit) {
+  std::vector<double> out(n);
+  for (size_t i = 0; i < n; ++i) {
+    std::vector<bool> mask(n, true);
+    mask[i] = false;
+    out[i] = speeds(refit(mask))[i];
+  }
+  return out;
 }
 
 double rms_difference(const std::vector<double>& x, const std::vector<double>& y) {
@@ -45,10 +48,28 @@ double rms_difference(const std::vector<double>& x, const std::vector<double>& y
 
 std::string percent_cut(double from, double to) { return fmt_fixed(100 * (1 - to / from), 0) + " %"; }
 
+// a cut from `from` to `to` short of kMinGainRobot, in words
+std::string short_cut(double from, double to) {
+  return "cuts the gap by " + percent_cut(from, to) + " (< " + fmt_fixed(100 * kMinGainRobot, 0) + " %)";
+}
+
+std::string pair_name(int a, int b) { return std::string(robot_knobs()[a].name) + " + " + robot_knobs()[b].name; }
+
+// records `other` as an alias of `chosen` when it predicts the table within
+// its resolution of it (RMS over the rows); its reason then says so
+void note_alias(RobotSearch& s, const KnobSetting& chosen, const KnobFit& other, const SpeedFunction& speeds,
+                const std::string& of_what, std::string* why) {
+  const double d = rms_difference(speeds(chosen), speeds(other.st));
+  if (d > kTableResolution) return;
+  s.aliases.push_back({chosen, other.st, other.gap, d});
+  *why = "an alias of the accepted " + of_what + ": the table cannot tell them apart (speeds within " + fmt_fixed(d) +
+         " cm/s RMS)";
+}
+
 // The pair stage: pairs of knobs that each changed the table in round 1,
 // best singles' pairs first, at most kMaxPairFits, each fitted jointly from
 // the better single's fit; checks, the best acceptable pair, its aliases.
-void fit_pairs(RobotSearch& s, const std::vector<SpeedRow>& rows, const SpeedFunction& speeds,
+bool fit_pairs(RobotSearch& s, const std::vector<SpeedRow>& rows, const SpeedFunction& speeds,
                const RobotProgress& say) {
   std::map<int, const KnobCandidate*> single;
   for (const KnobCandidate& c : s.candidates)
@@ -73,18 +94,17 @@ void fit_pairs(RobotSearch& s, const std::vector<SpeedRow>& rows, const SpeedFun
     return x.single_a + x.single_b < y.single_a + y.single_b;
   });
   if (pairs.size() > size_t(kMaxPairFits)) pairs.resize(kMaxPairFits);
-  if (pairs.empty()) return;
+  if (pairs.empty()) return false;
 
   const double ref = s.gap_after;
   const double keep = 1 - kMinGainRobot;
-  const size_t n = rows.size();
   for (PairCandidate& p : pairs) {
-    const std::string name = std::string(robot_knobs()[p.a].name) + " + " + robot_knobs()[p.b].name;
+    const std::string name = pair_name(p.a, p.b);
     p.fit = fit_new_knob(speeds, rows, single[p.a]->fit.st, p.b, {});
     say("pair " + name + " -> gap " + fmt_fixed(p.fit.gap));
     const double better_single = std::min(p.single_a, p.single_b);
     if (p.fit.gap > keep * ref) {
-      p.why = "cuts the gap by " + percent_cut(ref, p.fit.gap) + " (< " + fmt_fixed(100 * kMinGainRobot, 0) + " %)";
+      p.why = short_cut(ref, p.fit.gap);
       continue;
     }
     if (p.fit.gap > keep * better_single) {
@@ -96,15 +116,10 @@ void fit_pairs(RobotSearch& s, const std::vector<SpeedRow>& rows, const SpeedFun
       continue;
     }
     say("pair " + name + ": leave-one-row-out check");
-    p.leave_one_out.assign(n, NAN);
-    double sum = 0;
-    for (size_t i = 0; i < n; ++i) {
-      std::vector<bool> mask(n, true);
-      mask[i] = false;
-      p.leave_one_out[i] = speeds(fit_knobs(speeds, rows, p.fit.st, mask, 20).st)[i];
-      sum += std::pow(p.leave_one_out[i] - rows[i].real, 2);
-    }
-    p.leave_one_out_gap = std::sqrt(sum / double(n));
+    p.leave_one_out = leave_each_row_out(rows.size(), speeds, [&](const std::vector<bool>& mask) {
+      return fit_knobs(speeds, rows, p.fit.st, mask, 20).st;   // from the pair's fit: a local refit
+    });
+    p.leave_one_out_gap = speed_gap(p.leave_one_out, rows);
     if (p.leave_one_out_gap > keep * ref) {
       p.why = "leave-one-row-out gap " + fmt_fixed(p.leave_one_out_gap) + " cuts the gap by only " +
               percent_cut(ref, p.leave_one_out_gap);
@@ -121,19 +136,13 @@ void fit_pairs(RobotSearch& s, const std::vector<SpeedRow>& rows, const SpeedFun
     PairCandidate& b = pairs[size_t(best)];
     b.accepted = true;
     b.why = "accepted";
-    const std::vector<double> chosen = speeds(b.fit.st);
+    const size_t aliases_before = s.aliases.size();
     for (size_t i = 0; i < pairs.size(); ++i) {
       if (int(i) == best || !pairs[i].acceptable) continue;
-      const double d = rms_difference(chosen, speeds(pairs[i].fit.st));
-      if (d <= kTableResolution) {
-        s.aliases.push_back({b.fit.st, pairs[i].fit.st, pairs[i].fit.gap, d});
-        pairs[i].why = "an alias of the accepted pair: the table cannot tell them apart (speeds within " +
-                       fmt_fixed(d) + " cm/s RMS)";
-        b.why = "accepted; the table cannot tell it from an alias (see aliases)";
-      } else {
-        pairs[i].why = "fits, but less well than the accepted pair";
-      }
+      pairs[i].why = "fits, but less well than the accepted pair";
+      note_alias(s, b.fit.st, pairs[i].fit, speeds, "pair", &pairs[i].why);
     }
+    if (s.aliases.size() > aliases_before) b.why = "accepted; the table cannot tell it from an alias (see aliases)";
     s.model = b.fit.st;
     s.accepted = {b.a, b.b};
     s.gap_after = b.fit.gap;
@@ -141,6 +150,7 @@ void fit_pairs(RobotSearch& s, const std::vector<SpeedRow>& rows, const SpeedFun
     s.leave_one_out_gap = b.leave_one_out_gap;
   }
   s.pairs = std::move(pairs);
+  return best >= 0;
 }
 
 }  // namespace
@@ -182,41 +192,30 @@ RobotSearch search_knobs(const std::vector<SpeedRow>& rows, const std::vector<in
       const bool at_bound = fac <= kb.lo * 1.01 || fac >= kb.hi / 1.01;
       if (i > 0) c.why = "not the best of the round";
       else if (at_null) c.why = "fitted to its nominal value";
-      else if (c.fit.gap > (1 - kMinGainRobot) * s.gap_after)
-        c.why = "cuts the gap by " + fmt_fixed(100 * (1 - c.fit.gap / s.gap_after), 0) + " % (< " +
-                fmt_fixed(100 * kMinGainRobot, 0) + " %)";
+      else if (c.fit.gap > (1 - kMinGainRobot) * s.gap_after) c.why = short_cut(s.gap_after, c.fit.gap);
       else c.accepted = true, c.why = "accepted";
       if (c.accepted && at_bound) c.why += " (at a bound of its range)";
       if (c.accepted) s.model = c.fit.st, s.gap_after = c.fit.gap, s.accepted.push_back(c.knob), took = true;
       // a runner-up that passes too and predicts the same table within its resolution: an alias
-      if (i > 0 && took && !at_null && c.fit.gap <= (1 - kMinGainRobot) * gap_round) {
-        const double d = rms_difference(speeds(s.model), speeds(c.fit.st));
-        if (d <= kTableResolution) {
-          s.aliases.push_back({s.model, c.fit.st, c.fit.gap, d});
-          c.why = "an alias of the accepted knob: the table cannot tell them apart (speeds within " + fmt_fixed(d) +
-                  " cm/s RMS)";
-        }
-      }
+      if (i > 0 && took && !at_null && c.fit.gap <= (1 - kMinGainRobot) * gap_round)
+        note_alias(s, s.model, c.fit, speeds, "knob", &c.why);
       s.candidates.push_back(c);
     }
     if (!took) break;
   }
   s.leave_one_out.assign(n, NAN);
   s.leave_one_out_gap = NAN;
+  bool pair_taken = false;
   if (max_params >= 2 && s.accepted.size() < 2 && s.gap_after > kTableResolution) {
     say(std::string(s.accepted.empty() ? "no single knob accepted" : "the gap stays above the table's resolution") +
         ": pairs of knobs fitted jointly");
-    fit_pairs(s, rows, speeds, say);
+    pair_taken = fit_pairs(s, rows, speeds, say);
   }
   s.after = speeds(s.model);
 
-  const bool pair_taken = std::any_of(s.pairs.begin(), s.pairs.end(), [](const PairCandidate& p) { return p.accepted; });
-  if (pair_taken) {
-    // the pair replaced what the greedy rounds accepted: their candidates say so
-    const std::string pair = std::string(robot_knobs()[s.accepted[0]].name) + " + " + robot_knobs()[s.accepted[1]].name;
+  if (pair_taken)   // the pair replaced what the greedy rounds accepted: their candidates say so
     for (KnobCandidate& c : s.candidates)
-      if (c.accepted) c.accepted = false, c.why += "; replaced by the pair " + pair;
-  }
+      if (c.accepted) c.accepted = false, c.why += "; replaced by the pair " + pair_name(s.accepted[0], s.accepted[1]);
   // an alias recorded for a model that a later round or the pair stage changed
   // says nothing of the final one
   s.aliases.erase(std::remove_if(s.aliases.begin(), s.aliases.end(),
@@ -224,12 +223,12 @@ RobotSearch search_knobs(const std::vector<SpeedRow>& rows, const std::vector<in
                   s.aliases.end());
   if (!s.accepted.empty() && n >= 3 && !pair_taken) {
     say("leave-one-row-out check");
-    double sum = 0;
-    for (size_t i = 0; i < n; ++i) {
-      s.leave_one_out[i] = predict_left_out(rows, s.accepted, speeds, i);
-      sum += std::pow(s.leave_one_out[i] - rows[i].real, 2);
-    }
-    s.leave_one_out_gap = std::sqrt(sum / n);
+    s.leave_one_out = leave_each_row_out(n, speeds, [&](const std::vector<bool>& mask) {
+      KnobSetting st;   // the accepted knobs refitted from scratch, in their order
+      for (int k : s.accepted) st = fit_new_knob(speeds, rows, st, k, mask).st;
+      return st;
+    });
+    s.leave_one_out_gap = speed_gap(s.leave_one_out, rows);
   }
   const bool explained = s.gap_after <= kTableResolution;
   s.verdict = s.accepted.empty() ? (explained ? "no_missing_effect" : "unexplained")
