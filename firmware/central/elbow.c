@@ -12,6 +12,7 @@
 
 static int16_t bend_pitch, bend_yaw; /* cdeg, held while bending */
 static uint8_t bending, bent_once;
+static uint8_t steers; /* gait 9, steering not off, and a rotation module to bend (set once the chain is known) */
 uint32_t elbow_bend_end; /* the steering's next change (while bending), or when it ended */
 
 /* the bend toward dir_deg */
@@ -25,24 +26,20 @@ static void set_direction(int16_t dir_deg)
     bend_yaw = (int16_t)-fs_scale(params.bend_cdeg, fs_sin_mrad(d));
 }
 
-static uint8_t has_rotation(void)
-{
-    uint8_t i;
-    for (i = 0; i < chain_n_modules; i++)
-        if (chain_module_type[i] == MT_ROTATION)
-            return 1;
-    return 0;
-}
+static uint8_t rotation_from(uint8_t i, uint8_t from, uint32_t *t);
 
 void elbow_setup(void)
 {
+    uint32_t t = 0;
+    steers = params.gait == GAIT_HELICOIDAL && params.elbow_dir_deg != ELBOW_OFF &&
+             rotation_from(0, chain_n_modules, &t) < chain_n_modules;
     if (params.elbow_dir_deg >= 0)
         set_direction(params.elbow_dir_deg);
 }
 
 void elbow_log(void)
 {
-    if (params.gait != GAIT_HELICOIDAL || params.elbow_dir_deg == ELBOW_OFF || !has_rotation())
+    if (!steers)
         return;
     sb_reset(&cio_sb);
     if (params.elbow_dir_deg >= 0) {
@@ -101,7 +98,7 @@ static void straighten_due(uint32_t now)
 void elbow_contact(uint32_t now, int16_t obstacle_deg)
 {
     int16_t turn;
-    if (params.elbow_dir_deg == ELBOW_OFF || bending || !has_rotation())
+    if (!steers || bending)
         return;
     if (bent_once && (int32_t)(now - elbow_bend_end) < (int32_t)params.bend_ms)
         return; /* the same elbow: the head meets the outgoing leg's wall */

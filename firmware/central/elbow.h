@@ -14,8 +14,9 @@
 
 #include <stdint.h>
 
-/* the bend's pitch and yaw from elbow_dir_deg, when given, and bend_cdeg
- * (central_params.h) */
+/* after discovery: whether it steers (gait 9, elbow_dir_deg not -2, a
+ * rotation module in the chain), and the bend's pitch and yaw from
+ * elbow_dir_deg, when given, and bend_cdeg (central_params.h) */
 void elbow_setup(void);
 
 /* log "elbow: dir_deg=... pitch_cdeg=... yaw_cdeg=... bend_ms=..." (given)
