@@ -33,6 +33,12 @@ void cio_put(const char *text, int32_t v)
     sb_int(&cio_sb, v);
 }
 
+void cio_put_side(uint8_t side)
+{
+    static const char *const name[4] = {"up", "left", "down", "right"};
+    sb_str(&cio_sb, side < 4u ? name[side] : "none");
+}
+
 void cio_log_line(const char *line)
 {
     if (log_lines >= HAL_LOG_LINES_PER_WAIT)

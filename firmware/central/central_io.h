@@ -25,6 +25,10 @@ void cio_new_wait(void);
  * the PIC every call passing &cio_sb costs code) */
 void cio_put(const char *text, int32_t v);
 
+/* append the name of a side, CC_SIDE_* ("up", "left", "down", "right";
+ * "none" for any other value) */
+void cio_put_side(uint8_t side);
+
 void cio_log_line(const char *line);
 void cio_log_int(const char *prefix, uint32_t v); /* prefix, then v as a signed number */
 

@@ -40,6 +40,9 @@ const hal_param_decl hal_param_table[] = {
     HAL_PARAM("elbow_dir_deg", HAL_PARAM_I16, -2, 359, -1,
               "gait 9: way the next elbow turns, deg (0 up, 90 left, 180 down, 270 right), overriding the touch "
               "module's; -1 = sensed (away from where the touch module was touched); -2 = no steering"),
+    HAL_PARAM("junction", HAL_PARAM_U8, 0, 2, 0,
+              "gait 9: way taken where the touch module is pushed head-on (a wall ahead: a split, a tee): 0 none, "
+              "1 left, 2 right (as gravity gives them; a follow-the-left-wall policy is 1)"),
     HAL_PARAM("bend_cdeg", HAL_PARAM_I16, 0, CC_QUARTER_TURN_CDEG, 4500,
               "gait 9: how far each rotation module bends toward the elbow, cdeg"),
     HAL_PARAM("bend_ms", HAL_PARAM_U16, 0, 30000, 1500, "gait 9: how long each rotation module holds the bend, ms"),
@@ -70,6 +73,7 @@ void central_params_read(void)
     params.stop_ms = (uint32_t)hal_param("stop_ms");
     params.poll_ms = (uint32_t)hal_param("poll_ms");
     params.elbow_dir_deg = (int16_t)hal_param("elbow_dir_deg");
+    params.junction = (uint8_t)hal_param("junction");
     params.bend_cdeg = (int16_t)hal_param("bend_cdeg");
     params.bend_ms = (uint16_t)hal_param("bend_ms");
     params.bend_travel_ms = (uint16_t)hal_param("bend_travel_ms");

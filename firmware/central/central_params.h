@@ -28,8 +28,11 @@ typedef struct {
     uint32_t stop_ms;      /* STOP at this time, 0 = never */
     uint32_t poll_ms;      /* READ_SENSORS every poll_ms, 0 = never */
     /* elbows (gait 9): which way the pipe turns relative to the chain (0 up,
-     * 90 left, 180 down, 270 right; -1 = off), how far and how long to bend */
+     * 90 left, 180 down, 270 right; -1 = sensed, -2 = off), which way to take
+     * where the head meets a wall ahead (JUNCTION_*), how far and how long to
+     * bend */
     int16_t elbow_dir_deg;
+    uint8_t junction;
     int16_t bend_cdeg;
     uint16_t bend_ms;
     uint16_t bend_travel_ms; /* delay of the bend per module along the chain */
@@ -38,6 +41,11 @@ typedef struct {
 /* the parameters as read by central_params_read (a global: SDCC reaches it
  * by direct addressing, cheaper than through a pointer) */
 extern central_params params;
+
+/* junction: the way taken where the touch module is pushed head-on */
+#define JUNCTION_WAIT 0u  /* none: log the contact and go on pushing */
+#define JUNCTION_LEFT 1u  /* the left outlet (left as gravity gives it) */
+#define JUNCTION_RIGHT 2u /* the right outlet */
 
 /* read every parameter (hal_param clamps each to its declared range) */
 void central_params_read(void);

@@ -95,22 +95,55 @@ static void straighten_due(uint32_t now)
     }
 }
 
-void elbow_contact(uint32_t now, int16_t obstacle_deg)
+
+
+/* a contact watched for JUNCTION_WINDOW_MS (junction policy): since when,
+ * its first direction and up, and every switch closed since */
+static uint8_t watching, watch_switches;
+static uint32_t watch_from;
+static int16_t watch_dir, watch_up;
+
+static void steer(uint32_t now, int16_t obstacle_deg, int16_t up_deg);
+
+void elbow_contact(uint32_t now, int16_t obstacle_deg, int16_t up_deg)
 {
-    int16_t turn;
-    if (!steers || bending)
+    if (!steers || bending || watching)
         return;
     if (bent_once && (int32_t)(now - elbow_bend_end) < (int32_t)params.bend_ms)
         return; /* the same elbow: the head meets the outgoing leg's wall */
+    if (params.junction != JUNCTION_WAIT && params.elbow_dir_deg < 0) {
+        watching = 1;
+        watch_switches = 0;
+        watch_from = now;
+        watch_dir = obstacle_deg;
+        watch_up = up_deg;
+        return;
+    }
+    steer(now, obstacle_deg, up_deg);
+}
+
+/* bend toward the turn that obstacle_deg (up_deg) asks for */
+static void steer(uint32_t now, int16_t obstacle_deg, int16_t up_deg)
+{
+    int16_t turn;
+    const char *why = "sensed";
     if (params.elbow_dir_deg >= 0) {
         turn = params.elbow_dir_deg;
+        why = "given";
     } else {
-        if (obstacle_deg == CC_TOUCH_NONE) {
+        if (obstacle_deg != CC_TOUCH_NONE) {
+            /* the head meets the bend's outer wall: the pipe turns away from it */
+            turn = (int16_t)(obstacle_deg >= 180 ? obstacle_deg - 180 : obstacle_deg + 180);
+        } else if (params.junction != JUNCTION_WAIT && up_deg != CC_TOUCH_NONE) {
+            /* a wall ahead: the junction policy's way, left or right of up */
+            turn = (int16_t)(up_deg + (params.junction == JUNCTION_LEFT ? 90 : 270));
+            if (turn >= 360)
+                turn -= 360;
+            why = "junction";
+        } else {
             cio_log_int("elbow: head-on contact, no direction at ms ", now);
             return;
         }
-        /* the head meets the bend's outer wall: the pipe turns away from it */
-        turn = (int16_t)(obstacle_deg >= 180 ? obstacle_deg - 180 : obstacle_deg + 180);
         set_direction(turn);
     }
     t_on = now; /* the first rotation module bends at the contact: */
@@ -122,14 +155,36 @@ void elbow_contact(uint32_t now, int16_t obstacle_deg)
     sb_reset(&cio_sb);
     cio_put("elbow: bend at ms ", (int32_t)now);
     cio_put(" toward dir_deg=", turn);
-    sb_str(&cio_sb, params.elbow_dir_deg >= 0 ? " (given)" : " (sensed)");
+    if (up_deg != CC_TOUCH_NONE) /* the turn as gravity gives it: 0 up, 90 left, 180 down, 270 right */
+        cio_put(" world_deg=", (turn - up_deg + 360) % 360);
+    sb_str(&cio_sb, " (");
+    sb_str(&cio_sb, why);
+    if (why[0] == 'j') {
+        sb_str(&cio_sb, ", ");
+        cio_put_side(params.junction == JUNCTION_LEFT ? CC_SIDE_LEFT : CC_SIDE_RIGHT);
+    }
+    sb_char(&cio_sb, ')');
     cio_log_line(cio_sb.buf);
     bending = 1;
     bent_once = 1;
 }
 
-uint8_t elbow_update(uint32_t now, uint8_t stopped)
+uint8_t elbow_update(uint32_t now, uint8_t stopped, uint8_t switches)
 {
+    if (watching) {
+        watch_switches |= switches;
+        if (stopped) {
+            watching = 0;
+            return 0;
+        }
+        if ((int32_t)(now - watch_from) < (int32_t)JUNCTION_WINDOW_MS) {
+            elbow_bend_end = watch_from + JUNCTION_WINDOW_MS;
+            return 1;
+        }
+        watching = 0;
+        /* every switch closed within the window: a wall ahead */
+        steer(now, watch_switches == 7u ? CC_TOUCH_NONE : watch_dir, watch_up);
+    }
     if (!bending)
         return 0;
     if (stopped) {

@@ -7,7 +7,12 @@
  * ended (the head meeting the outgoing leg's wall), is the same elbow. The
  * turn is away from where the touch module was touched (the head meets the
  * bend's outer wall), or elbow_dir_deg when the scene gives it (>= 0); -2
- * turns the steering off. A chain without rotation modules never steers. See
+ * turns the steering off. Pushed head-on (a wall ahead: a split, a tee),
+ * the turn is the junction policy's, left or right of up (params.junction).
+ * With a junction policy the central control waits JUNCTION_WINDOW_MS after
+ * a contact before it turns: a head meeting the wedge between a split's two
+ * outlets touches one side first, then the other, and every switch closing
+ * within the window is a wall ahead. Without one it turns at the contact. A chain without rotation modules never steers. See
  * docs/firmware.md, "Elbow negotiation". */
 #ifndef ELBOW_H
 #define ELBOW_H
@@ -25,18 +30,28 @@ void elbow_setup(void);
  * is not 9 or the chain has no rotation module */
 void elbow_log(void);
 
-/* a TOUCH contact at now while gait 9 runs, the obstacle at obstacle_deg in
- * the touch module's frame (CC_TOUCH_NONE: head-on): bend, unless steering is
- * off, the direction is unknown, or this is the elbow already being passed */
-void elbow_contact(uint32_t now, int16_t obstacle_deg);
+/* a TOUCH contact at now while gait 9 runs, the obstacle at obstacle_deg and
+ * up at up_deg in the touch module's frame (CC_TOUCH_NONE: head-on; gravity
+ * along the axis): bend, unless steering is off, the direction is unknown,
+ * or this is the elbow already being passed. The log line gives the turn in
+ * the touch module's frame and, when the touch module knew where up was, as
+ * gravity gives it (0 up, 90 left, 180 down, 270 right), and why: "elbow:
+ * bend at ms T toward dir_deg=D world_deg=W (sensed)", "(junction, left)"
+ * or "(given)". */
+void elbow_contact(uint32_t now, int16_t obstacle_deg, int16_t up_deg);
 
 /* the steering's next change (valid while elbow_update returns 1), or when
  * it ended */
 extern uint32_t elbow_bend_end;
 
-/* bend and straighten the rotation modules whose time has come (or forget
- * the steering after STOP, which straightened the modules). Returns 1 while
- * the steering lasts: elbow_update must run again at elbow_bend_end. */
-uint8_t elbow_update(uint32_t now, uint8_t stopped);
+/* how long a contact is watched before the turn, with a junction policy, ms */
+#define JUNCTION_WINDOW_MS 200u
+
+/* bend and straighten the rotation modules whose time has come, or turn
+ * once a contact's window has passed (switches: the touch module's switches
+ * that closed since the last call); forget the steering after STOP, which
+ * straightened the modules. Returns 1 while the steering lasts: elbow_update
+ * must run again at elbow_bend_end. */
+uint8_t elbow_update(uint32_t now, uint8_t stopped, uint8_t switches);
 
 #endif

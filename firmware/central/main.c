@@ -55,13 +55,13 @@ static void serve(void)
 {
     uint32_t now, wake = 0, left;
     uint8_t have_wake;
-    int16_t touch_dir;
+    int16_t touch_dir, touch_up;
 
     replies_drain();
     now = hal_millis();
-    if (replies_take_touch(&touch_dir) && started && !stopped && params.gait == GAIT_HELICOIDAL)
-        elbow_contact(now, touch_dir);
-    have_wake = elbow_update(now, stopped);
+    if (replies_take_touch(&touch_dir, &touch_up) && started && !stopped && params.gait == GAIT_HELICOIDAL)
+        elbow_contact(now, touch_dir, touch_up);
+    have_wake = elbow_update(now, stopped, replies_take_switches());
     if (have_wake)
         wake = elbow_bend_end;
     if (started && !stopped && params.stop_ms != 0) {

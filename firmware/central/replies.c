@@ -9,7 +9,9 @@
 
 static uint8_t touch_contact; /* a new TOUCH contact came in */
 static int16_t touch_dir;     /* its obstacle direction */
+static int16_t touch_up;      /* where up was */
 static uint8_t touch_closed;  /* the cover's switches closed now (from the last TOUCH frame) */
+static uint8_t touch_seen;    /* every switch closed since replies_take_switches */
 
 static void log_reply(const uint8_t *buf, uint8_t len)
 {
@@ -32,7 +34,6 @@ static void log_reply(const uint8_t *buf, uint8_t len)
         sb_str(&cio_sb, " flags=");
         sb_hex8(&cio_sb, buf[5]);
     } else if (buf[0] == CC_TOUCH && len == CC_TOUCH_LEN) {
-        static const char *const side[4] = {"up", "left", "down", "right"};
         int16_t dir = cc_get_i16(buf + CC_TOUCH_OFF_DIR), up = cc_get_i16(buf + CC_TOUCH_OFF_UP);
         uint8_t s = buf[CC_TOUCH_OFF_SIDE];
         sb_str(&cio_sb, "touch ");
@@ -44,16 +45,18 @@ static void log_reply(const uint8_t *buf, uint8_t len)
             cio_put(" dir_deg=", dir);
             cio_put(" up_deg=", up);
             sb_str(&cio_sb, " side=");
-            sb_str(&cio_sb, s < 4u ? side[s] : "none");
+            cio_put_side(s);
             /* a new contact is the first closed set after a release: more
              * switches closing, or some opening, on the same wall is the
              * same contact */
             if (!touch_closed) {
                 touch_contact = 1;
                 touch_dir = dir;
+                touch_up = up;
             }
         }
         touch_closed = buf[2];
+        touch_seen |= buf[2];
     } else if (buf[0] == CC_ENUM_REPLY || buf[0] == CC_ENUM_OFFER) {
         return; /* late discovery traffic */
     } else {
@@ -72,12 +75,20 @@ void replies_drain(void)
             log_reply(cio_rx, len);
 }
 
-uint8_t replies_take_touch(int16_t *dir_deg)
+uint8_t replies_take_touch(int16_t *dir_deg, int16_t *up_deg)
 {
     uint8_t t = touch_contact;
     touch_contact = 0;
     *dir_deg = touch_dir;
+    *up_deg = touch_up;
     return t;
+}
+
+uint8_t replies_take_switches(void)
+{
+    uint8_t s = touch_seen;
+    touch_seen = 0;
+    return s;
 }
 
 void replies_sleep_until(uint32_t until_ms)

@@ -10,10 +10,14 @@
 void replies_drain(void);
 
 /* 1 when a new TOUCH contact (the first closed set after a release) came
- * in since the last call (then cleared); *dir_deg
- * = the obstacle's direction it gave (in the touch module's frame, degrees;
- * CC_TOUCH_NONE when head-on) */
-uint8_t replies_take_touch(int16_t *dir_deg);
+ * in since the last call (then cleared); *dir_deg = the obstacle's direction
+ * it gave, *up_deg = where up was (in the touch module's frame, degrees;
+ * CC_TOUCH_NONE: head-on, or gravity along the axis) */
+uint8_t replies_take_touch(int16_t *dir_deg, int16_t *up_deg);
+
+/* the touch module's switches that closed since the last call (bit k =
+ * switch k), then cleared */
+uint8_t replies_take_switches(void);
 
 /* sleep until hal_millis() >= until_ms, logging replies */
 void replies_sleep_until(uint32_t until_ms);

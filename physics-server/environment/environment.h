@@ -26,18 +26,22 @@ enum class EnvironmentType { Plane, Terrain, Pipe, Mesh };
 // one piece of a pipe network; pieces are joined end to end, each starting
 // where the previous one ends, tangent to it
 struct PipeSegment {
-  enum class Type { Straight, Elbow, Tee };
+  // Split: a bullhead tee with swept outlets (a twin elbow): the pipe ends
+  // against a wall and divides into two elbows turning opposite ways; the
+  // network goes on along the one towards direction_deg, the other ends open
+  enum class Type { Straight, Elbow, Tee, Split };
   Type type = Type::Straight;
   // Straight: length of the axis, m
   double length_m = 0.0;
   // Straight, first segment only: slope of the axis above the horizontal,
   // degrees (-90..90); NaN = the pipe's slope_deg
   double slope_deg = std::numeric_limits<double>::quiet_NaN();
-  // Elbow: radius of the axis's arc, m (> the pipe's inner radius)
+  // Elbow, Split: radius of the axis's arc, m (> the pipe's inner radius)
   double bend_radius_m = 0.0;
-  // Elbow: angle turned, degrees (0..180]
+  // Elbow, Split: angle turned, degrees (0..180]
   double angle_deg = 90.0;
-  // Elbow, Tee: which way the bend (the branch) goes, degrees about the pipe
+  // Elbow, Tee, Split: which way the bend (the branch, the outlet the
+  // network follows) goes, degrees about the pipe
   // axis: 0 = the pipe's "up" side (towards +z for a pipe that is not
   // vertical), 90 = left, 180 = down, 270 = right
   double direction_deg = 0.0;

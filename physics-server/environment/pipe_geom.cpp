@@ -257,6 +257,18 @@ int collide_cylinder(dGeomID o1, dGeomID o2, int flags, dContactGeom* contact, i
   const Vec x = column(r, 0), y = column(r, 1), z = column(r, 2);
   q.rim(c - 0.5 * length * z, x, y, radius);
   q.rim(c + 0.5 * length * z, x, y, radius);
+  // end faces where the piece has openings: the edge of an opening (the
+  // ridge and the wedge between a split's outlets) can reach a face's
+  // interior, which a wall without openings never does
+  if (q.piece.holes[0] >= 0 || q.piece.holes[1] >= 0) {
+    static const RimTable table;
+    for (const double h : {-0.5 * length, 0.5 * length}) {
+      q.point(c + h * z, 0.0);
+      for (int i = 0; i < kRimSamples; i += 2)
+        for (const double f : {1.0 / 3, 2.0 / 3})
+          q.point(c + h * z + f * radius * (table.cos[i] * x + table.sin[i] * y), 0.0);
+    }
+  }
   // side lines: where a piece's end cuts the cylinder (its lip; clip points
   // only, the rims cover the rest of a straight piece), and in an elbow
   // where the inner side of the bend touches

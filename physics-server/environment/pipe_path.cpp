@@ -42,6 +42,23 @@ PipePiece straight(const PipeFrame& at, double length, double radius, int segmen
   return p;
 }
 
+// an elbow from frame at, bending towards bend_dir (a unit vector across at's tangent)
+PipePiece elbow(const PipeFrame& at, const Eigen::Vector3d& bend_dir, const PipeSegment& g, double radius,
+                int segment) {
+  PipePiece p;
+  p.kind = PipePiece::Kind::Elbow;
+  p.radius_m = radius;
+  p.segment = segment;
+  p.start = at;
+  p.bend_radius_m = g.bend_radius_m;
+  p.angle_rad = g.angle_deg * kRadPerDeg;
+  p.centre = at.point + g.bend_radius_m * bend_dir;
+  p.u = -bend_dir;
+  p.v = at.tangent;
+  p.normal = p.u.cross(p.v).normalized();
+  return p;
+}
+
 }  // namespace
 
 PipeLayout layout_pipe(const PipeSpec& spec) {
@@ -88,26 +105,24 @@ PipeLayout layout_pipe(const PipeSpec& spec) {
         f.point += g.length_m * f.tangent;
         break;
       }
-      case PipeSegment::Type::Elbow: {
+      case PipeSegment::Type::Elbow:
+      case PipeSegment::Type::Split: {
         if (!(g.bend_radius_m > radius) || !std::isfinite(g.bend_radius_m))
           throw PipeLayoutError(seg, "bend_radius_m must be larger than the inner radius " +
                                          num(radius) + " m (is " + num(g.bend_radius_m) + ")");
         if (!(g.angle_deg > 0 && g.angle_deg <= 180))
           throw PipeLayoutError(seg, "angle_deg must be in (0, 180] (is " + num(g.angle_deg) + ")");
-        PipePiece p;
-        p.kind = PipePiece::Kind::Elbow;
-        p.radius_m = radius;
-        p.segment = seg;
-        p.start = f;
-        p.bend_radius_m = g.bend_radius_m;
-        p.angle_rad = g.angle_deg * kRadPerDeg;
-        p.centre = f.point + g.bend_radius_m * bend_dir;
-        p.u = -bend_dir;
-        p.v = f.tangent;
-        p.normal = p.u.cross(p.v).normalized();
-        out.pieces.push_back(p);
-        const PipeFrame end = pipe_piece_frame(p, 1.0);
-        f = end;
+        const int followed = static_cast<int>(out.pieces.size());
+        out.pieces.push_back(elbow(f, bend_dir, g, radius, seg));
+        if (g.type == PipeSegment::Type::Split) {
+          // the other outlet turns the opposite way from the same start; each
+          // opens the other's wall where their bores overlap
+          out.pieces.push_back(elbow(f, -bend_dir, g, radius, seg));
+          out.pieces[followed].holes[0] = followed + 1;
+          out.pieces[followed + 1].holes[0] = followed;
+          out.open_ends.push_back(pipe_piece_frame(out.pieces[followed + 1], 1.0));
+        }
+        f = pipe_piece_frame(out.pieces[followed], 1.0);
         break;
       }
       case PipeSegment::Type::Tee: {
@@ -221,6 +236,20 @@ double pipe_piece_depth(const PipeLayout& layout, int k, const Eigen::Vector3d& 
     if (h < 0) continue;
     const Eigen::Vector3d wall = x - d + p.radius_m * dir;
     if (pipe_piece_bore_contains(layout.pieces[h], wall, 0.0)) return -kInf;
+    // a sphere wholly inside the other piece's bore touches no wall (past a
+    // split's wedge, the wall point of this piece lies in the wedge): its
+    // clearance there
+    const PipePiece& o = layout.pieces[h];
+    Eigen::Vector3d dh;
+    if (!radial(o, x, &dh, true)) continue;
+    const double other = dh.norm() + r - o.radius_m;
+    if (other < 0) {
+      if (dir_out) *dir_out = dh.norm() > 1e-12 ? Eigen::Vector3d(dh / dh.norm()) : o.start.up;
+      return other;
+    }
+    // in both walls (the wedge between a split's outlets): the nearer bore
+    // pushes it out, the other piece stays silent
+    if (other < dist + r - p.radius_m) return -kInf;
   }
   if (dir_out) *dir_out = dir;
   return dist + r - p.radius_m;

@@ -72,7 +72,11 @@ PipeLayout layout_pipe(const PipeSpec& spec);
 // vector from the axis towards p (the outward wall normal there). Returns
 // -infinity where the piece does not own p: p beyond the piece's ends (open
 // there or another piece's), farther than 2 inner radii from the axis, or
-// the wall point lies in a hole.
+// the wall point lies in a hole. With a piece that opens a hole in this one:
+// a sphere wholly inside its bore touches no wall (its negative depth
+// there), and a sphere in both walls (the wedge between a split's outlets)
+// belongs to the piece it is less deep into (-infinity here if that is the
+// other).
 double pipe_piece_depth(const PipeLayout& layout, int k, const Eigen::Vector3d& p, double r,
                         Eigen::Vector3d* dir_out);
 

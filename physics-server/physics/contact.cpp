@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <tuple>
 
 #include "environment/environment_geoms.h"
 #include "physics/units.h"
@@ -74,13 +75,14 @@ void Contacts::collide_pair(dGeomID a, dGeomID b) {
   if (n <= 0) return;
   if (ia > 0) touched_[ia - 1] = 1;
   if (ib > 0) touched_[ib - 1] = 1;
-  for (auto [tag, geom] : {std::pair{ia, a}, std::pair{ib, b}}) {
+  for (auto [tag, geom, sign] : {std::tuple{ia, a, 1.0}, std::tuple{ib, b, -1.0}}) {
     if (tag <= 0 || kept_[tag - 1] < 0) continue;
     const dBodyID body = dGeomGetBody(geom);
     for (int k = 0; k < n; ++k) {
+      // ODE's normal points into the first geom: it pushes a, and b the other way
       dVector3 p, v;
       dBodyGetPosRelPoint(body, buf_[k].pos[0], buf_[k].pos[1], buf_[k].pos[2], p);
-      dBodyVectorFromWorld(body, buf_[k].normal[0], buf_[k].normal[1], buf_[k].normal[2], v);
+      dBodyVectorFromWorld(body, sign * buf_[k].normal[0], sign * buf_[k].normal[1], sign * buf_[k].normal[2], v);
       points_[kept_[tag - 1]].push_back({{p[0], p[1], p[2]}, {v[0], v[1], v[2]}});
     }
   }

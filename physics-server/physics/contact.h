@@ -52,7 +52,7 @@ class Contacts {
   bool touched(int body) const { return touched_[body] != 0; }  // had a contact in the last step
 
   // a contact of the last step on a body, in the frame of its ODE body:
-  // where it touched and along which line it pushed (ODE's normal, either sign)
+  // where it touched and the way it pushed the body (unit)
   struct Point {
     Eigen::Vector3d pos, normal;
   };

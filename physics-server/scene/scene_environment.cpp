@@ -21,18 +21,18 @@ namespace {
 PipeSegment load_segment(const SceneYaml& y, const YAML::Node& n, const std::string& p, double diameter) {
   PipeSegment g;
   if (!n.IsMap()) y.fail(n, "'" + p + "' must be a mapping such as {type: straight, length_m: 0.5}");
-  if (!n["type"]) y.fail(n, "'" + p + "' needs a 'type' (straight, elbow or tee)");
-  const std::string type = y.choice(n, "type", "", {"straight", "elbow", "tee"}, p);
+  if (!n["type"]) y.fail(n, "'" + p + "' needs a 'type' (straight, elbow, tee or split)");
+  const std::string type = y.choice(n, "type", "", {"straight", "elbow", "tee", "split"}, p);
   if (type == "straight") {
     y.keys(n, p, {"type", "length_m", "slope_deg"});
     if (!n["length_m"]) y.fail(n, "'" + p + "' (straight) needs 'length_m'");
     g.type = PipeSegment::Type::Straight;
     g.length_m = y.positive(n, "length_m", 0, 1000, p);
     if (n["slope_deg"]) g.slope_deg = y.number(n, "slope_deg", 0, -90, 90, p);
-  } else if (type == "elbow") {
+  } else if (type == "elbow" || type == "split") {
     y.keys(n, p, {"type", "bend_radius_m", "angle_deg", "direction_deg"});
-    if (!n["bend_radius_m"]) y.fail(n, "'" + p + "' (elbow) needs 'bend_radius_m'");
-    g.type = PipeSegment::Type::Elbow;
+    if (!n["bend_radius_m"]) y.fail(n, "'" + p + "' (" + type + ") needs 'bend_radius_m'");
+    g.type = type == "elbow" ? PipeSegment::Type::Elbow : PipeSegment::Type::Split;
     g.bend_radius_m = y.positive(n, "bend_radius_m", 0, 1000, p);
     g.angle_deg = y.number(n, "angle_deg", 90, 0, 180, p, true);
     g.direction_deg = y.number(n, "direction_deg", 0, -360, 360, p);

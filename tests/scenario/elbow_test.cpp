@@ -122,7 +122,7 @@ TEST(Elbow, TRRHPassesTheElbow) {
   // bends away from it, to 60 deg (up and left)
   EXPECT_NE(log.find("elbow: sensed bend_cdeg=4500 bend_ms=8000"), std::string::npos) << log;
   EXPECT_NE(log.find("touch 0x20: contact switches=4 dir_deg=240 up_deg=0 side=right"), std::string::npos) << log;
-  EXPECT_NE(log.find("toward dir_deg=60 (sensed)"), std::string::npos) << log;
+  EXPECT_NE(log.find("toward dir_deg=60 world_deg=60 (sensed)"), std::string::npos) << log;
   EXPECT_TRUE(steered_at_elbow(o, log, 0.55)) << log;
   const Head h = head(o, 0.55);
   // the head ends 23 cm into the outgoing leg (given the left turn,
@@ -196,7 +196,7 @@ TEST(Elbow, TRRHSensingTheTurnPassesWhenTheSolverConverges) {
   const Outcome o = run_scene("elbow", "elbow-TRRH", 35, {kExactSolver});
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
   const std::string log = central_log(o, 4);
-  EXPECT_NE(log.find("toward dir_deg=60 (sensed)"), std::string::npos) << log;
+  EXPECT_NE(log.find("toward dir_deg=60 world_deg="), std::string::npos) << log;
   EXPECT_TRUE(steered_at_elbow(o, log, 0.55)) << log;
   const Head h = head(o, 0.55);
   std::printf("[ elbow ] T R R H, exact, sensed: %s\n", text(h).c_str());
@@ -291,7 +291,7 @@ TEST(Elbow, TheBendTravelsDownTheChain) {
     EXPECT_EQ(f[k].bends, bends) << "frame " << k;
     EXPECT_EQ(f[k].t_us - t0, dt) << "frame " << k;
   }
-  EXPECT_NE(log.find("elbow: bend at ms " + std::to_string(t0 / 1000) + " toward dir_deg=90 (given)\n"),
+  EXPECT_NE(log.find("elbow: bend at ms " + std::to_string(t0 / 1000) + " toward dir_deg=90 world_deg=90 (given)\n"),
             std::string::npos)
       << log;
   EXPECT_NE(log.find("elbow: straight at ms " + std::to_string(t0 / 1000 + 5000) + "\n"), std::string::npos) << log;

@@ -5,14 +5,12 @@
 
 namespace chainsim {
 
-uint16_t touch_sectors(const ModuleChannels::Touch& t, const Eigen::Vector3d& pos_body,
-                       const Eigen::Vector3d& normal_body) {
+uint16_t touch_sectors(const ModuleChannels::Touch& t, const Eigen::Vector3d& push_body) {
   const uint16_t all = static_cast<uint16_t>((1u << t.sectors) - 1u);
-  const Eigen::Vector3d n = t.module_from_body.linear() * normal_body;
+  const Eigen::Vector3d n = t.module_from_body.linear() * push_body;
   if (std::fabs(n.x()) > 0.8 * n.norm()) return all;   // pushes along the axis: every switch
-  const Eigen::Vector3d p = t.module_from_body * pos_body;
-  if (p.y() == 0 && p.z() == 0) return all;
-  const double dir = std::atan2(p.y(), p.z());   // 0 = up (+z), pi/2 = left (+y)
+  if (n.y() == 0 && n.z() == 0) return 0;                // balanced: the cover does not move
+  const double dir = std::atan2(-n.y(), -n.z());   // the obstacle's side: 0 = up (+z), pi/2 = left (+y)
   uint16_t bits = 0;
   for (int k = 0; k < t.sectors; ++k) {
     const double a = t.first_rad + 2 * M_PI * k / t.sectors;
@@ -30,9 +28,9 @@ uint16_t touch_inputs(const ModuleChannels& channels, const Contacts& contacts) 
       bits |= static_cast<uint16_t>(1u << t.bit);
       continue;
     }
-    uint16_t fired = 0;
-    for (const Contacts::Point& p : contacts.points(t.body)) fired |= touch_sectors(t, p.pos, p.normal);
-    bits |= static_cast<uint16_t>(fired << t.bit);
+    Eigen::Vector3d push = Eigen::Vector3d::Zero();
+    for (const Contacts::Point& p : contacts.points(t.body)) push += p.normal;
+    bits |= static_cast<uint16_t>(touch_sectors(t, push) << t.bit);
   }
   return bits;
 }

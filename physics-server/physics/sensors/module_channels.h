@@ -36,10 +36,14 @@ struct ModuleChannels {
   std::vector<Touch> touch;
 };
 
-// which of a sectored touch sensor's switches a contact fires (bit k =
-// switch k): point and normal in its ODE body's frame
-uint16_t touch_sectors(const ModuleChannels::Touch& t, const Eigen::Vector3d& pos_body,
-                       const Eigen::Vector3d& normal_body);
+// which of a sectored touch sensor's switches close (bit k = switch k) when
+// its cover is pushed along push_body (in its ODE body's frame: the sum of
+// the unit pushes of the cover's contacts). The cover is one rigid part on
+// its switches, so they feel the resultant: a push mostly along the axis
+// (a wall ahead, or the wedge between two outlets met in the middle) closes
+// every switch; otherwise those within half_width of the obstacle's side
+// (opposite the push) about the axis close
+uint16_t touch_sectors(const ModuleChannels::Touch& t, const Eigen::Vector3d& push_body);
 
 // the touch inputs of a module now (bit n = input n)
 uint16_t touch_inputs(const ModuleChannels& channels, const Contacts& contacts);

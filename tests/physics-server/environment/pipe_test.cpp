@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iterator>
+#include <limits>
 #include <random>
 #include <string>
 
@@ -47,6 +48,12 @@ PipeSegment tee(double run, double branch, double direction_deg, bool follow_bra
   s.branch_length_m = branch;
   s.direction_deg = direction_deg;
   s.follow_branch = follow_branch;
+  return s;
+}
+
+PipeSegment split(double bend_radius, double direction_deg) {
+  PipeSegment s = elbow(bend_radius, 90, direction_deg);
+  s.type = PipeSegment::Type::Split;
   return s;
 }
 
@@ -104,6 +111,34 @@ TEST(PipeLayout, TeeFollowsTheBranchAndLeavesTheRunAsAStub) {
   EXPECT_EQ(l.open_ends.size(), 3u);  // entry, the run's stub, exit
 }
 
+// a split: the pipe along +x meets a wall and divides into two elbows of
+// bend radius R turning left and right; the network goes on to the left
+TEST(PipeLayout, SplitFollowsOneOutletAndLeavesTheOtherOpen) {
+  const double R = 0.16, r = 0.02;
+  const PipeLayout l = layout_pipe(pipe_of({straight(0.3), split(R, 90), straight(0.1)}, 2 * r));
+  ASSERT_EQ(l.pieces.size(), 4u);  // straight, the followed outlet, the other, straight
+  EXPECT_EQ(l.pieces[1].holes[0], 2);
+  EXPECT_EQ(l.pieces[2].holes[0], 1);
+  EXPECT_NEAR((l.pieces[3].start.point - Eigen::Vector3d(0.3 + R, R, 0)).norm(), 0, 1e-12);
+  EXPECT_NEAR((l.exit.point - Eigen::Vector3d(0.3 + R, R + 0.1, 0)).norm(), 0, 1e-12);
+  ASSERT_EQ(l.open_ends.size(), 3u);  // entry, the other outlet's end, exit
+  EXPECT_NEAR((l.open_ends[1].point - Eigen::Vector3d(0.3 + R, -R, 0)).norm(), 0, 1e-12);
+  EXPECT_NEAR((l.open_ends[1].tangent + Eigen::Vector3d::UnitY()).norm(), 0, 1e-12);
+  // the two bores are one chamber where they overlap: a point just inside
+  // the left outlet's right-hand (outer) wall, near the start, is open
+  // (inside the right outlet's bore); the left outlet's left (inner) wall
+  // stands
+  const double a = 0.3 * std::sqrt(2 * R * r + r * r);
+  EXPECT_EQ(pipe_piece_depth(l, 1, Eigen::Vector3d(0.3 + a, -0.019, 0), 0.002, nullptr), -std::numeric_limits<double>::infinity());
+  EXPECT_GT(pipe_depth(l, Eigen::Vector3d(0.3 + a, 0.0199 + R * (1 - std::cos(a / R)), 0), 0.002), 0);
+  // the crotch: the two outer walls meet on the axis line sqrt(2 R r + r^2)
+  // past the split (a wall ahead); a ball just short of it is free, one
+  // just past it is in the wall
+  const double crotch = std::sqrt(2 * R * r + r * r);
+  EXPECT_LT(pipe_depth(l, Eigen::Vector3d(0.3 + crotch - 0.008, 0, 0), 0.002), 0);
+  EXPECT_GT(pipe_depth(l, Eigen::Vector3d(0.3 + crotch + 0.001, 0, 0), 0.002), 0);
+}
+
 TEST(PipeLayout, BadSegmentsAreNamed) {
   auto segment_of = [](const PipeSpec& p) {
     try {
@@ -117,6 +152,7 @@ TEST(PipeLayout, BadSegmentsAreNamed) {
   EXPECT_EQ(segment_of(pipe_of({straight(0.1), straight(0.1, 10)})), 1);   // slope after the first
   EXPECT_EQ(segment_of(pipe_of({straight(-1)})), 0);
   EXPECT_EQ(segment_of(pipe_of({tee(0.02, 0.1, 0, false)})), 0);            // run shorter than the bore
+  EXPECT_EQ(segment_of(pipe_of({straight(0.1), straight(0.1), split(0.01, 90)})), 2);  // bend radius
   EXPECT_EQ(segment_of(pipe_of({straight(0.1)}, -0.03)), -1);
   EXPECT_EQ(segment_of(pipe_of({})), -1);
 }

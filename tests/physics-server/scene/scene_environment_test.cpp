@@ -106,6 +106,22 @@ TEST(SceneEnvironment, ShippedScenesLoad) {
   EXPECT_GE(n, 4);
 }
 
+TEST(SceneEnvironment, SplitLoadsAndNeedsItsBendRadius) {
+  const std::string head = "chain: R\nenvironment:\n  type: pipe\n  pipe:\n    segments:\n"
+                           "      - {type: straight, length_m: 0.3}\n";
+  const Scene s = load_scene_text(head + "      - {type: split, bend_radius_m: 0.16, direction_deg: 270}\n", "s.yaml");
+  const PipeSegment& g = s.world.environment.pipe.segments[1];
+  EXPECT_EQ(g.type, PipeSegment::Type::Split);
+  EXPECT_DOUBLE_EQ(g.bend_radius_m, 0.16);
+  EXPECT_DOUBLE_EQ(g.angle_deg, 90);
+  EXPECT_DOUBLE_EQ(g.direction_deg, 270);
+  std::string e = error_of(head + "      - {type: split, direction_deg: 90}\n");
+  EXPECT_HAS(e, "s.yaml:7:9");
+  EXPECT_HAS(e, "(split) needs 'bend_radius_m'");
+  e = error_of(head + "      - {type: split, bend_radius_m: 0.16, follow: run}\n");
+  EXPECT_HAS(e, "unknown key 'follow'");
+}
+
 TEST(SceneEnvironment, UnknownKeysAreNamedWithTheirPlace) {
   std::string e = error_of("chain: R\nenvironment:\n  type: pipe\n  pipe:\n    diameter: 0.03\n");
   EXPECT_HAS(e, "s.yaml:5:5");
@@ -138,7 +154,7 @@ TEST(SceneEnvironment, BadValuesAreNamed) {
   EXPECT_HAS(e, "segments[1]");
   EXPECT_HAS(e, "only allowed on the first segment");
   e = error_of("chain: R\nenvironment:\n  type: pipe\n  pipe:\n    segments: [{type: bend}]\n");
-  EXPECT_HAS(e, "'bend' is not known (known: straight, elbow, tee)");
+  EXPECT_HAS(e, "'bend' is not known (known: straight, elbow, tee, split)");
   EXPECT_EQ(error_of("chain: R\nenvironment: {type: pipe}\n"),
             "s.yaml:2:14: environment type 'pipe' needs an 'environment.pipe' mapping");
   EXPECT_EQ(error_of("chain: R\nenvironment: {type: plane, pipe: {}}\n"),
