@@ -18,11 +18,11 @@
 //   damped mesh Tg = k (d - g sign d) + c d' only while the play is closed,
 //   |d| > g (d = theta_m - theta, g half the play); the contact pushes,
 //   never pulls. Without backlash the mesh is the same spring without play;
-// * friction: LuGre (bristle state z per side): dz/dt = v - s0 |v| z / gs(v),
-//   gs = (Fc + (Fs - Fc) exp(-(v/vs)^2)) / s0 (here gs in N m, divided at use),
+// * friction: LuGre (bristle state z per side): dz/dt = v - s0 |v| z / S(v),
+//   S(v) = Fc + (Fs - Fc) exp(-(v/vs)^2) (the Stribeck curve, N m),
 //   F = s0 z + s1 exp(-(v/vd)^2) dz/dt. At the rotor (a static friction that
-//   the current must overcome: the catalogue's static_friction_threshold) or
-//   at the output (Coulomb friction);
+//   the current must overcome: labelled the catalogue's
+//   static_friction_threshold) or at the output (Coulomb friction);
 // * servo electronics: the bench sends the set-point as a pulse train (period
 //   T, a random phase against the set-point changes, width 1.5 ms + (sp - 90
 //   deg) / 90 deg x 1 ms, the command in force at the rising edge); the servo
