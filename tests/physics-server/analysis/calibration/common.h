@@ -46,12 +46,8 @@ inline int run_process(const std::vector<std::string>& argv, const std::string& 
   return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
-// `exe`: the chainsim to run (default: the one built with this test)
-inline Outcome calibrate_case(const Case& c, unsigned seed, const Conditions& cond, const std::string& dir,
-                              const std::string& exe = CHAINSIM_EXE) {
-  const Truth t = c.truth(seed, cond);
-  std::ofstream(dir + "/bench.yaml") << bench_yaml(t);
-  write_csv(dir + "/m.csv", c.record(t, seed));
+// runs `exe calibrate` on dir/bench.yaml and dir/m.csv (report in dir/out)
+inline Outcome calibrate_files(const std::string& dir, const std::string& exe = CHAINSIM_EXE) {
   std::filesystem::remove_all(dir + "/out");
   Outcome o;
   o.exit_code = run_process({exe, "calibrate", "-q", "--bench", dir + "/bench.yaml", "--measured",
@@ -67,14 +63,25 @@ inline Outcome calibrate_case(const Case& c, unsigned seed, const Conditions& co
   return o;
 }
 
+// `exe`: the chainsim to run (default: the one built with this test)
+inline Outcome calibrate_case(const Case& c, unsigned seed, const Conditions& cond, const std::string& dir,
+                              const std::string& exe = CHAINSIM_EXE) {
+  const Truth t = c.truth(seed, cond);
+  std::ofstream(dir + "/bench.yaml") << bench_yaml(t);
+  write_csv(dir + "/m.csv", c.record(t, seed));
+  return calibrate_files(dir, exe);
+}
+
 // exactly the expected effects (in any order) with the expected verdict
-inline bool exactly_right(const Case& c, const Outcome& o) {
-  if (!o.report.is_object() || o.report["verdict"] != c.verdict) return false;
-  std::vector<std::string> a = o.names, b = c.expect;
+inline bool exactly_right(const std::vector<std::string>& expect, const std::string& verdict, const Outcome& o) {
+  if (!o.report.is_object() || o.report["verdict"] != verdict) return false;
+  std::vector<std::string> a = o.names, b = expect;
   std::sort(a.begin(), a.end());
   std::sort(b.begin(), b.end());
   return a == b;
 }
+
+inline bool exactly_right(const Case& c, const Outcome& o) { return exactly_right(c.expect, c.verdict, o); }
 
 inline std::string make_temp_dir() {
   char tmpl[] = "/tmp/chainsim-calib-XXXXXX";
