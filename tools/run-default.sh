@@ -3,5 +3,5 @@
 # rotation modules crawling in open air. Extra arguments go to `chainsim run`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-SETUP_TARGET=chainsim-tools tools/setup.sh  # chainsim, its evaluator and the programs: no test binaries
+SETUP_PACKAGES=run SETUP_TARGET=chainsim-tools tools/setup.sh  # chainsim, its evaluator and the programs: no test binaries, no test tools
 exec build/bin/chainsim run "$@"
