@@ -62,10 +62,11 @@ fi
 t0=$SECONDS
 if [ ! -f build/CMakeCache.txt ]; then
   cmake -S . -B build -DCMAKE_BUILD_TYPE=RelWithDebInfo
-elif [ "$installed" = 1 ]; then
+elif [ "$installed" = 1 ] || { [ "${SETUP_PACKAGES:-all}" != run ] &&
+                               grep -qE '^(CHAINSIM_NODE|GPSIM_LIBRARY|DOXYGEN_EXECUTABLE):[A-Z]+=.*-NOTFOUND$' build/CMakeCache.txt; }; then
   # packages came in since build/ was configured (gpsim, doxygen, node: parts
   # built only when found): configure again so that they are found
-  echo "setup: configuring build/ again for the packages just installed"
+  echo "setup: configuring build/ again for the packages installed since"
   cmake -S . -B build >/dev/null
 fi
 # SETUP_TARGET: only that target (tools/run-default.sh: what a run needs)
@@ -74,4 +75,4 @@ if [ -n "${SETUP_TARGET:-}" ]; then
 else
   cmake --build build -j "$JOBS"
 fi
-echo "setup: configured and built in $((SECONDS - t0)) s"
+echo "setup: build/ up to date in $((SECONDS - t0)) s"

@@ -13,7 +13,8 @@
 static int16_t bend_pitch, bend_yaw; /* cdeg, held while bending */
 static uint8_t bending, bent_once;
 static uint8_t steers; /* gait 9, steering not off, and a rotation module to bend (set once the chain is known) */
-uint32_t elbow_bend_end; /* the steering's next change (while bending), or when it ended */
+uint32_t elbow_bend_end; /* when the steering ended */
+uint32_t elbow_wake;     /* the next change: a bend, a straightening, a contact's window ending */
 
 /* the bend toward dir_deg */
 static void set_direction(int16_t dir_deg)
@@ -95,11 +96,9 @@ static void straighten_due(uint32_t now)
     }
 }
 
-
-
 /* a contact watched for JUNCTION_WINDOW_MS (junction policy): since when,
- * its first direction and up, and every switch closed since */
-static uint8_t watching, watch_switches;
+ * its first direction and up, and whether all three switches closed at once */
+static uint8_t watching, watch_head_on;
 static uint32_t watch_from;
 static int16_t watch_dir, watch_up;
 
@@ -113,7 +112,7 @@ void elbow_contact(uint32_t now, int16_t obstacle_deg, int16_t up_deg)
         return; /* the same elbow: the head meets the outgoing leg's wall */
     if (params.junction != JUNCTION_WAIT && params.elbow_dir_deg < 0) {
         watching = 1;
-        watch_switches = 0;
+        watch_head_on = 0;
         watch_from = now;
         watch_dir = obstacle_deg;
         watch_up = up_deg;
@@ -169,21 +168,21 @@ static void steer(uint32_t now, int16_t obstacle_deg, int16_t up_deg)
     bent_once = 1;
 }
 
-uint8_t elbow_update(uint32_t now, uint8_t stopped, uint8_t switches)
+uint8_t elbow_update(uint32_t now, uint8_t stopped, uint8_t head_on)
 {
     if (watching) {
-        watch_switches |= switches;
+        watch_head_on |= head_on;
         if (stopped) {
             watching = 0;
             return 0;
         }
         if ((int32_t)(now - watch_from) < (int32_t)JUNCTION_WINDOW_MS) {
-            elbow_bend_end = watch_from + JUNCTION_WINDOW_MS;
+            elbow_wake = watch_from + JUNCTION_WINDOW_MS;
             return 1;
         }
         watching = 0;
-        /* every switch closed within the window: a wall ahead */
-        steer(now, watch_switches == 7u ? CC_TOUCH_NONE : watch_dir, watch_up);
+        /* all three switches closed within the window: a wall ahead */
+        steer(now, watch_head_on ? CC_TOUCH_NONE : watch_dir, watch_up);
     }
     if (!bending)
         return 0;
@@ -200,8 +199,8 @@ uint8_t elbow_update(uint32_t now, uint8_t stopped, uint8_t switches)
         return 0;
     }
     /* the next change */
-    elbow_bend_end = next_off < chain_n_modules ? t_off : t_end;
-    if (next_on < chain_n_modules && (int32_t)(t_on - elbow_bend_end) < 0)
-        elbow_bend_end = t_on;
+    elbow_wake = next_off < chain_n_modules ? t_off : t_end;
+    if (next_on < chain_n_modules && (int32_t)(t_on - elbow_wake) < 0)
+        elbow_wake = t_on;
     return 1;
 }

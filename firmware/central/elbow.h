@@ -11,8 +11,9 @@
  * the turn is the junction policy's, left or right of up (params.junction).
  * With a junction policy the central control waits JUNCTION_WINDOW_MS after
  * a contact before it turns: a head meeting the wedge between a split's two
- * outlets touches one side first, then the other, and every switch closing
- * within the window is a wall ahead. Without one it turns at the contact. A chain without rotation modules never steers. See
+ * outlets touches one side first, then both, and all three switches closed
+ * at once within the window are a wall ahead. Without one it turns at the
+ * contact. A chain without rotation modules never steers. See
  * docs/firmware.md, "Elbow negotiation". */
 #ifndef ELBOW_H
 #define ELBOW_H
@@ -40,18 +41,21 @@ void elbow_log(void);
  * or "(given)". */
 void elbow_contact(uint32_t now, int16_t obstacle_deg, int16_t up_deg);
 
-/* the steering's next change (valid while elbow_update returns 1), or when
- * it ended */
+/* when the steering ended (a contact within bend_ms after it is the same
+ * elbow) */
 extern uint32_t elbow_bend_end;
+
+/* when elbow_update must run next (valid while it returns 1) */
+extern uint32_t elbow_wake;
 
 /* how long a contact is watched before the turn, with a junction policy, ms */
 #define JUNCTION_WINDOW_MS 200u
 
 /* bend and straighten the rotation modules whose time has come, or turn
- * once a contact's window has passed (switches: the touch module's switches
- * that closed since the last call); forget the steering after STOP, which
- * straightened the modules. Returns 1 while the steering lasts: elbow_update
- * must run again at elbow_bend_end. */
-uint8_t elbow_update(uint32_t now, uint8_t stopped, uint8_t switches);
+ * once a contact's window has passed (head_on: all three switches were
+ * closed at once since the last call); forget the steering after STOP,
+ * which straightened the modules. Returns 1 while the steering lasts:
+ * elbow_update must run again at elbow_wake. */
+uint8_t elbow_update(uint32_t now, uint8_t stopped, uint8_t head_on);
 
 #endif

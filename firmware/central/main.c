@@ -61,9 +61,9 @@ static void serve(void)
     now = hal_millis();
     if (replies_take_touch(&touch_dir, &touch_up) && started && !stopped && params.gait == GAIT_HELICOIDAL)
         elbow_contact(now, touch_dir, touch_up);
-    have_wake = elbow_update(now, stopped, replies_take_switches());
+    have_wake = elbow_update(now, stopped, replies_take_head_on());
     if (have_wake)
-        wake = elbow_bend_end;
+        wake = elbow_wake;
     if (started && !stopped && params.stop_ms != 0) {
         if ((int32_t)(now - params.stop_ms) >= 0) {
             cio_send_code(HAL_I2C_GENERAL_CALL, CC_STOP);

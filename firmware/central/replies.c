@@ -11,7 +11,7 @@ static uint8_t touch_contact; /* a new TOUCH contact came in */
 static int16_t touch_dir;     /* its obstacle direction */
 static int16_t touch_up;      /* where up was */
 static uint8_t touch_closed;  /* the cover's switches closed now (from the last TOUCH frame) */
-static uint8_t touch_seen;    /* every switch closed since replies_take_switches */
+static uint8_t touch_all;     /* every switch closed at once since replies_take_head_on */
 
 static void log_reply(const uint8_t *buf, uint8_t len)
 {
@@ -56,7 +56,8 @@ static void log_reply(const uint8_t *buf, uint8_t len)
             }
         }
         touch_closed = buf[2];
-        touch_seen |= buf[2];
+        if (buf[2] == 7u)
+            touch_all = 1;
     } else if (buf[0] == CC_ENUM_REPLY || buf[0] == CC_ENUM_OFFER) {
         return; /* late discovery traffic */
     } else {
@@ -84,11 +85,11 @@ uint8_t replies_take_touch(int16_t *dir_deg, int16_t *up_deg)
     return t;
 }
 
-uint8_t replies_take_switches(void)
+uint8_t replies_take_head_on(void)
 {
-    uint8_t s = touch_seen;
-    touch_seen = 0;
-    return s;
+    uint8_t a = touch_all;
+    touch_all = 0;
+    return a;
 }
 
 void replies_sleep_until(uint32_t until_ms)

@@ -15,9 +15,9 @@ void replies_drain(void);
  * CC_TOUCH_NONE: head-on, or gravity along the axis) */
 uint8_t replies_take_touch(int16_t *dir_deg, int16_t *up_deg);
 
-/* the touch module's switches that closed since the last call (bit k =
- * switch k), then cleared */
-uint8_t replies_take_switches(void);
+/* 1 when a TOUCH frame had all three switches closed at once (pushed
+ * head-on) since the last call, then cleared */
+uint8_t replies_take_head_on(void);
 
 /* sleep until hal_millis() >= until_ms, logging replies */
 void replies_sleep_until(uint32_t until_ms);

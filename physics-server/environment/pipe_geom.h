@@ -22,9 +22,14 @@
 // Open ends have no lip: a sample point past a piece's end plane does not
 // touch that piece (a sphere rolling out of the exit drops once its centre is
 // past the end; a capsule, cylinder or box is held up to the end plane).
-// Tees: a wall point inside the other pipe's bore is an opening; near the
-// edge of an opening contacts come from the sample points only (a body can
-// catch on the edge slightly later or earlier than on a mesh).
+// Tees and splits: a wall point inside the other piece's bore is an
+// opening; near the edge of an opening contacts come from the sample points
+// only (a body can catch on the edge slightly later or earlier than on a
+// mesh). Against a piece with openings a cylinder's end faces are sampled
+// too (13 points each): an opening's edge, the ridge and wedge between a
+// split's outlets, can reach a face's interior. Box faces are not: a box
+// meeting the wedge face first can sink onto it (not seen in the shipped
+// scenes).
 // Other geom classes (planes, meshes, rays) do not collide with a pipe.
 // The deepest contacts are kept, at most the count dCollide asks for. No
 // allocation.

@@ -83,7 +83,7 @@ void Contacts::collide_pair(dGeomID a, dGeomID b) {
       dVector3 p, v;
       dBodyGetPosRelPoint(body, buf_[k].pos[0], buf_[k].pos[1], buf_[k].pos[2], p);
       dBodyVectorFromWorld(body, sign * buf_[k].normal[0], sign * buf_[k].normal[1], sign * buf_[k].normal[2], v);
-      points_[kept_[tag - 1]].push_back({{p[0], p[1], p[2]}, {v[0], v[1], v[2]}});
+      points_[kept_[tag - 1]].push_back({{p[0], p[1], p[2]}, {v[0], v[1], v[2]}, 1.0 / n});
     }
   }
   for (int k = 0; k < n; ++k) {

@@ -52,9 +52,12 @@ class Contacts {
   bool touched(int body) const { return touched_[body] != 0; }  // had a contact in the last step
 
   // a contact of the last step on a body, in the frame of its ODE body:
-  // where it touched and the way it pushed the body (unit)
+  // where it touched, the way it pushed the body (unit) and its share of
+  // the push of its pair of geoms (1 / the pair's contact count: a pair's
+  // contacts are one push however finely the collider samples it)
   struct Point {
     Eigen::Vector3d pos, normal;
+    double share = 1;
   };
   // keep the contact points of a body (one that a sectored touch sensor reads)
   void keep_points(int body);

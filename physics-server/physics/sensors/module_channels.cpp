@@ -9,7 +9,7 @@ uint16_t touch_sectors(const ModuleChannels::Touch& t, const Eigen::Vector3d& pu
   const uint16_t all = static_cast<uint16_t>((1u << t.sectors) - 1u);
   const Eigen::Vector3d n = t.module_from_body.linear() * push_body;
   if (std::fabs(n.x()) > 0.8 * n.norm()) return all;   // pushes along the axis: every switch
-  if (n.y() == 0 && n.z() == 0) return 0;                // balanced: the cover does not move
+  if (std::hypot(n.y(), n.z()) < 0.2) return 0;          // pinched, balanced across: the cover does not tilt
   const double dir = std::atan2(-n.y(), -n.z());   // the obstacle's side: 0 = up (+z), pi/2 = left (+y)
   uint16_t bits = 0;
   for (int k = 0; k < t.sectors; ++k) {
@@ -29,7 +29,7 @@ uint16_t touch_inputs(const ModuleChannels& channels, const Contacts& contacts) 
       continue;
     }
     Eigen::Vector3d push = Eigen::Vector3d::Zero();
-    for (const Contacts::Point& p : contacts.points(t.body)) push += p.normal;
+    for (const Contacts::Point& p : contacts.points(t.body)) push += p.share * p.normal;
     bits |= static_cast<uint16_t>(touch_sectors(t, push) << t.bit);
   }
   return bits;

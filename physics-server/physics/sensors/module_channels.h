@@ -38,10 +38,12 @@ struct ModuleChannels {
 
 // which of a sectored touch sensor's switches close (bit k = switch k) when
 // its cover is pushed along push_body (in its ODE body's frame: the sum of
-// the unit pushes of the cover's contacts). The cover is one rigid part on
-// its switches, so they feel the resultant: a push mostly along the axis
-// (a wall ahead, or the wedge between two outlets met in the middle) closes
-// every switch; otherwise those within half_width of the obstacle's side
+// the pushes of what the cover touches, a unit push per geom it touches,
+// Contacts::Point::share). The cover is one rigid part on its switches, so
+// they feel the resultant: a push mostly along the axis (a wall ahead, or
+// the wedge between two outlets met in the middle) closes every switch; one
+// that is balanced across it (less than 0.2 of a push: pinched between
+// walls) none; otherwise those within half_width of the obstacle's side
 // (opposite the push) about the axis close
 uint16_t touch_sectors(const ModuleChannels::Touch& t, const Eigen::Vector3d& push_body);
 

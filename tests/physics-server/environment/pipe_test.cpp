@@ -137,6 +137,15 @@ TEST(PipeLayout, SplitFollowsOneOutletAndLeavesTheOtherOpen) {
   const double crotch = std::sqrt(2 * R * r + r * r);
   EXPECT_LT(pipe_depth(l, Eigen::Vector3d(0.3 + crotch - 0.008, 0, 0), 0.002), 0);
   EXPECT_GT(pipe_depth(l, Eigen::Vector3d(0.3 + crotch + 0.001, 0, 0), 0.002), 0);
+  // past the wedge, in the right outlet: the left outlet's wall point lies
+  // in the wedge, but the sphere is wholly inside the right bore: no wall
+  // (before, the left piece pushed it 14 mm back through the wedge)
+  EXPECT_LT(pipe_piece_depth(l, 1, Eigen::Vector3d(0.39, -0.01, 0), 0.002, nullptr), 0);
+  // in the wedge, nearer the right outlet's side: the right outlet pushes it
+  // out, the left one stays silent
+  EXPECT_EQ(pipe_piece_depth(l, 1, Eigen::Vector3d(0.39, -0.005, 0), 0.002, nullptr),
+            -std::numeric_limits<double>::infinity());
+  EXPECT_GT(pipe_piece_depth(l, 2, Eigen::Vector3d(0.39, -0.005, 0), 0.002, nullptr), 0);
 }
 
 TEST(PipeLayout, BadSegmentsAreNamed) {

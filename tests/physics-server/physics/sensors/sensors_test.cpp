@@ -8,6 +8,7 @@
 #include <string>
 
 #include "model/module_def.h"
+#include "physics/sensors/module_channels.h"
 #include "physics/units.h"
 #include "physics/world.h"
 
@@ -165,6 +166,30 @@ Eigen::Vector3d held_reading(const Eigen::Quaterniond& orientation) {
   const ModuleSample s = sample(w, 0);
   EXPECT_EQ(s.n_adc, 3);
   return Eigen::Vector3d(s.adc[0], s.adc[1], s.adc[2]);
+}
+
+// the switches from the resultant push on the cover: three switches at 0,
+// 120, 240 degrees (0 = the module's up, 90 = its left), 80 degrees each way
+TEST(TouchSensor, TheSwitchesFeelTheResultantPush) {
+  ModuleChannels::Touch t;
+  t.sectors = 3;
+  t.first_rad = 0;
+  t.half_width_rad = 80 * kRadPerDeg;
+  EXPECT_EQ(touch_sectors(t, Eigen::Vector3d(0, 0, 1)), 6u);    // the floor pushes up: the obstacle below
+  EXPECT_EQ(touch_sectors(t, Eigen::Vector3d(0, 0, -1)), 1u);   // the ceiling: switch 0 alone
+  EXPECT_EQ(touch_sectors(t, Eigen::Vector3d(0, -1, 0)), 2u);   // pushed right: the obstacle on the left, 30 off switch 1
+  EXPECT_EQ(touch_sectors(t, Eigen::Vector3d(-1, 0, 0)), 7u);   // a wall ahead
+  // a split's wedge met in the middle: its two faces push back and to
+  // either side; together they push along the axis
+  const Eigen::Vector3d left_face(-0.46, 0.89, 0), right_face(-0.46, -0.89, 0);
+  EXPECT_EQ(touch_sectors(t, left_face), 4u);                     // one face alone: the obstacle on the right
+  EXPECT_EQ(touch_sectors(t, left_face + right_face), 7u);
+  // pinched between two walls across the axis: balanced, no tilt
+  EXPECT_EQ(touch_sectors(t, Eigen::Vector3d(0, 0.05, -0.1)), 0u);
+  // the module's frame turned from the body's: rolled 90 degrees, the body's
+  // up is the module's left
+  t.module_from_body.linear() = Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  EXPECT_EQ(touch_sectors(t, Eigen::Vector3d(0, 0, -1)), touch_sectors(ModuleChannels::Touch{t.body, t.bit, 3, 0, t.half_width_rad}, Eigen::Vector3d(0, 1, 0)));
 }
 
 TEST(Accelerometer, ReadsGravityInThreeOrientations) {
