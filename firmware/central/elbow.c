@@ -54,6 +54,10 @@ void elbow_log(void)
     cio_put(" bend_ms=", params.bend_ms);
     if (params.bend_travel_ms != 0)
         cio_put(" bend_travel_ms=", params.bend_travel_ms);
+    if (params.junction != JUNCTION_WAIT) {
+        sb_str(&cio_sb, " junction=");
+        cio_put_side(params.junction == JUNCTION_LEFT ? CC_SIDE_LEFT : CC_SIDE_RIGHT);
+    }
     cio_log_line(cio_sb.buf);
 }
 

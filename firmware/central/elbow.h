@@ -27,8 +27,9 @@ void elbow_setup(void);
 
 /* log "elbow: dir_deg=... pitch_cdeg=... yaw_cdeg=... bend_ms=..." (given)
  * or "elbow: sensed bend_cdeg=... bend_ms=..." (sensed), with
- * " bend_travel_ms=..." when not 0; nothing when steering is off, the gait
- * is not 9 or the chain has no rotation module */
+ * " bend_travel_ms=..." when not 0 and " junction=left" (right) with a
+ * junction policy; nothing when steering is off, the gait is not 9 or the
+ * chain has no rotation module */
 void elbow_log(void);
 
 /* a TOUCH contact at now while gait 9 runs, the obstacle at obstacle_deg and

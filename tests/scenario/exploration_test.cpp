@@ -48,6 +48,7 @@ TEST(Exploration, TheChainSensesBothElbowsAndTakesTheLeftOutletAtTheSplit) {
   const Outcome o = run_scene("exploration", "pipe-network", 70);
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
   const std::string log = central_log(o, 9);
+  EXPECT_NE(log.find("elbow: sensed bend_cdeg=4500 bend_ms=8000 junction=left\n"), std::string::npos) << log;
   const std::vector<Bend> b = bends(log);
   ASSERT_EQ(b.size(), 3u) << log;
   // left, then right: within the 30 degrees of the cover's six directions
