@@ -27,16 +27,14 @@ int Contacts::add_body(dGeomID geom, int module) {
   return index;
 }
 
-void Contacts::keep_points(int body) {
+void Contacts::keep_push(int body) {
   if (kept_[body] >= 0) return;
-  kept_[body] = static_cast<int>(points_.size());
-  points_.emplace_back();
-  points_.back().reserve(kKeptPointsReserved);   // World::step allocates nothing below this
+  kept_[body] = static_cast<int>(pushes_.size());
+  pushes_.push_back(Eigen::Vector3d::Zero());
 }
 
-const std::vector<Contacts::Point>& Contacts::points(int body) const {
-  static const std::vector<Point> kNone;
-  return kept_[body] >= 0 ? points_[kept_[body]] : kNone;
+Eigen::Vector3d Contacts::push(int body) const {
+  return kept_[body] >= 0 ? pushes_[kept_[body]] : Eigen::Vector3d::Zero();
 }
 
 void Contacts::warm_up(size_t n) {
@@ -47,7 +45,7 @@ void Contacts::warm_up(size_t n) {
 
 void Contacts::collide(dSpaceID space) {
   std::fill(touched_.begin(), touched_.end(), 0);
-  for (auto& p : points_) p.clear();
+  for (auto& p : pushes_) p.setZero();
   count_ = 0;
   deepest_ = Deepest{};
   dSpaceCollide(space, this, &Contacts::near_callback);
@@ -80,10 +78,9 @@ void Contacts::collide_pair(dGeomID a, dGeomID b) {
     const dBodyID body = dGeomGetBody(geom);
     for (int k = 0; k < n; ++k) {
       // ODE's normal points into the first geom: it pushes a, and b the other way
-      dVector3 p, v;
-      dBodyGetPosRelPoint(body, buf_[k].pos[0], buf_[k].pos[1], buf_[k].pos[2], p);
+      dVector3 v;
       dBodyVectorFromWorld(body, sign * buf_[k].normal[0], sign * buf_[k].normal[1], sign * buf_[k].normal[2], v);
-      points_[kept_[tag - 1]].push_back({{p[0], p[1], p[2]}, {v[0], v[1], v[2]}, 1.0 / n});
+      pushes_[kept_[tag - 1]] += (1.0 / n) * Eigen::Vector3d(v[0], v[1], v[2]);
     }
   }
   for (int k = 0; k < n; ++k) {

@@ -27,9 +27,6 @@ struct ContactMaterials {
 class Contacts {
  public:
   static constexpr int kMaxContactsPerPair = 8;
-  // contact points kept per body (keep_points) before a step would allocate:
-  // 32 touching geoms at 8 contacts each (a cover in a mesh pipe meets a few)
-  static constexpr int kKeptPointsReserved = 32 * kMaxContactsPerPair;
 
   Contacts(dWorldID world, ContactMaterials materials);
   ~Contacts();
@@ -51,18 +48,14 @@ class Contacts {
 
   bool touched(int body) const { return touched_[body] != 0; }  // had a contact in the last step
 
-  // a contact of the last step on a body, in the frame of its ODE body:
-  // where it touched, the way it pushed the body (unit) and its share of
-  // the push of its pair of geoms (1 / the pair's contact count: a pair's
-  // contacts are one push however finely the collider samples it)
-  struct Point {
-    Eigen::Vector3d pos, normal;
-    double share = 1;
-  };
-  // keep the contact points of a body (one that a sectored touch sensor reads)
-  void keep_points(int body);
-  // the last step's contact points of a body kept with keep_points (else none)
-  const std::vector<Point>& points(int body) const;
+  // sum the pushes on a body (one that a sectored touch sensor reads)
+  void keep_push(int body);
+  // the last step's pushes on a body kept with keep_push, in the frame of
+  // its ODE body: the sum over the geoms it touched of each one's push, the
+  // mean of its contacts' unit normals as they push the body (a pair's
+  // contacts are one push however finely the collider samples it); zero
+  // for a body not kept
+  Eigen::Vector3d push(int body) const;
   int count() const { return count_; }                            // contact joints of the last step
   // the deepest contact of the last step (depth 0, body -1: none): how far
   // a body went into the environment or another module
@@ -82,8 +75,8 @@ class Contacts {
   const ContactMaterials materials_;
   std::vector<int> body_module_;          // body index -> module
   std::vector<unsigned char> touched_;    // body index -> touched in the last step
-  std::vector<int> kept_;                 // body index -> index into points_, -1: not kept
-  std::vector<std::vector<Point>> points_;
+  std::vector<int> kept_;                 // body index -> index into pushes_, -1: not kept
+  std::vector<Eigen::Vector3d> pushes_;
   int count_ = 0;
   Deepest deepest_;
   dContactGeom buf_[kMaxContactsPerPair];

@@ -273,7 +273,7 @@ void World::Impl::add_module(int index, const ModuleDef& def, const Eigen::Isome
         tw.first_rad = sd.first_deg * M_PI / 180;
         tw.half_width_rad = sd.half_width_deg * M_PI / 180;
         tw.module_from_body = to_isometry(def.bodies[sd.body].pose) * parts.offsets[sd.body].inverse();
-        if (sd.sectors > 1) contacts->keep_points(tw.body);
+        if (sd.sectors > 1) contacts->keep_push(tw.body);
         md.channels.touch.push_back(tw);
         break;
       }

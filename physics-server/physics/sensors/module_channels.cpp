@@ -28,9 +28,7 @@ uint16_t touch_inputs(const ModuleChannels& channels, const Contacts& contacts) 
       bits |= static_cast<uint16_t>(1u << t.bit);
       continue;
     }
-    Eigen::Vector3d push = Eigen::Vector3d::Zero();
-    for (const Contacts::Point& p : contacts.points(t.body)) push += p.share * p.normal;
-    bits |= static_cast<uint16_t>(touch_sectors(t, push) << t.bit);
+    bits |= static_cast<uint16_t>(touch_sectors(t, contacts.push(t.body)) << t.bit);
   }
   return bits;
 }

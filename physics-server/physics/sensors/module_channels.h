@@ -39,7 +39,7 @@ struct ModuleChannels {
 // which of a sectored touch sensor's switches close (bit k = switch k) when
 // its cover is pushed along push_body (in its ODE body's frame: the sum of
 // the pushes of what the cover touches, a unit push per geom it touches,
-// Contacts::Point::share). The cover is one rigid part on its switches, so
+// Contacts::push). The cover is one rigid part on its switches, so
 // they feel the resultant: a push mostly along the axis (a wall ahead, or
 // the wedge between two outlets met in the middle) closes every switch; one
 // that is balanced across it (less than 0.2 of a push: pinched between
