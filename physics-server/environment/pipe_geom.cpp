@@ -86,6 +86,13 @@ struct RimTable {
   }
 };
 
+// the table, computed once (the same values as computing them each time:
+// std::cos of the same argument)
+const RimTable& rim_table() {
+  static const RimTable table;
+  return table;
+}
+
 struct Query {
   const PipeLayout& layout;
   int k;
@@ -189,9 +196,7 @@ struct Query {
       return std::isfinite(v) ? v : -1e9;
     };
     auto f = [&](double t) { return f_at(at(t)); };
-    // the samples' cosines and sines, computed once (the same values as
-    // computing them each time: std::cos of the same argument)
-    static const RimTable table;
+    const RimTable& table = rim_table();
     for (int i = 0; i < kRimSamples; ++i) d[i] = f_at(at_cs(table.cos[i], table.sin[i]));
     int found = 0, best = 0;
     for (int i = 0; i < kRimSamples; ++i) {
@@ -261,7 +266,7 @@ int collide_cylinder(dGeomID o1, dGeomID o2, int flags, dContactGeom* contact, i
   // ridge and the wedge between a split's outlets) can reach a face's
   // interior, which a wall without openings never does
   if (q.piece.holes[0] >= 0 || q.piece.holes[1] >= 0) {
-    static const RimTable table;
+    const RimTable& table = rim_table();
     for (const double h : {-0.5 * length, 0.5 * length}) {
       q.point(c + h * z, 0.0);
       for (int i = 0; i < kRimSamples; i += 2)
