@@ -29,6 +29,13 @@ static void set_direction(int16_t dir_deg)
 
 static uint8_t rotation_from(uint8_t i, uint8_t from, uint32_t *t);
 
+/* the side the junction policy takes, CC_SIDE_LEFT or CC_SIDE_RIGHT (its
+ * angle as gravity gives it is 90 degrees per CC_SIDE_ step) */
+static uint8_t junction_side(void)
+{
+    return params.junction == JUNCTION_LEFT ? CC_SIDE_LEFT : CC_SIDE_RIGHT;
+}
+
 void elbow_setup(void)
 {
     uint32_t t = 0;
@@ -56,7 +63,7 @@ void elbow_log(void)
         cio_put(" bend_travel_ms=", params.bend_travel_ms);
     if (params.junction != JUNCTION_WAIT) {
         sb_str(&cio_sb, " junction=");
-        cio_put_side(params.junction == JUNCTION_LEFT ? CC_SIDE_LEFT : CC_SIDE_RIGHT);
+        cio_put_side(junction_side());
     }
     cio_log_line(cio_sb.buf);
 }
@@ -130,6 +137,7 @@ static void steer(uint32_t now, int16_t obstacle_deg, int16_t up_deg)
 {
     int16_t turn;
     const char *why = "sensed";
+    uint8_t side = CC_SIDE_NONE; /* a junction's: named in the log */
     if (params.elbow_dir_deg >= 0) {
         turn = params.elbow_dir_deg;
         why = "given";
@@ -139,7 +147,8 @@ static void steer(uint32_t now, int16_t obstacle_deg, int16_t up_deg)
             turn = (int16_t)(obstacle_deg >= 180 ? obstacle_deg - 180 : obstacle_deg + 180);
         } else if (params.junction != JUNCTION_WAIT && up_deg != CC_TOUCH_NONE) {
             /* a wall ahead: the junction policy's way, left or right of up */
-            turn = (int16_t)(up_deg + (params.junction == JUNCTION_LEFT ? 90 : 270));
+            side = junction_side();
+            turn = (int16_t)(up_deg + 90 * side);
             if (turn >= 360)
                 turn -= 360;
             why = "junction";
@@ -162,9 +171,9 @@ static void steer(uint32_t now, int16_t obstacle_deg, int16_t up_deg)
         cio_put(" world_deg=", (turn - up_deg + 360) % 360);
     sb_str(&cio_sb, " (");
     sb_str(&cio_sb, why);
-    if (why[0] == 'j') {
+    if (side != CC_SIDE_NONE) {
         sb_str(&cio_sb, ", ");
-        cio_put_side(params.junction == JUNCTION_LEFT ? CC_SIDE_LEFT : CC_SIDE_RIGHT);
+        cio_put_side(side);
     }
     sb_char(&cio_sb, ')');
     cio_log_line(cio_sb.buf);
