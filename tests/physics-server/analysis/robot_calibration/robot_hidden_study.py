@@ -53,72 +53,65 @@ WINDOW = 1.0
 HELI_SLOPES = ["0", "30", "45", "60", "90"]
 INCH_SLOPES = ["0", "15", "30", "45", "60"]
 
-# name, robot scene (at 30 degrees), rows, module changes [(type, key, factor)],
+# Each case: name, robot scene (at 30 degrees), rows, module changes [(type, key, factor)],
 # scene changes {"slope_offset_deg": d, "diameter_m": x, "wall_mu_factor": f} (the hidden
 # scenes only), expected:
 #   {"knob": name, "factor": f} | {"outside": description} | {"null": True}
 #   | {"unobservable": True} (a change the table does not show: nothing should be named)
+
+
+def heli(name, hidden, expect, modules=(), **scene_changes):
+    """a case on the helicoidal module's table"""
+    return dict(name=name, scene="helicoidal-30.yaml", slopes=HELI_SLOPES, modules=list(modules),
+                scene_changes=scene_changes, expect=expect, hidden=hidden)
+
+
+def inch(name, hidden, expect, modules=(), **scene_changes):
+    """a case on the inchworm's table"""
+    return dict(name=name, scene="inchworm-30.yaml", slopes=INCH_SLOPES, modules=list(modules),
+                scene_changes=scene_changes, expect=expect, hidden=hidden)
+
+
+def knob(name, factor):
+    return {"knob": name, "factor": factor}
+
+
 CASES = [
     # nulls: the shipped robots, unchanged
-    dict(name="null-heli", scene="helicoidal-30.yaml", slopes=HELI_SLOPES, modules=[], scene_changes={},
-         expect={"null": True}, hidden="none (shipped helicoidal)"),
-    dict(name="null-inch", scene="inchworm-30.yaml", slopes=INCH_SLOPES, modules=[], scene_changes={},
-         expect={"null": True}, hidden="none (shipped inchworm)"),
+    heli("null-heli", "none (shipped helicoidal)", {"null": True}),
+    inch("null-inch", "none (shipped inchworm)", {"null": True}),
     # helicoidal: servo (drive motor) parameters
-    dict(name="h-stall-0.8", scene="helicoidal-30.yaml", slopes=HELI_SLOPES,
-         modules=[("helicoidal", "stall_torque_nm", 0.8)], scene_changes={},
-         expect={"knob": "drive_stall", "factor": 0.8}, hidden="drive stall torque x0.8"),
-    dict(name="h-stall-1.25", scene="helicoidal-30.yaml", slopes=HELI_SLOPES,
-         modules=[("helicoidal", "stall_torque_nm", 1.25)], scene_changes={},
-         expect={"knob": "drive_stall", "factor": 1.25}, hidden="drive stall torque x1.25"),
-    dict(name="h-free-1.15", scene="helicoidal-30.yaml", slopes=HELI_SLOPES,
-         modules=[("helicoidal", "free_speed_rad_s", 1.15)], scene_changes={},
-         expect={"knob": "drive_free_speed", "factor": 1.15}, hidden="drive free speed x1.15"),
-    dict(name="h-free-0.85", scene="helicoidal-30.yaml", slopes=HELI_SLOPES,
-         modules=[("helicoidal", "free_speed_rad_s", 0.85)], scene_changes={},
-         expect={"knob": "drive_free_speed", "factor": 0.85}, hidden="drive free speed x0.85"),
+    heli("h-stall-0.8", "drive stall torque x0.8", knob("drive_stall", 0.8),
+         [("helicoidal", "stall_torque_nm", 0.8)]),
+    heli("h-stall-1.25", "drive stall torque x1.25", knob("drive_stall", 1.25),
+         [("helicoidal", "stall_torque_nm", 1.25)]),
+    heli("h-free-1.15", "drive free speed x1.15", knob("drive_free_speed", 1.15),
+         [("helicoidal", "free_speed_rad_s", 1.15)]),
+    heli("h-free-0.85", "drive free speed x0.85", knob("drive_free_speed", 0.85),
+         [("helicoidal", "free_speed_rad_s", 0.85)]),
     # helicoidal: wheel friction (both wheel sets). The wheels grip about six times what the stall
     # thrust needs: from x1 down to x0.1 the table moves 0.03 cm/s at most, at x0.08 the
     # module slides down the 60 and 90 degree pipes; the knob's range is 0.3..2. A change the table
     # cannot show: the right answer is nothing named (counted apart from the cases and the nulls).
-    dict(name="h-wheelmu-0.5", scene="helicoidal-30.yaml", slopes=HELI_SLOPES,
-         modules=[("helicoidal", "mu", 0.5)], scene_changes={},
-         expect={"unobservable": True}, hidden="wheel friction x0.5 (mu 0.3; the table does not move)"),
+    heli("h-wheelmu-0.5", "wheel friction x0.5 (mu 0.3; the table does not move)", {"unobservable": True},
+         [("helicoidal", "mu", 0.5)]),
     # helicoidal: outside the knobs (no mass, slope or bore knob)
-    dict(name="h-mass-1.3", scene="helicoidal-30.yaml", slopes=HELI_SLOPES,
-         modules=[("helicoidal", "mass_kg", 1.3)], scene_changes={},
-         expect={"outside": "mass"}, hidden="module mass x1.3 (pig and head)"),
-    dict(name="h-slope+3", scene="helicoidal-30.yaml", slopes=HELI_SLOPES, modules=[],
-         scene_changes={"slope_offset_deg": 3}, expect={"outside": "slope offset"},
-         hidden="pipe at slope + 3 deg in every row"),
-    dict(name="h-pipe-42", scene="helicoidal-30.yaml", slopes=HELI_SLOPES, modules=[],
-         scene_changes={"diameter_m": 0.042}, expect={"outside": "pipe diameter"},
-         hidden="pipe bore 42 mm instead of 40"),
+    heli("h-mass-1.3", "module mass x1.3 (pig and head)", {"outside": "mass"},
+         [("helicoidal", "mass_kg", 1.3)]),
+    heli("h-slope+3", "pipe at slope + 3 deg in every row", {"outside": "slope offset"},
+         slope_offset_deg=3),
+    heli("h-pipe-42", "pipe bore 42 mm instead of 40", {"outside": "pipe diameter"}, diameter_m=0.042),
     # inchworm: the extension, the pads, the arm servos, the wall
-    dict(name="i-ext-0.7", scene="inchworm-30.yaml", slopes=INCH_SLOPES,
-         modules=[("extension", "fmax_n", 0.7)], scene_changes={},
-         expect={"knob": "extension_force", "factor": 0.7}, hidden="extension force x0.7"),
-    dict(name="i-ext-1.3", scene="inchworm-30.yaml", slopes=INCH_SLOPES,
-         modules=[("extension", "fmax_n", 1.3)], scene_changes={},
-         expect={"knob": "extension_force", "factor": 1.3}, hidden="extension force x1.3"),
-    dict(name="i-pad-0.8", scene="inchworm-30.yaml", slopes=INCH_SLOPES,
-         modules=[("support", "mu", 0.8)], scene_changes={},
-         expect={"knob": "pad_friction", "factor": 0.8}, hidden="pad friction x0.8"),
-    dict(name="i-grip-0.6", scene="inchworm-30.yaml", slopes=INCH_SLOPES,
-         modules=[("support", "kt", 0.6)], scene_changes={},
-         expect={"knob": "arm_grip_torque", "factor": 0.6}, hidden="support arm servos' kt x0.6 (all three)"),
-    dict(name="i-wall-0.7", scene="inchworm-30.yaml", slopes=INCH_SLOPES, modules=[],
-         scene_changes={"wall_mu_factor": 0.7}, expect={"knob": "wall_friction", "factor": 0.7},
-         hidden="wall friction x0.7 (mu 0.42)"),
-    dict(name="i-pad-1.3", scene="inchworm-30.yaml", slopes=INCH_SLOPES,
-         modules=[("support", "mu", 1.3)], scene_changes={},
-         expect={"knob": "pad_friction", "factor": 1.3}, hidden="pad friction x1.3"),
-    dict(name="i-slope+3", scene="inchworm-30.yaml", slopes=INCH_SLOPES, modules=[],
-         scene_changes={"slope_offset_deg": 3}, expect={"outside": "slope offset"},
-         hidden="pipe at slope + 3 deg in every row"),
-    dict(name="i-mass-1.3", scene="inchworm-30.yaml", slopes=INCH_SLOPES,
-         modules=[("support", "mass_kg", 1.3), ("extension", "mass_kg", 1.3)], scene_changes={},
-         expect={"outside": "mass"}, hidden="every body's mass x1.3 (supports and extension)"),
+    inch("i-ext-0.7", "extension force x0.7", knob("extension_force", 0.7), [("extension", "fmax_n", 0.7)]),
+    inch("i-ext-1.3", "extension force x1.3", knob("extension_force", 1.3), [("extension", "fmax_n", 1.3)]),
+    inch("i-pad-0.8", "pad friction x0.8", knob("pad_friction", 0.8), [("support", "mu", 0.8)]),
+    inch("i-grip-0.6", "support arm servos' kt x0.6 (all three)", knob("arm_grip_torque", 0.6),
+         [("support", "kt", 0.6)]),
+    inch("i-wall-0.7", "wall friction x0.7 (mu 0.42)", knob("wall_friction", 0.7), wall_mu_factor=0.7),
+    inch("i-pad-1.3", "pad friction x1.3", knob("pad_friction", 1.3), [("support", "mu", 1.3)]),
+    inch("i-slope+3", "pipe at slope + 3 deg in every row", {"outside": "slope offset"}, slope_offset_deg=3),
+    inch("i-mass-1.3", "every body's mass x1.3 (supports and extension)", {"outside": "mass"},
+         [("support", "mass_kg", 1.3), ("extension", "mass_kg", 1.3)]),
 ]
 
 ARM_SERVO = "{name: arm_servo, type: servo, joint: arm_top}"
