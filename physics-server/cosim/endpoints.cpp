@@ -14,7 +14,7 @@
 
 #include "cosim/program_params.h"
 #include "cosim/socket_dir.h"
-#include "output/decimal.h"
+#include "text/number_text.h"
 
 namespace chainsim {
 

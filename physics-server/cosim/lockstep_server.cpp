@@ -19,7 +19,7 @@
 #include "cosim/barrier.h"
 #include "cosim/early_stop.h"
 #include "cosim/endpoints.h"
-#include "output/decimal.h"
+#include "text/number_text.h"
 #include "output/run_events.h"
 #include "output/run_output.h"
 #include "output/run_summary.h"

@@ -8,17 +8,10 @@
 #include <sstream>
 
 #include "physics/units.h"
+#include "text/number_text.h"
 
 namespace chainsim {
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-std::string num(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 Eigen::Vector3d left_of(const PipeFrame& f) { return f.up.cross(f.tangent); }
 
@@ -63,10 +56,10 @@ PipePiece elbow(const PipeFrame& at, const Eigen::Vector3d& bend_dir, const Pipe
 
 PipeLayout layout_pipe(const PipeSpec& spec) {
   if (!(spec.inner_diameter_m > 0) || !std::isfinite(spec.inner_diameter_m))
-    throw PipeLayoutError(-1, "inner_diameter_m must be > 0 (is " + num(spec.inner_diameter_m) + ")");
+    throw PipeLayoutError(-1, "inner_diameter_m must be > 0 (is " + general_text(spec.inner_diameter_m) + ")");
   if (spec.segments.empty()) throw PipeLayoutError(-1, "a pipe needs at least one segment");
   if (!(std::fabs(spec.slope_deg) <= 90))
-    throw PipeLayoutError(-1, "slope_deg must be in [-90, 90] (is " + num(spec.slope_deg) + ")");
+    throw PipeLayoutError(-1, "slope_deg must be in [-90, 90] (is " + general_text(spec.slope_deg) + ")");
   const double radius = spec.inner_diameter_m / 2;
   PipeLayout out;
   out.radius_m = radius;
@@ -75,7 +68,7 @@ PipeLayout layout_pipe(const PipeSpec& spec) {
   const PipeSegment& first = spec.segments[0];
   if (first.type == PipeSegment::Type::Straight && !std::isnan(first.slope_deg)) {
     if (!(std::fabs(first.slope_deg) <= 90))
-      throw PipeLayoutError(0, "slope_deg must be in [-90, 90] (is " + num(first.slope_deg) + ")");
+      throw PipeLayoutError(0, "slope_deg must be in [-90, 90] (is " + general_text(first.slope_deg) + ")");
     slope = first.slope_deg;
   }
   const double h = spec.heading_deg * kRadPerDeg, s = slope * kRadPerDeg;
@@ -100,7 +93,7 @@ PipeLayout layout_pipe(const PipeSpec& spec) {
     switch (g.type) {
       case PipeSegment::Type::Straight: {
         if (!(g.length_m > 0) || !std::isfinite(g.length_m))
-          throw PipeLayoutError(seg, "length_m must be > 0 (is " + num(g.length_m) + ")");
+          throw PipeLayoutError(seg, "length_m must be > 0 (is " + general_text(g.length_m) + ")");
         out.pieces.push_back(straight(f, g.length_m, radius, seg));
         f.point += g.length_m * f.tangent;
         break;
@@ -109,9 +102,9 @@ PipeLayout layout_pipe(const PipeSpec& spec) {
       case PipeSegment::Type::Split: {
         if (!(g.bend_radius_m > radius) || !std::isfinite(g.bend_radius_m))
           throw PipeLayoutError(seg, "bend_radius_m must be larger than the inner radius " +
-                                         num(radius) + " m (is " + num(g.bend_radius_m) + ")");
+                                         general_text(radius) + " m (is " + general_text(g.bend_radius_m) + ")");
         if (!(g.angle_deg > 0 && g.angle_deg <= 180))
-          throw PipeLayoutError(seg, "angle_deg must be in (0, 180] (is " + num(g.angle_deg) + ")");
+          throw PipeLayoutError(seg, "angle_deg must be in (0, 180] (is " + general_text(g.angle_deg) + ")");
         const int followed = static_cast<int>(out.pieces.size());
         out.pieces.push_back(elbow(f, bend_dir, g, radius, seg));
         if (g.type == PipeSegment::Type::Split) {
@@ -128,10 +121,10 @@ PipeLayout layout_pipe(const PipeSpec& spec) {
       case PipeSegment::Type::Tee: {
         if (!(g.run_length_m > 2 * radius) || !std::isfinite(g.run_length_m))
           throw PipeLayoutError(seg, "run_length_m must be larger than the inner diameter " +
-                                         num(2 * radius) + " m (is " + num(g.run_length_m) + ")");
+                                         general_text(2 * radius) + " m (is " + general_text(g.run_length_m) + ")");
         if (!(g.branch_length_m > radius) || !std::isfinite(g.branch_length_m))
           throw PipeLayoutError(seg, "branch_length_m must be larger than the inner radius " +
-                                         num(radius) + " m (is " + num(g.branch_length_m) + ")");
+                                         general_text(radius) + " m (is " + general_text(g.branch_length_m) + ")");
         const int run = static_cast<int>(out.pieces.size());
         out.pieces.push_back(straight(f, g.run_length_m, radius, seg));
         PipeFrame b;
@@ -227,15 +220,15 @@ double pipe_piece_depth(const PipeLayout& layout, int k, const Eigen::Vector3d& 
                         Eigen::Vector3d* dir_out) {
   const PipePiece& p = layout.pieces[k];
   Eigen::Vector3d d;
-  if (!radial(p, x, &d, false)) return kInf * -1;
+  if (!radial(p, x, &d, false)) return kNotOwned;
   const double dist = d.norm();
-  if (dist > 2 * p.radius_m) return -kInf;
+  if (dist > 2 * p.radius_m) return kNotOwned;
   // on the axis: any direction; the depth is negative for any body that fits
   const Eigen::Vector3d dir = dist > 1e-12 ? Eigen::Vector3d(d / dist) : p.start.up;
   for (int h : p.holes) {
     if (h < 0) continue;
     const Eigen::Vector3d wall = x - d + p.radius_m * dir;
-    if (pipe_piece_bore_contains(layout.pieces[h], wall, 0.0)) return -kInf;
+    if (pipe_piece_bore_contains(layout.pieces[h], wall, 0.0)) return kNotOwned;
     // a sphere wholly inside the other piece's bore touches no wall (past a
     // split's wedge, the wall point of this piece lies in the wedge): its
     // clearance there
@@ -249,7 +242,7 @@ double pipe_piece_depth(const PipeLayout& layout, int k, const Eigen::Vector3d& 
     }
     // in both walls (the wedge between a split's outlets): the nearer bore
     // pushes it out, the other piece stays silent
-    if (other < dist + r - p.radius_m) return -kInf;
+    if (other < dist + r - p.radius_m) return kNotOwned;
   }
   if (dir_out) *dir_out = dir;
   return dist + r - p.radius_m;
@@ -273,7 +266,7 @@ bool pipe_piece_ball_clear(const PipePiece& p, const Eigen::Vector3d& c, double 
 }
 
 double pipe_depth(const PipeLayout& layout, const Eigen::Vector3d& p, double r) {
-  double best = -kInf;
+  double best = kNotOwned;
   for (int k = 0; k < static_cast<int>(layout.pieces.size()); ++k)
     best = std::max(best, pipe_piece_depth(layout, k, p, r, nullptr));
   return best;

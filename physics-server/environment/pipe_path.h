@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -67,16 +68,19 @@ struct PipeLayout {
 // throws PipeLayoutError naming the segment
 PipeLayout layout_pipe(const PipeSpec& spec);
 
+// pipe_piece_depth's and pipe_depth's answer where no piece owns the point
+inline constexpr double kNotOwned = -std::numeric_limits<double>::infinity();
+
 // Depth of a sphere (centre p, radius r) into piece k's wall: distance of p
 // from the piece's axis + r - inner radius; > 0 = penetrating. dir_out: unit
 // vector from the axis towards p (the outward wall normal there). Returns
-// -infinity where the piece does not own p: p beyond the piece's ends (open
+// kNotOwned (-infinity) where the piece does not own p: p beyond the piece's ends (open
 // there or another piece's), farther than 2 inner radii from the axis, or
 // the wall point lies in a hole. With a piece that opens a hole in this one:
 // a sphere wholly inside its bore touches no wall (its negative depth
 // there), and a sphere in both walls (the wedge between a split's outlets)
-// belongs to the piece it is less deep into (-infinity here if that is the
-// other).
+// belongs to the piece it is less deep into (kNotOwned here if that is
+// the other).
 double pipe_piece_depth(const PipeLayout& layout, int k, const Eigen::Vector3d& p, double r,
                         Eigen::Vector3d* dir_out);
 
@@ -87,7 +91,7 @@ double pipe_piece_depth(const PipeLayout& layout, int k, const Eigen::Vector3d& 
 // a collider may skip such a ball without losing a contact.
 bool pipe_piece_ball_clear(const PipePiece& p, const Eigen::Vector3d& c, double rho_m);
 
-// the largest pipe_piece_depth over the pieces; -infinity if none owns p
+// the largest pipe_piece_depth over the pieces; kNotOwned if none owns p
 double pipe_depth(const PipeLayout& layout, const Eigen::Vector3d& p, double r);
 
 // x is strictly inside piece k's bore (by margin_m), within its ends

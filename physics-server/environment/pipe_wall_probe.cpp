@@ -10,7 +10,6 @@
 namespace chainsim {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kTolerance = 1e-7;   // m, along the ray
 constexpr int kMaxIterations = 60;    // regula falsi / bisection steps (a bisection alone needs ~28)
 constexpr int kWindow = 3;            // pieces tried on either side of the hint
@@ -36,12 +35,12 @@ WallProbe::~WallProbe() {
 
 double WallProbe::bore_gap(const Eigen::Vector3d& x, int lo, int hi, int* piece,
                            Eigen::Vector3d* out) const {
-  double best = -kInf;
+  double best = kNotOwned;
   for (int k = lo; k <= hi; ++k) {
     Eigen::Vector3d dir;
     const double d = pipe_piece_depth(*layout_, k, x, 0.0, &dir);
-    if (d == -kInf) continue;
-    if (best == -kInf || d < best) {
+    if (d == kNotOwned) continue;
+    if (best == kNotOwned || d < best) {
       best = d;
       *piece = k;
       *out = dir;
@@ -60,7 +59,7 @@ double WallProbe::bore_gap_near(const Eigen::Vector3d& x, int hint, int* lo, int
     *hi = std::min(n - 1, hint + kWindow);
   }
   double g = bore_gap(x, *lo, *hi, piece, out);
-  if (g == -kInf && (*lo > 0 || *hi < n - 1)) {  // the hint was stale: all pieces
+  if (g == kNotOwned && (*lo > 0 || *hi < n - 1)) {  // the hint was stale: all pieces
     *lo = 0;
     *hi = n - 1;
     g = bore_gap(x, *lo, *hi, piece, out);
@@ -69,11 +68,11 @@ double WallProbe::bore_gap_near(const Eigen::Vector3d& x, int hint, int* lo, int
 }
 
 double WallProbe::pipe_wall_gap(const Eigen::Vector3d& x, int* hint, WallHit* hit) const {
-  if (!has_pipe()) return -kInf;
+  if (!has_pipe()) return kNotOwned;
   int lo, hi, k = -1;
   Eigen::Vector3d out;
   const double g = bore_gap_near(x, *hint, &lo, &hi, &k, &out);
-  if (g == -kInf) return g;
+  if (g == kNotOwned) return g;
   *hint = k;
   hit->t = g;
   hit->normal = -out;
@@ -92,7 +91,7 @@ bool WallProbe::cast_pipe(const Eigen::Vector3d& o, const Eigen::Vector3d& d, do
   double g1 = bore_gap(o + max_t * d, lo, hi, &k1, &dir1);
   // no piece owns the far end: past an open end, or deep in the wall (more
   // than 2 radii from every axis); step back until a piece owns the point
-  for (int k = 7; g1 == -kInf && k > 0; --k) {
+  for (int k = 7; g1 == kNotOwned && k > 0; --k) {
     const double te = max_t * k / 8.0;
     g1 = bore_gap(o + te * d, lo, hi, &k1, &dir1);
     if (g1 >= 0) max_t = te;
@@ -123,7 +122,7 @@ bool WallProbe::cast_pipe(const Eigen::Vector3d& o, const Eigen::Vector3d& d, do
     k = k1;
     dir = dir1;
     for (int it = 0; it < kMaxIterations && b - a > kTolerance; ++it) {
-      double m = (ga == -kInf) ? 0.5 * (a + b) : b - gb * (b - a) / (gb - ga);
+      double m = (ga == kNotOwned) ? 0.5 * (a + b) : b - gb * (b - a) / (gb - ga);
       if (!(m > a && m < b)) m = 0.5 * (a + b);
       int km = -1;
       Eigen::Vector3d dm;
@@ -133,7 +132,7 @@ bool WallProbe::cast_pipe(const Eigen::Vector3d& o, const Eigen::Vector3d& d, do
         gb = gm;
         k = km;
         dir = dm;
-        if (side == 1 && ga != -kInf) ga *= 0.5;
+        if (side == 1 && ga != kNotOwned) ga *= 0.5;
         side = 1;
       } else {
         a = m;

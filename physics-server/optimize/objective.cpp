@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "text/number_text.h"
+
 namespace chainsim {
 
 namespace {
@@ -25,12 +27,6 @@ double distance(const MeasureSpec& m, const RunOutcome& r, const PipeProgress* p
   const auto& tr = track(m, r);
   if (tr.empty()) return 0;
   return along(m, tr.back(), pipe) - along(m, tr.front(), pipe);
-}
-
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
 }
 
 }  // namespace
@@ -85,13 +81,13 @@ Score score_run(const std::vector<MeasureSpec>& measures, const ObjectiveSpec& o
   for (const auto& c : constraints) {
     const double v = s.measures[static_cast<size_t>(c.measure)];
     const std::string& name = measures[static_cast<size_t>(c.measure)].name;
-    if (c.min && !(v >= *c.min)) return fail("constraint: " + name + " = " + num(v) + " < " + num(*c.min));
-    if (c.max && !(v <= *c.max)) return fail("constraint: " + name + " = " + num(v) + " > " + num(*c.max));
+    if (c.min && !(v >= *c.min)) return fail("constraint: " + name + " = " + general_text(v) + " < " + general_text(*c.min));
+    if (c.max && !(v <= *c.max)) return fail("constraint: " + name + " = " + general_text(v) + " > " + general_text(*c.max));
   }
   double f = 0;
   for (const auto& [k, w] : objective.weights) f += w * s.measures[static_cast<size_t>(k)];
   if (!std::isfinite(f))
-    return fail("the objective is not finite (" + num(f) + "): a measure used in it was never reached");
+    return fail("the objective is not finite (" + general_text(f) + "): a measure used in it was never reached");
   s.fitness = f;
   return s;
 }

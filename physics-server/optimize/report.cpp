@@ -27,7 +27,8 @@ std::string esc(const std::string& s) {
   return o;
 }
 
-std::string num(double v, const char* fmt = "%.6g") {
+// a number in the report: empty for NaN, "never" for +inf
+std::string shown_num(double v, const char* fmt = "%.6g") {
   if (std::isnan(v)) return "";
   if (std::isinf(v)) return v > 0 ? "never" : "-inf";
   char b[48];
@@ -58,7 +59,7 @@ std::string plot_svg(const Problem& pr, const std::vector<GenerationStats>& st) 
     << "' fill='none' stroke='#888'/>";
   for (int k = 0; k <= 4; ++k) {
     const double v = lo + (hi - lo) * k / 4;
-    o << "<text x='" << L - 6 << "' y='" << Y(v) + 4 << "' text-anchor='end'>" << num(v, "%.4g") << "</text>";
+    o << "<text x='" << L - 6 << "' y='" << Y(v) + 4 << "' text-anchor='end'>" << shown_num(v, "%.4g") << "</text>";
     o << "<line x1='" << L << "' x2='" << W - R << "' y1='" << Y(v) << "' y2='" << Y(v) << "' stroke='#eee'/>";
   }
   const int step = std::max(1, (g1 - g0) / 10);
@@ -132,12 +133,12 @@ std::string report_html(const Problem& pr, const std::vector<HistoryRow>& rows, 
     << (pr.exhaustive ? "exhaustive search" : "pagmo sga") << ", population " << pr.ga.population << ", seed "
     << pr.ga.seed << ". Objective: " << (pr.objective.maximize ? "maximize " : "minimize ");
   for (size_t k = 0; k < pr.objective.weights.size(); ++k)
-    o << (k ? " + " : "") << num(pr.objective.weights[k].second) << " &times; "
+    o << (k ? " + " : "") << shown_num(pr.objective.weights[k].second) << " &times; "
       << esc(pr.measures[static_cast<size_t>(pr.objective.weights[k].first)].name);
-  o << "; a failed run scores " << num(pr.objective.failed_fitness) << ".</p>";
+  o << "; a failed run scores " << shown_num(pr.objective.failed_fitness) << ".</p>";
   if (best.valid)
     o << "<h2>Best</h2><p><b><code>" << esc(best.key) << "</code></b>, fitness in the search "
-      << num(best.fitness, "%.10g") << (best.failed ? " (failed)" : "") << ", found in generation " << best.generation
+      << shown_num(best.fitness, "%.10g") << (best.failed ? " (failed)" : "") << ", found in generation " << best.generation
       << " (island " << best.island << ", individual " << best.individual << "). " << esc(notes.replay) << "</p>";
   for (const std::string* t : {&notes.trials, &notes.noise})
     if (!t->empty()) o << "<p>" << (t == &notes.noise ? "<b>Warning:</b> " : "") << esc(*t) << ".</p>";
@@ -158,15 +159,15 @@ std::string report_html(const Problem& pr, const std::vector<HistoryRow>& rows, 
       << (exact ? "<th>exact solver</th>" : "") << (pic ? "<th>board</th>" : "") << "<th class='l'>flags</th></tr>";
     auto cell = [&](const EvalResult& r) {
       if (r.failed) return "<td class='l'>fails: " + esc(r.why) + "</td>";
-      std::string t = num(r.fitness, "%.6g");
-      if (r.trials > 1 && std::isfinite(r.fitness_sd)) t += " &plusmn; " + num(r.fitness_sd, "%.3g");
+      std::string t = shown_num(r.fitness, "%.6g");
+      if (r.trials > 1 && std::isfinite(r.fitness_sd)) t += " &plusmn; " + shown_num(r.fitness_sd, "%.3g");
       return "<td>" + t + " (" + std::to_string(r.trials) + ")</td>";
     };
     for (size_t l = 0; l < v->leaders.size(); ++l) {
       const VerifiedLeader& x = v->leaders[l];
       o << "<tr><td class='l'><code>" << esc(x.search.genome) << "</code>"
         << (static_cast<int>(l) == v->best ? " <b>(verified best)</b>" : "") << "</td>" << cell(x.search.result)
-        << cell(x.fresh) << "<td>" << num(x.fresh.fitness_min, "%.6g") << " .. " << num(x.fresh.fitness_max, "%.6g")
+        << cell(x.fresh) << "<td>" << shown_num(x.fresh.fitness_min, "%.6g") << " .. " << shown_num(x.fresh.fitness_max, "%.6g")
         << "</td>";
       if (exact) o << (x.has_exact ? cell(x.exact) : "<td></td>");
       if (pic) o << (x.has_pic ? cell(x.pic) : "<td></td>");
@@ -194,10 +195,10 @@ std::string report_html(const Problem& pr, const std::vector<HistoryRow>& rows, 
   o << "<th>first seen</th><th class='l'>fault or why</th></tr>";
   for (size_t i = 0; i < distinct.size() && i < 15; ++i) {
     const HistoryRow& r = *distinct[i];
-    o << "<tr><td class='l'><code>" << esc(r.genome) << "</code></td><td>" << num(r.result.fitness, "%.6g") << "</td><td>"
-      << r.result.trials << "</td><td>" << num(r.result.fitness_sd, "%.3g") << "</td><td>"
-      << num(r.result.fitness_min, "%.6g") << " .. " << num(r.result.fitness_max, "%.6g") << "</td>";
-    for (double m : r.result.measures) o << "<td>" << num(m) << "</td>";
+    o << "<tr><td class='l'><code>" << esc(r.genome) << "</code></td><td>" << shown_num(r.result.fitness, "%.6g") << "</td><td>"
+      << r.result.trials << "</td><td>" << shown_num(r.result.fitness_sd, "%.3g") << "</td><td>"
+      << shown_num(r.result.fitness_min, "%.6g") << " .. " << shown_num(r.result.fitness_max, "%.6g") << "</td>";
+    for (double m : r.result.measures) o << "<td>" << shown_num(m) << "</td>";
     o << "<td>gen " << r.generation << (pr.ga.islands > 1 ? " island " + std::to_string(r.island) : std::string())
       << " #" << r.individual << "</td><td class='l'>" << esc(r.result.why)
       << (r.result.early_stop.empty() ? "" : (r.result.why.empty() ? "" : "; ") + esc(r.result.early_stop))
@@ -208,8 +209,8 @@ std::string report_html(const Problem& pr, const std::vector<HistoryRow>& rows, 
   o << "<h2>Generations</h2><table><tr><th>generation</th><th>best</th><th>mean</th><th>worst</th>"
        "<th>failed</th><th>cache hits</th><th>simulation wall s</th></tr>";
   for (const auto& s : st)
-    o << "<tr><td>" << s.generation << "</td><td>" << num(s.best) << "</td><td>" << num(s.mean) << "</td><td>"
-      << num(s.worst) << "</td><td>" << s.failed << "</td><td>" << s.cached << "</td><td>" << num(s.wall_s, "%.1f")
+    o << "<tr><td>" << s.generation << "</td><td>" << shown_num(s.best) << "</td><td>" << shown_num(s.mean) << "</td><td>"
+      << shown_num(s.worst) << "</td><td>" << s.failed << "</td><td>" << s.cached << "</td><td>" << shown_num(s.wall_s, "%.1f")
       << "</td></tr>";
   o << "</table>";
   if (!replay_html.empty())

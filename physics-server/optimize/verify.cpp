@@ -8,22 +8,17 @@
 #include "optimize/history.h"
 #include "optimize/individual_scene.h"
 #include "optimize/search.h"
+#include "text/number_text.h"
 
 namespace chainsim {
 
 namespace {
 
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
-
 // fitness ± sd (n trials), or the failure
 std::string result_text(const EvalResult& r) {
   if (r.failed) return "fails: " + r.why;
-  std::string t = num(r.fitness);
-  if (r.trials > 1 && std::isfinite(r.fitness_sd)) t += " ± " + num(r.fitness_sd);
+  std::string t = general_text(r.fitness);
+  if (r.trials > 1 && std::isfinite(r.fitness_sd)) t += " ± " + general_text(r.fitness_sd);
   return t + " (" + std::to_string(r.trials) + (r.trials == 1 ? " trial)" : " trials)");
 }
 
@@ -70,8 +65,8 @@ std::string noise_warning(const Problem& pr, const std::vector<HistoryRow>& top)
                 "the ranking of the top %zu is within the noise: their fitnesses (%s .. %s) differ by less than twice "
                 "the standard error of their trials (the best: sd %s over %d trials); raise evaluation.trials, or "
                 "trust the verification's fresh seeds",
-                n, num(ok[0]->result.fitness).c_str(), num(ok[n - 1]->result.fitness).c_str(),
-                num(ok[0]->result.fitness_sd).c_str(), ok[0]->result.trials);
+                n, general_text(ok[0]->result.fitness).c_str(), general_text(ok[n - 1]->result.fitness).c_str(),
+                general_text(ok[0]->result.fitness_sd).c_str(), ok[0]->result.trials);
   return b;
 }
 

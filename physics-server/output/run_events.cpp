@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "output/decimal.h"
+#include "text/number_text.h"
 
 namespace chainsim {
 namespace {

@@ -13,7 +13,7 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "output/decimal.h"
+#include "text/number_text.h"
 
 namespace chainsim {
 

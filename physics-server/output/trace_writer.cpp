@@ -6,7 +6,7 @@
 #include <cmath>
 #include <utility>
 
-#include "output/decimal.h"
+#include "text/number_text.h"
 #include "physics/units.h"
 
 namespace chainsim {

@@ -1,6 +1,6 @@
 // trace.csv: a header line naming every column, then one row per interval of
 // simulated time, read from the World through its accessors. Fixed formats
-// (decimal.h), so equal states give equal bytes: trace_sha256 in summary.json
+// (text/number_text.h), so equal states give equal bytes: trace_sha256 in summary.json
 // is compared across runs and versions.
 //
 // Columns: t_s, then per module m: each body's pose (m<m>.<body>.x, y, z in m;

@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "physics/world.h"
+#include "text/number_text.h"
 
 namespace chainsim {
 
@@ -19,13 +20,6 @@ bool finite(const V& v) {
 std::string body_text(const World& w, int module, int body) {
   return "module " + std::to_string(module) + " (" + w.module_type(module) + ") body '" + w.body_name(module, body) +
          "': ";
-}
-
-// a message's number (snprintf: the C locale, as every output of the server)
-std::string fixed_text(double value, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, value);
-  return buf;
 }
 
 }  // namespace

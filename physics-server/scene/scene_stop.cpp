@@ -3,23 +3,18 @@
 #include <cstdio>
 
 #include "scene/scene_yaml.h"
+#include "text/number_text.h"
 
 namespace chainsim {
 
 namespace {
-
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
-}
 
 std::string along_text(const StopRule& r) {
   if (r.along_pipe) return "pipe";
   if (r.axis == Eigen::Vector3d::UnitX()) return "x";
   if (r.axis == Eigen::Vector3d::UnitY()) return "y";
   if (r.axis == Eigen::Vector3d::UnitZ()) return "z";
-  return "[" + num(r.axis.x()) + ", " + num(r.axis.y()) + ", " + num(r.axis.z()) + "]";
+  return "[" + general_text(r.axis.x()) + ", " + general_text(r.axis.y()) + ", " + general_text(r.axis.z()) + "]";
 }
 
 }  // namespace
@@ -27,8 +22,8 @@ std::string along_text(const StopRule& r) {
 std::string stop_rule_text(const StopRule& r) {
   const std::string what = std::string(r.tail ? "tail" : "head") + " along " + along_text(r);
   if (r.kind == StopRule::Kind::NoProgress)
-    return "no_progress of " + what + " by " + num(r.by_m) + " m within " + num(r.within_s) + " s";
-  return "not_reached: " + what + " to " + num(r.reach_m) + " m by " + num(r.by_s) + " s";
+    return "no_progress of " + what + " by " + general_text(r.by_m) + " m within " + general_text(r.within_s) + " s";
+  return "not_reached: " + what + " to " + general_text(r.reach_m) + " m by " + general_text(r.by_s) + " s";
 }
 
 YAML::Node stop_rule_yaml(const StopRule& r) {

@@ -7,15 +7,10 @@
 
 #include "testing/motion.h"
 #include "testing/run_record.h"
+#include "text/number_text.h"
 
 namespace chainsim {
 namespace {
-
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
 
 std::string at_time(double t) {
   char b[32];
@@ -27,7 +22,7 @@ CheckResult compared(const Comparison& c, double v, double t) {
   CheckResult r;
   r.value = v;
   r.pass = c.holds(v);
-  r.measured = num(v);
+  r.measured = general_text(v);
   r.t_s = t;
   return r;
 }
@@ -109,7 +104,7 @@ CheckResult trace_stat(const Expectation& e, RunRecord& run) {
       return compared(e.cmp, s / v.size(), t.back());
     }
     case Expectation::Stat::at: {
-      if (e.at_s > t.back() + 1e-9) return {false, "the trace ends at " + num(t.back()) + " s", NAN, t.back()};
+      if (e.at_s > t.back() + 1e-9) return {false, "the trace ends at " + general_text(t.back()) + " s", NAN, t.back()};
       size_t k = 0;
       while (k + 1 < t.size() && t[k + 1] <= e.at_s + 1e-9) ++k;
       return compared(e.cmp, v[k], t[k]);
@@ -146,7 +141,7 @@ CheckResult timed(const Timing& tm, double first_t, int count, const std::string
     r.value = first_t;
     r.measured = at_time(first_t) + what_first;
   } else {
-    r.measured = "never (run ended at " + num(end_s) + " s)";
+    r.measured = "never (run ended at " + general_text(end_s) + " s)";
   }
   return r;
 }
@@ -155,7 +150,7 @@ CheckResult trace_when(const Expectation& e, RunRecord& run) {
   const auto& v = trace_column(e, run);
   const auto& t = run.trace_time();
   for (size_t i = 0; i < v.size(); ++i)
-    if (e.cmp.holds(v[i])) return timed(e.timing, t[i], 1, " (value " + num(v[i]) + ")", run.end_s());
+    if (e.cmp.holds(v[i])) return timed(e.timing, t[i], 1, " (value " + general_text(v[i]) + ")", run.end_s());
   return timed(e.timing, 0, 0, "", run.end_s());
 }
 

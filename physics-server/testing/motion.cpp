@@ -3,13 +3,12 @@
 #include <cmath>
 #include <map>
 
+#include "physics/units.h"
 #include "testing/run_record.h"
 
 namespace chainsim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = 180.0 / kPi;
 constexpr double kStartWindowS = 0.2;
 constexpr double kEndWindowS = 1.0;
 constexpr double kPathWindowS = 0.5;
@@ -94,7 +93,7 @@ ChainMotion chain_motion(RunRecord& run) {
   r.dy_m = change(cy);
   r.dz_m = change(cz);
   r.distance_m = std::hypot(r.dx_m, r.dy_m);
-  r.heading_deg = change(hd) * kDeg;
+  r.heading_deg = change(hd) * kDegPerRad;
   size_t w0 = 0;
   for (size_t i = 1; i < T; ++i) {
     if (t[i] - t[w0] < kPathWindowS && i + 1 < T) continue;
@@ -121,7 +120,7 @@ static double twist_deg(RunRecord& run, const std::string& body) {
     double w = w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2;
     double z = w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2;
     if (w < 0) w = -w, z = -z;
-    sum += 2 * std::atan2(z, w) * kDeg;
+    sum += 2 * std::atan2(z, w) * kDegPerRad;
   }
   return sum;
 }

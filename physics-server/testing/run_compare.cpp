@@ -6,16 +6,12 @@
 #include <cstdio>
 #include <limits>
 
+#include "text/number_text.h"
+
 namespace chainsim {
 namespace {
 
 constexpr double kNone = -1;
-
-std::string fixed(double v, int d) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.*f", d, v);
-  return b;
-}
 
 double earliest(const Divergence& d) {
   const double inf = std::numeric_limits<double>::infinity();
@@ -89,8 +85,8 @@ void compare_setpoint(RunRecord& a, RunRecord& b, const std::string& col, double
     if (std::fabs(ta[j] - tb[j]) > 1e-9) break;  // traces at different rates: rows no longer line up
     if (!matched(*va, *vb, j) || !matched(*vb, *va, j)) {
       const int digits = ends_with(col, ".command") ? 4 : 3;
-      ec->divergences.push_back({ec->endpoint, ec->who, channel, ta[j], tb[j], fixed((*va)[j], digits),
-                                 fixed((*vb)[j], digits)});
+      ec->divergences.push_back({ec->endpoint, ec->who, channel, ta[j], tb[j], fixed_text((*va)[j], digits),
+                                 fixed_text((*vb)[j], digits)});
       tally.diverged = true;
       break;
     }
@@ -300,11 +296,11 @@ CompareReport compare_runs(RunRecord& a, RunRecord& b, const std::string& label_
 }
 
 std::string compare_text(const CompareReport& r) {
-  auto at = [](double t) { return t < 0 ? std::string("-") : fixed(t, 3); };
+  auto at = [](double t) { return t < 0 ? std::string("-") : fixed_text(t, 3); };
   std::string s = r.label_a + " against " + r.label_b + " (scene " + r.scene + ")\n";
   auto run = [&](const std::string& label, double end, int exit, double dist, double rtf) {
-    return "  " + label + ": " + fixed(end, 3) + " s simulated, exit code " + std::to_string(exit) + ", chain moved " +
-           fixed(dist, 4) + " m, " + fixed(rtf, 2) + "x real time\n";
+    return "  " + label + ": " + fixed_text(end, 3) + " s simulated, exit code " + std::to_string(exit) + ", chain moved " +
+           fixed_text(dist, 4) + " m, " + fixed_text(rtf, 2) + "x real time\n";
   };
   s += run(r.label_a, r.end_a_s, r.exit_a, r.distance_a_m, r.rtf_a);
   s += run(r.label_b, r.end_b_s, r.exit_b, r.distance_b_m, r.rtf_b);
@@ -328,10 +324,10 @@ std::string compare_text(const CompareReport& r) {
       s += "      then " + o.channel + " at " + at(o.t_a) + " / " + at(o.t_b) + ": \"" + o.a + "\", \"" + o.b + "\"\n";
     }
   }
-  s += "drift: module 0's head " + fixed(r.head_apart_end_m * 1000, 2) + " mm apart at the end (most " +
-       fixed(r.head_apart_max_m * 1000, 2) + " mm, at t=" + fixed(r.head_apart_max_at_s, 2) +
-       " s); measured servo angles differ by " + fixed(r.angle_rms_deg, 3) + " degrees RMS" +
-       (r.angle_worst.empty() ? "" : " (most: " + r.angle_worst + ", " + fixed(r.angle_worst_rms_deg, 3) + ")") + "\n";
+  s += "drift: module 0's head " + fixed_text(r.head_apart_end_m * 1000, 2) + " mm apart at the end (most " +
+       fixed_text(r.head_apart_max_m * 1000, 2) + " mm, at t=" + fixed_text(r.head_apart_max_at_s, 2) +
+       " s); measured servo angles differ by " + fixed_text(r.angle_rms_deg, 3) + " degrees RMS" +
+       (r.angle_worst.empty() ? "" : " (most: " + r.angle_worst + ", " + fixed_text(r.angle_worst_rms_deg, 3) + ")") + "\n";
   if (!r.lags.empty()) {
     std::vector<double> shifts;
     const SetpointLag* worst = &r.lags.front();
@@ -340,15 +336,15 @@ std::string compare_text(const CompareReport& r) {
       if (l.rms > worst->rms) worst = &l;
     }
     std::sort(shifts.begin(), shifts.end());
-    s += "set-points that move: " + r.label_b + "'s follow " + r.label_a + "'s " + fixed(shifts[shifts.size() / 2] * 1000, 0) +
+    s += "set-points that move: " + r.label_b + "'s follow " + r.label_a + "'s " + fixed_text(shifts[shifts.size() / 2] * 1000, 0) +
          " ms later (median of " + std::to_string(shifts.size()) + " servos, from " +
-         fixed(shifts.front() * 1000, 0) + " to " + fixed(shifts.back() * 1000, 0) +
-         " ms); shifted so, they differ by at most " + fixed(worst->rms, 3) + " RMS (" + worst->column + ")\n";
+         fixed_text(shifts.front() * 1000, 0) + " to " + fixed_text(shifts.back() * 1000, 0) +
+         " ms); shifted so, they differ by at most " + fixed_text(worst->rms, 3) + " RMS (" + worst->column + ")\n";
   }
-  s += "tolerances: set-points " + fixed(r.tol.setpoint_deg, 3) + " degrees, " + fixed(r.tol.setpoint_mm, 3) +
-       " mm, " + fixed(r.tol.command, 4) + " of a command, within " + fixed(r.tol.setpoint_lag_s * 1000, 0) +
-       " ms; Sout edges within " + fixed(r.tol.sout_s * 1000, 0) + " ms; the last " +
-       fixed(r.tol.end_slack_s * 1000, 0) + " ms of the shorter run are not compared\n";
+  s += "tolerances: set-points " + fixed_text(r.tol.setpoint_deg, 3) + " degrees, " + fixed_text(r.tol.setpoint_mm, 3) +
+       " mm, " + fixed_text(r.tol.command, 4) + " of a command, within " + fixed_text(r.tol.setpoint_lag_s * 1000, 0) +
+       " ms; Sout edges within " + fixed_text(r.tol.sout_s * 1000, 0) + " ms; the last " +
+       fixed_text(r.tol.end_slack_s * 1000, 0) + " ms of the shorter run are not compared\n";
   return s;
 }
 

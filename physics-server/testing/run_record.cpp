@@ -9,7 +9,7 @@
 namespace chainsim {
 namespace {
 
-std::ifstream open(const std::string& path) {
+std::ifstream open_input(const std::string& path) {
   std::ifstream f(path);
   if (!f) throw RunRecordError("cannot read " + path);
   return f;
@@ -31,7 +31,7 @@ std::vector<std::string> split(const std::string& line, char sep) {
 const nlohmann::json& RunRecord::summary() {
   if (!summary_) {
     const std::string p = dir_ + "/summary.json";
-    std::ifstream f = open(p);
+    std::ifstream f = open_input(p);
     try {
       summary_ = nlohmann::json::parse(f);
     } catch (const nlohmann::json::exception& e) {
@@ -58,7 +58,7 @@ int RunRecord::endpoint_index(bool central, int module) { return central ? modul
 void RunRecord::load_trace() {
   if (trace_loaded_) return;
   const std::string p = dir_ + "/trace.csv";
-  std::ifstream f = open(p);
+  std::ifstream f = open_input(p);
   std::string line;
   if (!std::getline(f, line)) throw RunRecordError(p + ": empty (no header)");
   columns_ = split(line, ',');
@@ -97,7 +97,7 @@ const std::vector<double>* RunRecord::trace_column(const std::string& name) {
 
 const std::vector<BusEvent>& RunRecord::bus() {
   if (bus_) return *bus_;
-  std::ifstream f = open(dir_ + "/bus.log");
+  std::ifstream f = open_input(dir_ + "/bus.log");
   bus_.emplace();
   std::string line;
   for (size_t n = 0; std::getline(f, line); ++n) {
@@ -130,7 +130,7 @@ const std::vector<LogLine>& RunRecord::log(int endpoint) {
   for (const auto& de : std::filesystem::directory_iterator(dir_ + "/modules", ec)) {
     const std::string name = de.path().filename().string();
     if (name.rfind(prefix, 0) != 0 || de.path().extension() != ".log") continue;
-    std::ifstream f = open(de.path().string());
+    std::ifstream f = open_input(de.path().string());
     std::string line;
     for (size_t n = 0; std::getline(f, line); ++n) {
       poll_stop(n);

@@ -274,7 +274,7 @@ TestFile load_test_text(const std::string& text, const std::string& name) {
 
 TestFile load_test_file(const std::string& path) { return load_test_text(read_text(path, "test file"), path); }
 
-Scene load_test_scene(const TestFile& test, std::optional<uint64_t> seed, const SceneCheck& check) {
+Scene load_test_scene(const TestFile& test, std::optional<uint64_t> seed, const LoadedSceneCheck& check) {
   const std::string text = read_text(test.scene_file, "scene file (" + test.scene_where + ")");
   std::vector<SceneEdit> edits = test.edits;
   if (seed) edits.push_back({{"seed"}, YAML::Node(std::to_string(*seed)), test.seeds_where.empty() ? "--seeds" : test.seeds_where});

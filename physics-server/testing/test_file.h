@@ -63,8 +63,8 @@ std::vector<uint64_t> parse_seed_range(const std::string& text);
 // edit's place in the test file. check, if given, is part of loading: a
 // SceneError it throws (e.g. check_scene_programs: a parameter the program
 // does not declare) is reported the same way. Throws TestFileError.
-using SceneCheck = std::function<void(const Scene&)>;
-Scene load_test_scene(const TestFile& test, std::optional<uint64_t> seed, const SceneCheck& check = {});
+using LoadedSceneCheck = std::function<void(const Scene&)>;
+Scene load_test_scene(const TestFile& test, std::optional<uint64_t> seed, const LoadedSceneCheck& check = {});
 
 // the test files among paths: files as given, folders searched recursively
 // for *.test.yaml (sorted); throws TestFileError for a path that does not exist

@@ -22,6 +22,7 @@
 
 #include "cosim/lockstep_server.h"
 #include "cosim/program_params.h"
+#include "text/number_text.h"
 #include "testing/junit.h"
 #include "testing/run_compare.h"
 #include "testing/run_record.h"
@@ -56,12 +57,6 @@ struct Case {
   Clock::time_point started;
   TestCaseResult result;
 };
-
-std::string fixed(double v, int digits) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.*f", digits, v);
-  return b;
-}
 
 std::string safe_name(const std::string& s) {
   std::string o;
@@ -194,7 +189,7 @@ std::string result_line(const TestCaseResult& r) {
   s += r.name + " seed " + std::to_string(r.seed);
   if (r.status == TestCaseResult::Status::error || r.status == TestCaseResult::Status::interrupted)
     return s + ": " + r.error;
-  s += " (" + fixed(r.sim_s, 2) + " s simulated in " + fixed(r.wall_s, 1) + " s)";
+  s += " (" + fixed_text(r.sim_s, 2) + " s simulated in " + fixed_text(r.wall_s, 1) + " s)";
   for (const CheckOutcome& c : r.checks)
     s += " | " + c.expectation + ": " + c.result.measured + (c.result.pass ? "" : " FAILED");
   return s;

@@ -15,14 +15,14 @@
 namespace chainsim {
 namespace {
 
-struct BenchArgs {
+struct ServoBenchArgs {
   std::string bench;
   std::string setpoints;
   std::string out;
   bool quiet = false;
 };
 
-BenchArgs g_args;
+ServoBenchArgs g_servo_bench_args;
 
 // the whole file or nothing: no output file is left on error
 void write_output(const std::string& path, const std::string& text) {
@@ -32,7 +32,7 @@ void write_output(const std::string& path, const std::string& text) {
   if (std::fclose(f) != 0 || !ok) throw BenchError(path + ": cannot write the output file");
 }
 
-int run_bench_command(const BenchArgs& a) {
+int run_bench_command(const ServoBenchArgs& a) {
   try {
     const BenchConfig b = a.bench.empty() ? BenchConfig{} : load_bench_config(a.bench);
     const SetpointProgram program = read_setpoints(a.setpoints);
@@ -62,15 +62,15 @@ Command add_bench_command(CLI::App& app) {
       "bench",
       "servo test stand: the robot's servo model on one hinge with a load, driven by a set-point "
       "CSV (t_s,setpoint_deg); writes t_s,setpoint_deg,angle_deg,current_a (docs/servo-bench.md)");
-  sub->add_option("--bench,-b", g_args.bench,
+  sub->add_option("--bench,-b", g_servo_bench_args.bench,
                   "bench file (YAML: servo, load, sensors, sim; every key optional; default: the "
                   "paper's Table 1 servo with a 3e-6 kg m^2 load)");
-  sub->add_option("--setpoints,-s", g_args.setpoints, "set-point CSV with columns t_s,setpoint_deg")
+  sub->add_option("--setpoints,-s", g_servo_bench_args.setpoints, "set-point CSV with columns t_s,setpoint_deg")
       ->required();
-  sub->add_option("--out,-o", g_args.out, "CSV to write: t_s,setpoint_deg,angle_deg,current_a")
+  sub->add_option("--out,-o", g_servo_bench_args.out, "CSV to write: t_s,setpoint_deg,angle_deg,current_a")
       ->required();
-  sub->add_flag("--quiet,-q", g_args.quiet, "print only errors");
-  return {sub, [] { return run_bench_command(g_args); }};
+  sub->add_flag("--quiet,-q", g_servo_bench_args.quiet, "print only errors");
+  return {sub, [] { return run_bench_command(g_servo_bench_args); }};
 }
 
 

@@ -29,7 +29,7 @@
 #include "cosim/lockstep_server.h"
 #include "cosim/program_params.h"
 #include "cosim/scene_check.h"
-#include "output/decimal.h"
+#include "text/number_text.h"
 #include "output/run_dir.h"
 #include "scene/scene.h"
 #include "testing/run_compare.h"
@@ -40,7 +40,7 @@
 namespace chainsim {
 namespace {
 
-struct BenchArgs {
+struct LockstepBenchArgs {
   std::vector<int> sizes{2, 8, 32};
   std::vector<std::string> scenes;  // --scene: these scenes instead of the chains
   double duration = -1;             // -1: 5 s for the chains, a scene's own for --scene
@@ -51,7 +51,7 @@ struct BenchArgs {
 };
 
 // the chain of n rotation modules of the built-in snake scene
-Scene bench_chain(int n, const BenchArgs& a) {
+Scene bench_chain(int n, const LockstepBenchArgs& a) {
   Scene scene = default_scene();
   scene.name = "bench-" + std::to_string(n);
   scene.source = "bench-lockstep --modules " + std::to_string(n);
@@ -95,7 +95,7 @@ PicHost pic_host(const std::string& run_dir) {
   return h;
 }
 
-int cmd_bench_lockstep(const BenchArgs& a) {
+int cmd_bench_lockstep(const LockstepBenchArgs& a) {
   std::vector<Target> targets;
   if (a.targets == "native,pic") targets = {Target::Native, Target::Pic};
   else targets = {a.targets == "pic" ? Target::Pic : Target::Native};
@@ -193,7 +193,7 @@ int cmd_bench_lockstep(const BenchArgs& a) {
   return rc;
 }
 
-BenchArgs g_args;
+LockstepBenchArgs g_lockstep_bench_args;
 
 }  // namespace
 
@@ -201,28 +201,28 @@ Command add_bench_lockstep_command(CLI::App& app) {
   auto* bench = app.add_subcommand("bench-lockstep",
                                    "real-time factor of the co-simulation vs physics only, for chains of rotation modules or scene files");
   auto* modules =
-      bench->add_option("--modules", g_args.sizes, "chain lengths to measure")->expected(1, -1)->capture_default_str();
-  auto* scene_files = bench->add_option("--scene", g_args.scenes, "measure these scene files instead of the chains")
+      bench->add_option("--modules", g_lockstep_bench_args.sizes, "chain lengths to measure")->expected(1, -1)->capture_default_str();
+  auto* scene_files = bench->add_option("--scene", g_lockstep_bench_args.scenes, "measure these scene files instead of the chains")
                           ->expected(1, -1)
                           ->check(CLI::ExistingFile)
                           ->excludes(modules);
-  bench->add_option("--duration", g_args.duration,
+  bench->add_option("--duration", g_lockstep_bench_args.duration,
                     "simulated seconds per run (default 5 for the chains, a scene's own for --scene)")
       ->check(CLI::PositiveNumber);
-  bench->add_option("--control-ms", g_args.control_ms, "firmware control step of the rotation modules (default: theirs)")
+  bench->add_option("--control-ms", g_lockstep_bench_args.control_ms, "firmware control step of the rotation modules (default: theirs)")
       ->check(CLI::Range(1, 1000))  // fw-rotation's declared range of control_ms
       ->excludes(scene_files);
-  bench->add_option("--out", g_args.out, "where the bench runs are written")->capture_default_str();
-  bench->add_option("--target", g_args.targets,
+  bench->add_option("--out", g_lockstep_bench_args.out, "where the bench runs are written")->capture_default_str();
+  bench->add_option("--target", g_lockstep_bench_args.targets,
                     "the programs native, as the board's .hex in gpsim (pic), or both side by side (native,pic), "
                     "with where a pic run's time goes")
       ->check(CLI::IsMember({"native", "pic", "native,pic"}))
       ->capture_default_str();
-  bench->add_option("--repeat", g_args.repeat, "runs per figure; the fastest counts")
+  bench->add_option("--repeat", g_lockstep_bench_args.repeat, "runs per figure; the fastest counts")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   bench->footer("Exit codes: 0 every chain length or scene measured; 1 bad options or scene; 2 a bench run failed.");
-  return {bench, [] { return cmd_bench_lockstep(g_args); }};
+  return {bench, [] { return cmd_bench_lockstep(g_lockstep_bench_args); }};
 }
 
 }  // namespace chainsim

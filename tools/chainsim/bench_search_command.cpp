@@ -18,11 +18,12 @@
 #include "optimize/search.h"
 #include "optimize/simulated_pool.h"
 #include "output/sha256.h"
+#include "readers/text_file.h"
 
 namespace chainsim {
 namespace {
 
-struct Args {
+struct SearchBenchArgs {
   std::string problem, history, times, out;
   std::vector<int> cores{8, 64, 256};
   std::vector<int> islands{1, 4, 16};
@@ -31,19 +32,11 @@ struct Args {
   double scale = 0.01;
 };
 
-Args g_args;
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(path + ": cannot open");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+SearchBenchArgs g_search_bench_args;
 
 // the history's text without wall_s: what must be the same whatever the cores
 std::string history_sha(const std::string& path) {
-  std::istringstream in(read_text(path));
+  std::istringstream in(read_text_file(path));
   std::string line, text;
   while (std::getline(in, line)) text += line.substr(0, line.rfind(',')) + "\n";
   Sha256 sha;
@@ -53,7 +46,7 @@ std::string history_sha(const std::string& path) {
 
 // the wall_s of the simulated rows of any search's history.csv
 std::vector<double> recorded_times(const std::string& path) {
-  std::istringstream in(read_text(path));
+  std::istringstream in(read_text_file(path));
   std::string line;
   std::getline(in, line);
   std::vector<std::string> head;
@@ -89,14 +82,14 @@ std::vector<double> recorded_times(const std::string& path) {
   return t;
 }
 
-int run(const Args& a) {
+int run(const SearchBenchArgs& a) {
   try {
     const Problem base = load_problem_file(a.problem);
     if (a.history.empty() == a.times.empty())
       throw std::runtime_error("give --history (a search of this problem: its results and times) or --times (any "
                                "search's history.csv: its times only, with a synthetic landscape)");
     const std::vector<HistoryRow> recorded =
-        a.history.empty() ? std::vector<HistoryRow>{} : parse_history(read_text(a.history), base.measures.size(), a.history);
+        a.history.empty() ? std::vector<HistoryRow>{} : parse_history(read_text_file(a.history), base.measures.size(), a.history);
     std::vector<double> times;
     if (!a.times.empty()) times = recorded_times(a.times);
     for (const HistoryRow& r : recorded)
@@ -162,24 +155,24 @@ Command add_bench_search_command(CLI::App& app) {
       "bench-search",
       "the design search's scheduler on simulated cores: evaluations sleep the wall times a real search recorded "
       "(history.csv) and return its results; busy fraction per core count and islands (docs/benchmarks.md)");
-  sub->add_option("problem", g_args.problem, "the problem file of the recorded search")->required()
+  sub->add_option("problem", g_search_bench_args.problem, "the problem file of the recorded search")->required()
       ->check(CLI::ExistingFile);
-  sub->add_option("--history", g_args.history, "history.csv of a real search of that problem (its times and results)")
+  sub->add_option("--history", g_search_bench_args.history, "history.csv of a real search of that problem (its times and results)")
       ->check(CLI::ExistingFile);
-  sub->add_option("--times", g_args.times,
+  sub->add_option("--times", g_search_bench_args.times,
                   "history.csv of any search: its wall times only, results synthetic (for a genome larger than the "
                   "recorded search's)")
       ->check(CLI::ExistingFile);
-  sub->add_option("--cores", g_args.cores, "simulated core counts (default 8 64 256)")->check(CLI::Range(1, 1000000));
-  sub->add_option("--islands", g_args.islands, "island counts (default 1 4 16)")->check(CLI::Range(1, 10000));
-  sub->add_option("--generations", g_args.generations, "generations (default: the problem's)")
+  sub->add_option("--cores", g_search_bench_args.cores, "simulated core counts (default 8 64 256)")->check(CLI::Range(1, 1000000));
+  sub->add_option("--islands", g_search_bench_args.islands, "island counts (default 1 4 16)")->check(CLI::Range(1, 10000));
+  sub->add_option("--generations", g_search_bench_args.generations, "generations (default: the problem's)")
       ->check(CLI::NonNegativeNumber);
-  sub->add_option("--population", g_args.population, "each island's population (default: the problem's)")
+  sub->add_option("--population", g_search_bench_args.population, "each island's population (default: the problem's)")
       ->check(CLI::Range(2, 100000));
-  sub->add_option("--scale", g_args.scale, "wall seconds slept per recorded second (default 0.01)")
+  sub->add_option("--scale", g_search_bench_args.scale, "wall seconds slept per recorded second (default 0.01)")
       ->check(CLI::Range(1e-6, 10.0));
-  sub->add_option("--out", g_args.out, "keep each search's directory here (default: a temporary one, removed)");
-  return {sub, [] { return run(g_args); }};
+  sub->add_option("--out", g_search_bench_args.out, "keep each search's directory here (default: a temporary one, removed)");
+  return {sub, [] { return run(g_search_bench_args); }};
 }
 
 

@@ -22,7 +22,7 @@ struct CalArgs {
   bool quiet = false;
 };
 
-CalArgs g_args;
+CalArgs g_calibrate_args;
 RobotCalibrationArgs g_robot;
 
 // progress lines on stderr with the wall time since the start
@@ -88,11 +88,11 @@ Command add_calibrate_command(CLI::App& app) {
       "calibrate",
       "fit the servo model to a bench measurement (t_s,setpoint_deg,angle_deg[,current_a]) and find which "
       "catalogue effects it is missing (docs/calibration.md)");
-  sub->add_option("--bench,-b", g_args.bench, "bench file (datasheet values; docs/servo-bench.md)");
+  sub->add_option("--bench,-b", g_calibrate_args.bench, "bench file (datasheet values; docs/servo-bench.md)");
   auto* measured =
-      sub->add_option("--measured,-m", g_args.measured, "measured CSV: t_s,setpoint_deg,angle_deg[,current_a]");
-  sub->add_option("--out,-o", g_args.out, "output directory (report.json, report.md, SVG plots)")->required();
-  sub->add_flag("--quiet,-q", g_args.quiet, "print only errors");
+      sub->add_option("--measured,-m", g_calibrate_args.measured, "measured CSV: t_s,setpoint_deg,angle_deg[,current_a]");
+  sub->add_option("--out,-o", g_calibrate_args.out, "output directory (report.json, report.md, SVG plots)")->required();
+  sub->add_flag("--quiet,-q", g_calibrate_args.quiet, "print only errors");
   // robot level: a speed table and one scene per row (robot_calibration.h)
   auto* robot = sub->add_option("--robot", g_robot.table,
                                 "robot-level table: key column (e.g. slope_deg), real_speed_cm_s"
@@ -114,8 +114,8 @@ Command add_calibrate_command(CLI::App& app) {
     if (robot->count() == 0 && measured->count() == 0) throw CLI::RequiredError("--measured or --robot");
   });
   return {sub, [robot] {
-            return robot->count() > 0 ? exit_code_of([] { return run_robot(g_args); })
-                                      : exit_code_of([] { return run_servo(g_args); });
+            return robot->count() > 0 ? exit_code_of([] { return run_robot(g_calibrate_args); })
+                                      : exit_code_of([] { return run_servo(g_calibrate_args); });
           }};
 }
 

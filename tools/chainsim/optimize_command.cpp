@@ -26,6 +26,7 @@
 #include "optimize/search.h"
 #include "optimize/search_lock.h"
 #include "optimize/verify.h"
+#include "readers/text_file.h"
 #include "viewer/viewer_page.h"
 
 namespace chainsim {
@@ -53,19 +54,12 @@ struct OptimizeArgs {
   std::string verify_pic = "auto";  // auto: when every leader's .hex is there; no
 };
 
-OptimizeArgs g_args;
+OptimizeArgs g_optimize_args;
 
 std::string self_exe() {
   char buf[4096];
   const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
   return n > 0 ? std::string(buf, static_cast<size_t>(n)) : "chainsim";
-}
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 // runs best.yaml again into DIR/best (the replay's run), says whether it reproduced the search's result
@@ -128,7 +122,7 @@ int finish(const OptimizeArgs& a, const Problem& pr, const EvalContext& ctx, con
   const std::string& dir = a.out;
   std::vector<HistoryRow> rows;
   try {
-    std::string text = read_text(history_path(dir));
+    std::string text = read_text_file(history_path(dir));
     if (history_bytes > 0 && text.size() > history_bytes) text.resize(history_bytes);  // past the checkpoint: not the search's yet
     rows = parse_history(text, pr.measures.size(), history_path(dir));
   } catch (const std::exception& e) {
@@ -496,45 +490,45 @@ Command add_optimize_command(CLI::App& app) {
       "optimize",
       "design search: a genetic algorithm (pagmo sga) over chains and program parameters, each individual a "
       "real co-simulation; local workers, or MPI ranks under mpirun (docs/optimize.md)");
-  sub->add_option("problem", g_args.problem, "problem file (YAML, docs/optimize.md)")->check(CLI::ExistingFile);
-  sub->add_option("--out,-o", g_args.out, "directory of the search: history.csv, best.yaml, report.html, checkpoint");
-  sub->add_option("--verify", g_args.verify_dir,
+  sub->add_option("problem", g_optimize_args.problem, "problem file (YAML, docs/optimize.md)")->check(CLI::ExistingFile);
+  sub->add_option("--out,-o", g_optimize_args.out, "directory of the search: history.csv, best.yaml, report.html, checkpoint");
+  sub->add_option("--verify", g_optimize_args.verify_dir,
                   "verify the winners of the search in DIR (no search): fresh seeds, the exact solver, the board")
       ->check(CLI::ExistingDirectory);
-  sub->add_option("--verify-top", g_args.verify_top,
+  sub->add_option("--verify-top", g_optimize_args.verify_top,
                   "distinct best individuals verified at the end (default 3; 0: no verification)")
       ->check(CLI::Range(0, 1000));
-  sub->add_option("--verify-trials", g_args.verify_trials,
+  sub->add_option("--verify-trials", g_optimize_args.verify_trials,
                   "fresh trials per verified individual (default: the search's trials, at least 3)")
       ->check(CLI::Range(1, 1000));
-  sub->add_flag("--no-verify-exact", g_args.no_verify_exact, "do not verify with the converged solver");
-  sub->add_option("--verify-pic", g_args.verify_pic,
+  sub->add_flag("--no-verify-exact", g_optimize_args.no_verify_exact, "do not verify with the converged solver");
+  sub->add_option("--verify-pic", g_optimize_args.verify_pic,
                   "verify once on the board's binaries: auto (when every .hex is there, the default) or no")
       ->check(CLI::IsMember({"auto", "no"}));
-  sub->add_option("--workers,-j", g_args.workers,
+  sub->add_option("--workers,-j", g_optimize_args.workers,
                   "evaluations at once (default: the number of cores; under mpirun: per worker rank, default 1)")
       ->check(CLI::PositiveNumber);
-  sub->add_option("--seed", g_args.seed, "search seed (default: the problem's ga.seed)")->check(CLI::NonNegativeNumber);
-  sub->add_option("--population", g_args.population, "individuals per generation (default: the problem's, else 40)")
+  sub->add_option("--seed", g_optimize_args.seed, "search seed (default: the problem's ga.seed)")->check(CLI::NonNegativeNumber);
+  sub->add_option("--population", g_optimize_args.population, "individuals per generation (default: the problem's, else 40)")
       ->check(CLI::Range(2, 100000));
-  sub->add_option("--generations", g_args.generations, "generations after the initial population (default: the problem's)")
+  sub->add_option("--generations", g_optimize_args.generations, "generations after the initial population (default: the problem's)")
       ->check(CLI::NonNegativeNumber);
-  sub->add_flag("--resume", g_args.resume, "continue the search in --out from its last checkpoint");
-  sub->add_flag("--exhaustive", g_args.exhaustive, "evaluate every individual of the genome instead of the GA");
-  sub->add_flag("--keep-runs", g_args.keep_runs, "keep every evaluation's run directory in OUT/work");
-  sub->add_flag("--no-replay", g_args.no_replay, "do not run the best again for the report's replay");
-  sub->add_option("--rank-timeout", g_args.rank_timeout,
+  sub->add_flag("--resume", g_optimize_args.resume, "continue the search in --out from its last checkpoint");
+  sub->add_flag("--exhaustive", g_optimize_args.exhaustive, "evaluate every individual of the genome instead of the GA");
+  sub->add_flag("--keep-runs", g_optimize_args.keep_runs, "keep every evaluation's run directory in OUT/work");
+  sub->add_flag("--no-replay", g_optimize_args.no_replay, "do not run the best again for the report's replay");
+  sub->add_option("--rank-timeout", g_optimize_args.rank_timeout,
                   "under mpirun: seconds of silence after which a rank holding work is given up")
       ->check(CLI::PositiveNumber);
-  sub->add_option("--firmware-dir", g_args.firmware_dir,
+  sub->add_option("--firmware-dir", g_optimize_args.firmware_dir,
                   "where every evaluation looks for programs first (DIR[:DIR...]), before next to chainsim: your own "
                   "programs, built out of tree (docs/firmware.md)");
-  sub->add_option("--target", g_args.target,
+  sub->add_option("--target", g_optimize_args.target,
                   "every evaluation's programs native, or the board's own .hex in gpsim (pic: about 1 CPU second "
                   "per simulated second per module; for checking a few designs, docs/pic-in-the-loop.md)")
       ->check(CLI::IsMember({"native", "pic"}));
-  sub->add_flag("--quiet,-q", g_args.quiet, "print only errors");
-  return {sub, [] { return run_optimize(g_args); }};
+  sub->add_flag("--quiet,-q", g_optimize_args.quiet, "print only errors");
+  return {sub, [] { return run_optimize(g_optimize_args); }};
 }
 
 

@@ -20,7 +20,7 @@ struct ParamsArgs {
   bool markdown = false;
 };
 
-ParamsArgs g_args;
+ParamsArgs g_params_args;
 
 std::string range_text(const ParamDecl& d) { return std::to_string(d.min) + ".." + std::to_string(d.max); }
 
@@ -47,18 +47,18 @@ void print_markdown(const ProgramParams& p) {
 }
 
 int run() {
-  const std::string path = program_path(g_args.program, g_args.firmware_dir);
+  const std::string path = program_path(g_params_args.program, g_params_args.firmware_dir);
   ProgramParams p;
   try {
-    p = read_program_params(path, g_args.program);
+    p = read_program_params(path, g_params_args.program);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "chainsim: %s: no parameter listing: %s\n", path.c_str(), e.what());
     return kExitBadInput;
   }
-  if (g_args.markdown) {
+  if (g_params_args.markdown) {
     print_markdown(p);
   } else {
-    std::printf("%s (%s): %zu parameter%s\n", g_args.program.c_str(), path.c_str(), p.params.size(),
+    std::printf("%s (%s): %zu parameter%s\n", g_params_args.program.c_str(), path.c_str(), p.params.size(),
                 p.params.size() == 1 ? "" : "s");
     if (!p.params.empty()) print_table(p);
   }
@@ -70,10 +70,10 @@ int run() {
 Command add_params_command(CLI::App& app) {
   auto* sub = app.add_subcommand("params", "list the parameters a module program declares: name, type, range, "
                                            "default, meaning (what a scene's params may set)");
-  sub->add_option("program", g_args.program, "program name (e.g. fw-central) or path")->required();
-  sub->add_option("--firmware-dir", g_args.firmware_dir,
+  sub->add_option("program", g_params_args.program, "program name (e.g. fw-central) or path")->required();
+  sub->add_option("--firmware-dir", g_params_args.firmware_dir,
                   "where to look for the program first (DIR[:DIR...]), then next to chainsim");
-  sub->add_flag("--markdown", g_args.markdown, "a Markdown table, as in docs/firmware.md");
+  sub->add_flag("--markdown", g_params_args.markdown, "a Markdown table, as in docs/firmware.md");
   sub->footer("The program is run with " CS_PARAMS_ARG " (hal-sim prints its hal_param_table and exits). "
               "Exit codes: 0 listed; 1 the program is missing or printed no listing.");
   return {sub, [] { return run(); }};

@@ -27,7 +27,7 @@
 #include "cosim/lockstep_server.h"
 #include "cosim/program_params.h"
 #include "cosim/scene_check.h"
-#include "output/decimal.h"
+#include "text/number_text.h"
 #include "output/run_dir.h"
 #include "scene/scene.h"
 #include "testing/run_compare.h"
@@ -323,7 +323,7 @@ int run_watch(const RunArgs& a) {
 
 int cmd_run(const RunArgs& a) { return a.watch ? run_watch(a) : run_once(a, nullptr); }
 
-RunArgs g_args;
+RunArgs g_run_args;
 
 }  // namespace
 
@@ -338,43 +338,43 @@ std::string duration_error(double duration, const Scene& scene) {
 
 Command add_run_command(CLI::App& app) {
   auto* run = app.add_subcommand("run", "run a scene: one process per module, lockstep with the ODE world");
-  run->add_option("scene", g_args.scene, "scene file (YAML); default: the built-in snake in open air")
+  run->add_option("scene", g_run_args.scene, "scene file (YAML); default: the built-in snake in open air")
       ->check(CLI::ExistingFile);
-  run->add_option("--out,-o", g_args.out, "run directory to write (default: runs/<scene>-<date>-<time>)");
-  run->add_option("--duration", g_args.duration, "simulated seconds (default: the scene's)")->check(CLI::PositiveNumber);
-  run->add_option("--seed", g_args.seed, "random seed (default: the scene's)")->check(CLI::NonNegativeNumber);
-  run->add_option("--on-module-fault", g_args.fault, "stop the run, or go on with the module powered off")
+  run->add_option("--out,-o", g_run_args.out, "run directory to write (default: runs/<scene>-<date>-<time>)");
+  run->add_option("--duration", g_run_args.duration, "simulated seconds (default: the scene's)")->check(CLI::PositiveNumber);
+  run->add_option("--seed", g_run_args.seed, "random seed (default: the scene's)")->check(CLI::NonNegativeNumber);
+  run->add_option("--on-module-fault", g_run_args.fault, "stop the run, or go on with the module powered off")
       ->check(CLI::IsMember({"stop", "limp"}))
       ->capture_default_str();
-  run->add_option("--on-divergence", g_args.divergence,
+  run->add_option("--on-divergence", g_run_args.divergence,
                   "physics diverged (a body faster than 10 m/s or 1000 rad/s, farther than 10 km, or not "
                   "finite): stop the run (exit 4), or warn once and go on (not finite: always stops)")
       ->check(CLI::IsMember({"stop", "warn"}))
       ->capture_default_str();
-  run->add_option("--module-timeout", g_args.timeout, "wall-clock seconds a module may take to answer")
+  run->add_option("--module-timeout", g_run_args.timeout, "wall-clock seconds a module may take to answer")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  run->add_option("--attach", g_args.attach,
+  run->add_option("--attach", g_run_args.attach,
                   "do not spawn this module (index; the central control is the last index): wait for it "
                   "to be started by hand, e.g. under gdb")
       ->expected(0, -1);
-  run->add_option("--firmware-dir", g_args.firmware_dir,
+  run->add_option("--firmware-dir", g_run_args.firmware_dir,
                   "where to look for programs first (DIR[:DIR...], e.g. your own build), then next to chainsim");
-  run->add_option("--target", g_args.target,
+  run->add_option("--target", g_run_args.target,
                   "run every module and the central control as native programs, or as the board's own .hex "
                   "in gpsim (pic; docs/pic-in-the-loop.md), whatever the scene's target says")
       ->check(CLI::IsMember({"native", "pic"}));
-  run->add_option("--compare", g_args.compare,
+  run->add_option("--compare", g_run_args.compare,
                   "run the scene on two targets (native,pic) into OUT/native and OUT/pic, and report where "
                   "each endpoint's log lines, I2C frames, Sout edges, set-points, faults first differ, and how "
                   "far the runs drift apart (OUT/compare.txt, compare.json)");
-  run->add_option("--on-overrun", g_args.overrun,
+  run->add_option("--on-overrun", g_run_args.overrun,
                   "a PIC program's step over the scene's pic.cpu_budget_us: a fault (stop), or a warning in "
                   "the module's .out and summary.json (warn)")
       ->check(CLI::IsMember({"stop", "warn"}))
       ->capture_default_str();
-  run->add_flag("--quiet,-q", g_args.quiet, "print only errors");
-  run->add_flag("--check", g_args.check,
+  run->add_flag("--quiet,-q", g_run_args.quiet, "print only errors");
+  run->add_flag("--check", g_run_args.check,
                 "check the scene and run nothing: load it and its module and mesh files, build the world, find "
                 "every program and check the parameters the scene gives it against what it declares (a program "
                 "given parameters is run once to list them); start no module and write no file (exit 0, or 1 "
@@ -385,20 +385,20 @@ Command add_run_command(CLI::App& app) {
               "(--on-divergence); 5 an output file could not be written (disk full); 6 a module never answered "
               "discovery (no I2C address at the scene's central.discovery_s, default 1 s, unless it may_stay_silent); "
               "130 interrupted. See docs/reliability.md.");
-  run->add_flag("--live", g_args.live, "show the run as it happens: serve the viewer on 127.0.0.1 (URL printed)");
-  run->add_flag("--watch", g_args.watch,
+  run->add_flag("--live", g_run_args.live, "show the run as it happens: serve the viewer on 127.0.0.1 (URL printed)");
+  run->add_flag("--watch", g_run_args.watch,
                 "run, then rebuild the programs (--firmware-dir's CMake build folders, or chainsim's own) and run "
                 "again whenever a source or the scene changes; the live page reloads for each run (docs/firmware.md)");
-  run->add_option("--live-port", g_args.live_port, "port of the live view (default 0: any free port)")
+  run->add_option("--live-port", g_run_args.live_port, "port of the live view (default 0: any free port)")
       ->check(CLI::Range(0, 65535));
-  run->add_option("--live-wait", g_args.live_wait, "seconds to wait for a page to connect before the run starts")
+  run->add_option("--live-wait", g_run_args.live_wait, "seconds to wait for a page to connect before the run starts")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  run->add_option("--progress-every", g_args.progress_every,
+  run->add_option("--progress-every", g_run_args.progress_every,
                   "wall-clock seconds between progress reports on stderr (default: 1 on a terminal, where one "
                   "line is rewritten; 10 otherwise, a new line each time, e.g. in a CI log)")
       ->check(CLI::PositiveNumber);
-  return {run, [] { return cmd_run(g_args); }};
+  return {run, [] { return cmd_run(g_run_args); }};
 }
 
 }  // namespace chainsim

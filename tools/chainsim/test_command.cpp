@@ -23,7 +23,7 @@ struct TestArgs {
   std::string target, compare, overrun = "stop";
 };
 
-TestArgs g_args;
+TestArgs g_test_args;
 const CLI::App* g_sub = nullptr;
 
 // a failed run: replay.html and a picture at the failure time (chainsim view)
@@ -52,25 +52,25 @@ std::vector<std::string> view_failure(const std::string& dir, double t_s, std::s
 }
 
 int run() {
-  if (!g_args.seeds.empty()) {
+  if (!g_test_args.seeds.empty()) {
     try {
-      g_args.run.seeds = parse_seed_range(g_args.seeds);
+      g_test_args.run.seeds = parse_seed_range(g_test_args.seeds);
     } catch (const std::invalid_argument& e) {
       std::fprintf(stderr, "chainsim: --seeds %s\n", e.what());
       return kTestExitMalformed;
     }
   }
-  if (!g_args.target.empty()) g_args.run.target = g_args.target == "pic" ? Target::Pic : Target::Native;
-  if (!g_args.compare.empty()) {
+  if (!g_test_args.target.empty()) g_test_args.run.target = g_test_args.target == "pic" ? Target::Pic : Target::Native;
+  if (!g_test_args.compare.empty()) {
     std::string error;
-    g_args.run.compare = parse_compare_targets(g_args.compare, &error);
-    if (g_args.run.compare.empty() || !g_args.target.empty()) {
+    g_test_args.run.compare = parse_compare_targets(g_test_args.compare, &error);
+    if (g_test_args.run.compare.empty() || !g_test_args.target.empty()) {
       std::fprintf(stderr, "chainsim: %s\n", error.empty() ? "--compare runs every test on both targets: not with --target" : error.c_str());
       return kTestExitMalformed;
     }
   }
-  g_args.run.overrun_warn = g_args.overrun == "warn";
-  return run_tests(g_args.run, view_failure, stdout);
+  g_test_args.run.overrun_warn = g_test_args.overrun == "warn";
+  return run_tests(g_test_args.run, view_failure, stdout);
 }
 
 }  // namespace
@@ -78,23 +78,23 @@ int run() {
 Command add_test_command(CLI::App& app) {
   auto* sub = app.add_subcommand("test", "run test files (a scene, edits, expectations); one line per test, JUnit XML "
                                          "for CI (docs/testing.md)");
-  sub->add_option("paths", g_args.run.paths, "test files, or folders searched for *.test.yaml")->required();
-  sub->add_option("--junit", g_args.run.junit, "write a JUnit XML report here");
-  sub->add_option("-j,--jobs", g_args.run.jobs, "runs at once (default 1)")->check(CLI::Range(1, 256));
-  sub->add_option("--seeds", g_args.seeds, "run every test with these seeds instead of its own: A..B or one seed");
-  sub->add_option("--keep", g_args.run.keep_dir,
+  sub->add_option("paths", g_test_args.run.paths, "test files, or folders searched for *.test.yaml")->required();
+  sub->add_option("--junit", g_test_args.run.junit, "write a JUnit XML report here");
+  sub->add_option("-j,--jobs", g_test_args.run.jobs, "runs at once (default 1)")->check(CLI::Range(1, 256));
+  sub->add_option("--seeds", g_test_args.seeds, "run every test with these seeds instead of its own: A..B or one seed");
+  sub->add_option("--keep", g_test_args.run.keep_dir,
                   "keep every run directory under DIR (default: failed runs only, under runs/test-<date>-<time>)");
-  sub->add_option("--firmware-dir", g_args.run.firmware_dir,
+  sub->add_option("--firmware-dir", g_test_args.run.firmware_dir,
                   "where to look for programs first (DIR[:DIR...]), before next to chainsim");
-  sub->add_option("--module-timeout", g_args.run.module_timeout_s, "wall-clock seconds a module may take to answer")
+  sub->add_option("--module-timeout", g_test_args.run.module_timeout_s, "wall-clock seconds a module may take to answer")
       ->check(CLI::PositiveNumber);
-  sub->add_option("--target", g_args.target,
+  sub->add_option("--target", g_test_args.target,
                   "every run's programs native, or the board's own .hex in gpsim (pic), whatever the scenes say")
       ->check(CLI::IsMember({"native", "pic"}));
-  sub->add_option("--compare", g_args.compare,
+  sub->add_option("--compare", g_test_args.compare,
                   "every test and seed on both targets (native,pic): each run's expectations, then where the two "
                   "runs first differ (a COMPARE line, <runs>/<name>-seed<S>-compare.txt)");
-  sub->add_option("--on-overrun", g_args.overrun, "a PIC program's step over its CPU budget: stop (a fault) or warn")
+  sub->add_option("--on-overrun", g_test_args.overrun, "a PIC program's step over its CPU budget: stop (a fault) or warn")
       ->check(CLI::IsMember({"stop", "warn"}))
       ->capture_default_str();
   g_sub = sub;

@@ -7,6 +7,7 @@
 
 #include "hal_pic_board.h"
 #include "pic-module/param_table.h"
+#include "text/number_text.h"
 
 namespace chainsim::pic {
 
@@ -21,12 +22,6 @@ namespace {
 constexpr uint64_t kCyclesPerUs = HP_BOARD_FCY_HZ / 1000000;
 constexpr uint8_t kPaint = 0xA5;  // the software stack's RAM before the program runs
 constexpr uint32_t kSSPCON1 = 0xFC6, kSSPSTAT = 0xFC7, kSSPADD = 0xFC8;
-
-std::string fixed(double v, int decimals) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.*f", decimals, v);
-  return b;
-}
 
 // the potentiometer's counts for a servo's measured position (wire units:
 // millidegrees; -90..+90 degrees span MIN..MAX counts), as a real number:
@@ -218,7 +213,7 @@ std::string PicModule::run_until(uint64_t end) {
     if (stop == GpsimChip::Stop::Overrun) {
       const std::string what = "a step of the program took more than its CPU budget of " +
                                std::to_string(opt_.budget_us) + " us of busy time (the step began at t=" +
-                               fixed(static_cast<double>(meter_.step_began()) / HP_BOARD_FCY_HZ, 6) + " s)";
+                               fixed_text(static_cast<double>(meter_.step_began()) / HP_BOARD_FCY_HZ, 6) + " s)";
       if (!opt_.overrun_warn) return fault_at(what, chip_->pc_at_stop());
       ++overrun_warnings_;
       notes_.push_back("warning: " + what);
@@ -244,7 +239,7 @@ std::string PicModule::where(uint32_t pc) {
 }
 
 std::string PicModule::fault_at(const std::string& what, uint32_t pc) {
-  return what + ", " + where(pc) + ", at t=" + fixed(static_cast<double>(chip_->cycle()) / HP_BOARD_FCY_HZ, 6) + " s";
+  return what + ", " + where(pc) + ", at t=" + fixed_text(static_cast<double>(chip_->cycle()) / HP_BOARD_FCY_HZ, 6) + " s";
 }
 
 uint8_t PicModule::address() {

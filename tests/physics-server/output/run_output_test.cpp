@@ -15,7 +15,7 @@
 #include <sstream>
 #include <string>
 
-#include "output/decimal.h"
+#include "text/number_text.h"
 #include "output/run_output.h"
 #include "output/run_summary.h"
 #include "output/sha256.h"

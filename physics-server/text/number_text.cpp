@@ -1,5 +1,5 @@
-// Decimal formats of the outputs. See decimal.h.
-#include "output/decimal.h"
+// Decimal text of numbers. See number_text.h.
+#include "text/number_text.h"
 
 #include <charconv>
 #include <cinttypes>
@@ -33,6 +33,14 @@ std::string fixed_text(double value, int decimals) {
   std::string s;
   append_fixed(&s, value, decimals);
   return s;
+}
+
+std::string general_text(double value, int digits) {
+  char buf[64];  // "-d.<16 digits>e-308" at most
+  if (digits < 1) digits = 1;
+  if (digits > 17) digits = 17;
+  std::snprintf(buf, sizeof buf, "%.*g", digits, value);
+  return buf;
 }
 
 }  // namespace chainsim

@@ -1,0 +1,25 @@
+// Decimal text of numbers, for every output and message of the server and
+// tools (trace, logs, reports, error messages): the one place their formats
+// live, so equal values give equal bytes everywhere. Always the C locale.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace chainsim {
+
+// integer microseconds as seconds with six decimals, exactly ("12.000500")
+void append_seconds(std::string* out, int64_t t_us);
+std::string seconds_text(int64_t t_us);
+
+// printf's "%.<decimals>f" (rounding as the C library does); decimals is
+// clamped to 0..20
+void append_fixed(std::string* out, double value, int decimals);
+std::string fixed_text(double value, int decimals);
+
+// printf's "%.<digits>g": the shortest of fixed and exponent forms with that
+// many significant digits, trailing zeros dropped ("0.25", "1e-07", "inf"); digits is
+// clamped to 1..17
+std::string general_text(double value, int digits = 6);
+
+}  // namespace chainsim
