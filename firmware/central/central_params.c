@@ -49,6 +49,16 @@ const hal_param_decl hal_param_table[] = {
     HAL_PARAM("bend_travel_ms", HAL_PARAM_U16, 0, 30000, 0,
               "gait 9: the bend travels down the chain: a rotation module k places behind the first one bends "
               "k * bend_travel_ms after it, ms; 0 = all at once"),
+    HAL_PARAM("bend_limp", HAL_PARAM_U8, 0, 1, 0,
+              "gait 9: after bend_ms the rotation modules go limp (1: servos released, gait 12) instead of "
+              "straightening (0)"),
+    HAL_PARAM("hold_ms", HAL_PARAM_U16, 0, 30000, 0,
+              "gait 9: from the bend the support modules grip the wall (gait 11, at grip_cdeg) and hold the "
+              "chain for hold_ms (paper 6.6), ms; 0 = they never grip"),
+    HAL_PARAM("stall_counts", HAL_PARAM_U16, 0, 1023, 0,
+              "gait 9: the helicoidal modules' current (SENSORS, ADC counts; poll_ms) at or above this on two "
+              "polls in a row is an elbow: the chain bends toward elbow_dir_deg; 0 = only the touch module's "
+              "contact"),
     HAL_PARAM_END
 };
 
@@ -77,4 +87,7 @@ void central_params_read(void)
     params.bend_cdeg = (int16_t)hal_param("bend_cdeg");
     params.bend_ms = (uint16_t)hal_param("bend_ms");
     params.bend_travel_ms = (uint16_t)hal_param("bend_travel_ms");
+    params.bend_limp = (uint8_t)hal_param("bend_limp");
+    params.hold_ms = (uint16_t)hal_param("hold_ms");
+    params.stall_counts = (uint16_t)hal_param("stall_counts");
 }

@@ -36,6 +36,9 @@ typedef struct {
     int16_t bend_cdeg;
     uint16_t bend_ms;
     uint16_t bend_travel_ms; /* delay of the bend per module along the chain */
+    uint8_t bend_limp;       /* after bend_ms the rotation modules go limp instead of straightening */
+    uint16_t hold_ms;        /* the support modules grip this long from the bend, 0 = never */
+    uint16_t stall_counts;   /* a helicoidal module's current (ADC counts) that is an elbow, 0 = none */
 } central_params;
 
 /* the parameters as read by central_params_read (a global: SDCC reaches it

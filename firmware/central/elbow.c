@@ -12,6 +12,8 @@
 
 static int16_t bend_pitch, bend_yaw; /* cdeg, held while bending */
 static uint8_t bending, bent_once;
+static uint8_t holding;    /* the support modules grip (hold_ms) */
+static uint32_t t_release; /* when they let go */
 static uint8_t steers; /* gait 9, steering not off, and a rotation module to bend (set once the chain is known) */
 uint32_t elbow_bend_end; /* when the steering ended */
 uint32_t elbow_wake;     /* the next change: a bend, a straightening, a contact's window ending */
@@ -97,11 +99,15 @@ static void bend_due(uint32_t now)
     }
 }
 
-/* send the straightenings that are due (of modules already bent) */
+/* send the straightenings (or, bend_limp, the releases) that are due (of
+ * modules already bent) */
 static void straighten_due(uint32_t now)
 {
     while (next_off < next_on && (int32_t)(now - t_off) >= 0) {
-        gaits_send_bend(next_off, 0, 0);
+        if (params.bend_limp)
+            gaits_send_limp(next_off);
+        else
+            gaits_send_bend(next_off, 0, 0);
         t_end = t_off;
         next_off = rotation_from((uint8_t)(next_off + 1), next_off, &t_off);
     }
@@ -117,7 +123,7 @@ static void steer(uint32_t now, int16_t obstacle_deg, int16_t up_deg);
 
 void elbow_contact(uint32_t now, int16_t obstacle_deg, int16_t up_deg)
 {
-    if (!steers || bending || watching)
+    if (!steers || bending || holding || watching)
         return;
     if (bent_once && (int32_t)(now - elbow_bend_end) < (int32_t)params.bend_ms)
         return; /* the same elbow: the head meets the outgoing leg's wall */
@@ -179,6 +185,13 @@ static void steer(uint32_t now, int16_t obstacle_deg, int16_t up_deg)
     cio_log_line(cio_sb.buf);
     bending = 1;
     bent_once = 1;
+    if (params.hold_ms != 0) {
+        /* the support modules hold the chain while the rotation modules turn (paper 6.6) */
+        gaits_send_hold(1);
+        holding = 1;
+        t_release = now + params.hold_ms;
+        cio_log_int("elbow: hold at ms ", now);
+    }
 }
 
 uint8_t elbow_update(uint32_t now, uint8_t stopped, uint8_t head_on)
@@ -197,23 +210,34 @@ uint8_t elbow_update(uint32_t now, uint8_t stopped, uint8_t head_on)
         /* all three switches closed within the window: a wall ahead */
         steer(now, watch_head_on ? CC_TOUCH_NONE : watch_dir, watch_up);
     }
-    if (!bending)
-        return 0;
     if (stopped) {
         bending = 0; /* STOP has straightened them */
+        holding = 0; /* and the support modules keep their grip */
         return 0;
     }
-    bend_due(now);
-    straighten_due(now);
-    if (next_off >= chain_n_modules && (int32_t)(now - t_end) >= 0) {
-        bending = 0;
-        elbow_bend_end = t_end;
-        cio_log_int("elbow: straight at ms ", now);
-        return 0;
+    if (holding && (int32_t)(now - t_release) >= 0) {
+        gaits_send_hold(0);
+        holding = 0;
+        cio_log_int("elbow: release at ms ", now);
+    }
+    if (bending) {
+        bend_due(now);
+        straighten_due(now);
+        if (next_off >= chain_n_modules && (int32_t)(now - t_end) >= 0) {
+            bending = 0;
+            elbow_bend_end = t_end;
+            cio_log_int(params.bend_limp ? "elbow: limp at ms " : "elbow: straight at ms ", now);
+        }
     }
     /* the next change */
-    elbow_wake = next_off < chain_n_modules ? t_off : t_end;
-    if (next_on < chain_n_modules && (int32_t)(t_on - elbow_wake) < 0)
-        elbow_wake = t_on;
-    return 1;
+    if (bending) {
+        elbow_wake = next_off < chain_n_modules ? t_off : t_end;
+        if (next_on < chain_n_modules && (int32_t)(t_on - elbow_wake) < 0)
+            elbow_wake = t_on;
+        if (holding && (int32_t)(t_release - elbow_wake) < 0)
+            elbow_wake = t_release;
+    } else if (holding) {
+        elbow_wake = t_release;
+    }
+    return bending | holding;
 }

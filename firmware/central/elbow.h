@@ -13,8 +13,12 @@
  * a contact before it turns: a head meeting the wedge between a split's two
  * outlets touches one side first, then both, and all three switches closed
  * at once within the window are a wall ahead. Without one it turns at the
- * contact. A chain without rotation modules never steers. See
- * docs/firmware.md, "Elbow negotiation". */
+ * contact. A chain without rotation modules never steers. A stall of the
+ * helicoidal modules (stall_counts, main.c) is a contact with no direction:
+ * it steers toward elbow_dir_deg when given. With bend_limp the rotation
+ * modules go limp (gait 12) after bend_ms instead of straightening; with
+ * hold_ms the support modules grip the wall (gait 11) from the bend for
+ * hold_ms (paper 6.6). See docs/firmware.md, "Elbow negotiation". */
 #ifndef ELBOW_H
 #define ELBOW_H
 
@@ -32,7 +36,7 @@ void elbow_setup(void);
  * chain has no rotation module */
 void elbow_log(void);
 
-/* a TOUCH contact at now while gait 9 runs, the obstacle at obstacle_deg and
+/* a TOUCH contact (or a stall: no direction) at now while gait 9 runs, the obstacle at obstacle_deg and
  * up at up_deg in the touch module's frame (CC_TOUCH_NONE: head-on; gravity
  * along the axis): bend, unless steering is off, the direction is unknown,
  * or this is the elbow already being passed. The log line gives the turn in
@@ -52,10 +56,12 @@ extern uint32_t elbow_wake;
 /* how long a contact is watched before the turn, with a junction policy, ms */
 #define JUNCTION_WINDOW_MS 200u
 
-/* bend and straighten the rotation modules whose time has come, or turn
- * once a contact's window has passed (head_on: all three switches were
- * closed at once since the last call); forget the steering after STOP,
- * which straightened the modules. Returns 1 while the steering lasts:
+/* bend and straighten (or let go limp) the rotation modules whose time has
+ * come, let the support modules go when hold_ms has passed, or turn once a
+ * contact's window has passed (head_on: all three switches were closed at
+ * once since the last call); forget the steering after STOP, which
+ * straightened the modules. Logs "elbow: straight at ms T" ("limp"), "elbow:
+ * release at ms T". Returns 1 while the steering or the hold lasts:
  * elbow_update must run again at elbow_wake. */
 uint8_t elbow_update(uint32_t now, uint8_t stopped, uint8_t head_on);
 

@@ -111,3 +111,16 @@ void gaits_send_bend(uint8_t module, int16_t pitch_cdeg, int16_t yaw_cdeg)
     cc_put_i16(frame + CC_GAIT_OFF_BEND_YAW, yaw_cdeg);
     cio_send((uint8_t)(CHAIN_FIRST_MODULE_ADDR + module), frame, CC_SET_GAIT_LEN);
 }
+
+void gaits_send_hold(uint8_t hold)
+{
+    frame_clear(hold ? GAIT_HOLD : GAIT_NONE);
+    cc_put_i16(frame + CC_GAIT_OFF_GRIP, params.grip_cdeg);
+    chain_send_to_type(MT_SUPPORT, frame, CC_SET_GAIT_LEN);
+}
+
+void gaits_send_limp(uint8_t module)
+{
+    frame_clear(GAIT_LIMP);
+    cio_send((uint8_t)(CHAIN_FIRST_MODULE_ADDR + module), frame, CC_SET_GAIT_LEN);
+}

@@ -19,4 +19,12 @@ void gaits_send(void);
  * pitch and yaw (cdeg) */
 void gaits_send_bend(uint8_t module, int16_t pitch_cdeg, int16_t yaw_cdeg);
 
+/* SET_GAIT gait 11 (hold: grip at grip_cdeg at once) to every support
+ * module when hold is non-zero, else gait 0 (arms closed) */
+void gaits_send_hold(uint8_t hold);
+
+/* gait 12 to the module at chain index `module` (a rotation module): its
+ * servos go limp */
+void gaits_send_limp(uint8_t module);
+
 #endif

@@ -8,7 +8,8 @@
  *    STOP at stop_ms.
  * 4. Sleeps on I2C, logging the replies (replies.c), polling the sensors
  *    every poll_ms if that parameter is set, and bending the rotation
- *    modules at elbows (elbow.c).
+ *    modules at elbows (elbow.c): at a touch module's contact, or when the
+ *    helicoidal modules stall (stall_counts).
  * See docs/firmware.md, "Central control". */
 #include "hal.h"
 
@@ -61,6 +62,10 @@ static void serve(void)
     now = hal_millis();
     if (replies_take_touch(&touch_dir, &touch_up) && started && !stopped && params.gait == GAIT_HELICOIDAL)
         elbow_contact(now, touch_dir, touch_up);
+    if (replies_take_stall() && started && !stopped && params.gait == GAIT_HELICOIDAL) {
+        cio_log_int("elbow: stall at ms ", now);
+        elbow_contact(now, CC_TOUCH_NONE, CC_TOUCH_NONE); /* no direction: the given one */
+    }
     have_wake = elbow_update(now, stopped, replies_take_head_on());
     if (have_wake)
         wake = elbow_wake;

@@ -2,7 +2,9 @@
 #include "replies.h"
 
 #include "central_io.h"
+#include "central_params.h"
 #include "chain_commands.h"
+#include "discovery.h"
 #include "hal.h"
 
 #define LONG_SLEEP_MS 60000UL
@@ -12,6 +14,7 @@ static int16_t touch_dir;     /* its obstacle direction */
 static int16_t touch_up;      /* where up was */
 static uint8_t touch_closed;  /* the cover's switches closed now (from the last TOUCH frame) */
 static uint8_t touch_all;     /* every switch closed at once since replies_take_head_on */
+static uint8_t stall_polls;   /* SENSORS of helicoidal modules in a row at or above stall_counts (3: taken) */
 
 static void log_reply(const uint8_t *buf, uint8_t len)
 {
@@ -25,6 +28,12 @@ static void log_reply(const uint8_t *buf, uint8_t len)
             sb_char(&cio_sb, ' ');
             sb_int(&cio_sb, cc_get_i16(buf + 3u + 2u * i));
         }
+        /* a helicoidal module's current (its second value) at stall */
+        i = (uint8_t)(buf[1] - CHAIN_FIRST_MODULE_ADDR);
+        if (params.stall_counts != 0 && i < chain_n_modules && chain_module_type[i] == MT_HELICOIDAL && buf[2] >= 2u)
+            stall_polls = cc_get_i16(buf + 5u) < (int16_t)params.stall_counts ? 0u
+                          : stall_polls < 3u                                   ? (uint8_t)(stall_polls + 1u)
+                                                                               : 3u;
     } else if (buf[0] == CC_STATUS_REPLY && len == CC_STATUS_REPLY_LEN) {
         sb_str(&cio_sb, "status ");
         sb_hex8(&cio_sb, buf[1]);
@@ -83,6 +92,14 @@ uint8_t replies_take_touch(int16_t *dir_deg, int16_t *up_deg)
     *dir_deg = touch_dir;
     *up_deg = touch_up;
     return t;
+}
+
+uint8_t replies_take_stall(void)
+{
+    if (stall_polls != 2u)
+        return 0;
+    stall_polls = 3u; /* once per stall */
+    return 1;
 }
 
 uint8_t replies_take_head_on(void)

@@ -1,6 +1,7 @@
 /* What the modules send the central control: each reply (SENSORS,
  * STATUS_REPLY, TOUCH, anything unexpected) becomes a log line; a TOUCH
- * contact and its direction are also kept for the elbow negotiation. */
+ * contact and its direction, and a helicoidal module's stall, are also kept
+ * for the elbow negotiation. */
 #ifndef REPLIES_H
 #define REPLIES_H
 
@@ -18,6 +19,12 @@ uint8_t replies_take_touch(int16_t *dir_deg, int16_t *up_deg);
 /* 1 when a TOUCH frame had all three switches closed at once (pushed
  * head-on) since the last call, then cleared */
 uint8_t replies_take_head_on(void);
+
+/* 1 when the helicoidal modules' current (SENSORS, the second value) has
+ * been at or above params.stall_counts on two replies in a row: once per
+ * stall (a reply below it starts the count again); never when stall_counts
+ * is 0 */
+uint8_t replies_take_stall(void);
 
 /* sleep until hal_millis() >= until_ms, logging replies */
 void replies_sleep_until(uint32_t until_ms);

@@ -21,8 +21,8 @@
  *  0x23  STATUS_REPLY    M -> C     0x10     6      code, addr, type, state, gait, flags
  *  0x24  TOUCH           M -> C     0x10     3      code, addr, contact (touch module, on change)
  *
- * SET_GAIT of gaits 8, 9 and 10 reuses the frame's fields (CC_GAIT_OFF_DRIVE ..
- * CC_GAIT_OFF_STROKE below).
+ * SET_GAIT of gaits 8 to 11 reuses the frame's fields (CC_GAIT_OFF_DRIVE ..
+ * CC_GAIT_OFF_STROKE below); gait 12 has none.
  *
  * Modules ignore codes they do not know and frames of the wrong length
  * (STATUS_REPLY then shows CC_FLAG_BAD_FRAME).
@@ -96,6 +96,9 @@
 /** SET_GAIT of gait 10 (bend), sent to rotation modules: the angles to hold */
 #define CC_GAIT_OFF_BEND_PITCH 2u /**< i16 pitch, centidegrees (-9000..9000) */
 #define CC_GAIT_OFF_BEND_YAW 4u   /**< i16 yaw, centidegrees (-9000..9000) */
+/** SET_GAIT of gait 11 (hold), sent to support modules: the arms open to
+ * the grip angle at CC_GAIT_OFF_GRIP (below) at once and hold; gait 0
+ * closes them. Gait 12 (limp), sent to rotation modules, has no fields. */
 /** SET_GAIT of gait 8 (inchworm), sent to support and extension modules, one
  * frame each: the cycle has n steps (one per support); in step i support i
  * releases, extension i-1 retracts and extension i extends, then support i
@@ -127,6 +130,8 @@
 #define GAIT_INCHWORM 8u      /**< supports grip/release, extensions extend/retract */
 #define GAIT_HELICOIDAL 9u    /**< helicoidal modules drive their screws */
 #define GAIT_BEND 10u         /**< rotation modules hold a fixed pitch and yaw (elbows) */
+#define GAIT_HOLD 11u         /**< support modules grip the wall and hold, at once (paper 6.6's support holding the robot) */
+#define GAIT_LIMP 12u         /**< rotation modules release their servos (no pulses: the joints go limp) */
 
 /** axis (SET_GAIT): which servo of a rotation module moves */
 #define CC_AXIS_PITCH 0u /**< servo 0 */

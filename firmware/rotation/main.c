@@ -10,6 +10,8 @@
  *   rotate            pitch = A sin(w t + 2 k phi), yaw = A2 sin(w t + k phi + shift)
  *   bend (gait 10)    pitch, yaw = the frame's fixed angles, held from the
  *                     SET_GAIT on (no START needed): elbow negotiation
+ *   limp (gait 12)    both servos released from the SET_GAIT on (no pulses:
+ *                     the joints follow the pipe) until the next gait
  *
  * See docs/firmware.md. Integer arithmetic only.
  */
@@ -58,7 +60,7 @@ static int16_t posture_angle(void)
 
 static uint8_t gait_supported(uint8_t g)
 {
-    return g <= GAIT_LATERAL_SHIFT || g == GAIT_BEND; /* 0 none .. 7 lateral shift, 10 bend */
+    return g <= GAIT_LATERAL_SHIFT || g == GAIT_BEND || g == GAIT_LIMP; /* 0 none .. 7 lateral shift, 10 bend, 12 limp */
 }
 
 static int16_t clamp_i16(int32_t v, int16_t lim)
@@ -146,6 +148,12 @@ static void set_gait(const uint8_t *buf)
             chain_app_clock_start();
         }
         chain_app_step_now(); /* set the servos on the next pass */
+        return;
+    }
+    if (ca_gait == GAIT_LIMP) {
+        ca_running = 0;
+        (void)hal_servo_release(SERVO_PITCH);
+        (void)hal_servo_release(SERVO_YAW);
         return;
     }
     amp_cdeg = cc_get_i16(buf + CC_GAIT_OFF_AMP);

@@ -7,7 +7,10 @@
  * START, every control_ms it opens the arms to the grip angle or closes
  * them (0) as the schedule in inchworm.h says for support i. STOP: it grips
  * and holds (so that a chain in a vertical pipe does not fall); SET_GAIT
- * with gait 0: arms closed. Any other gait sets CC_FLAG_BAD_GAIT.
+ * with gait 0: arms closed. Gait 11 (hold; the elbow of paper 6.6): SET_GAIT
+ * opens the arms to its grip angle at once, without START, and holds them
+ * until SET_GAIT with gait 0 or STOP (which keeps the grip). Any other gait
+ * sets CC_FLAG_BAD_GAIT.
  * READ_SENSORS: SENSORS with 2 values, the measured arm angle (cdeg) and
  * the arm servo's current in ADC counts (ADC 0). See docs/firmware.md. */
 #include "hal.h"
@@ -32,6 +35,7 @@ int main(void)
     uint8_t len, to;
     int16_t v[2];
     int16_t g;
+    uint8_t periodic;
 
     hal_init();
     chain_app_servo(SERVO_ARM, 0);
@@ -41,9 +45,15 @@ int main(void)
         while (hal_i2c_receive(buf, sizeof buf, &len, &to) == HAL_OK) {
             switch (chain_app_filter(buf, len, to)) {
             case CC_SET_GAIT:
-                (void)chain_app_take_gait(buf, GAIT_INCHWORM);
+                (void)chain_app_take_gait(buf, buf[CC_GAIT_OFF_GAIT] == GAIT_HOLD ? GAIT_HOLD : GAIT_INCHWORM);
                 g = cc_get_i16(buf + CC_GAIT_OFF_GRIP);
                 grip_cdeg = g < 0 ? 0 : (g > CC_QUARTER_TURN_CDEG ? CC_QUARTER_TURN_CDEG : g);
+                if (ca_gait == GAIT_HOLD) {
+                    /* grip at once and hold (no schedule, no control step) */
+                    ca_running = 1;
+                    chain_app_servo(SERVO_ARM, grip_cdeg);
+                    break;
+                }
                 iw_read_schedule(buf, &sched);
                 if (ca_gait == GAIT_NONE) {
                     ca_running = 0;
@@ -70,7 +80,8 @@ int main(void)
                 break;
             }
         }
-        if (chain_app_wait(ca_running) && ca_running)
+        periodic = ca_running && ca_gait == GAIT_INCHWORM;
+        if (chain_app_wait(periodic) && periodic)
             chain_app_servo(SERVO_ARM,
                             iw_support_grips(chain_app_clock_ms(), sched.step_ms, sched.n_sup, sched.index)
                                 ? grip_cdeg
