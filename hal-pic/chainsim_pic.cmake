@@ -47,6 +47,7 @@ macro(_chainsim_pic_toolchain)
     endif()
   endforeach()
   find_program(CHAINSIM_GPLINK gplink REQUIRED)
+  find_program(CHAINSIM_GPLIB gplib REQUIRED)
   find_package(Python3 REQUIRED COMPONENTS Interpreter)
 endmacro()
 
@@ -102,6 +103,7 @@ function(chainsim_pic_program)
   get_filename_component(name "${P_OUTPUT}" NAME)
   set(objdir "${CMAKE_CURRENT_BINARY_DIR}/pic-obj/${name}")
   set(objs "")
+  set(common_objs "")
   set(seen "")
   foreach(src ${app_sources} ${CHAINSIM_FW_COMMON_SOURCES} ${hal_sources})
     get_filename_component(base "${src}" NAME_WE)
@@ -124,8 +126,25 @@ function(chainsim_pic_program)
       DEPENDS "${src}" ${headers}
       COMMENT "SDCC ${name}: ${base}.c"
       VERBATIM)
-    list(APPEND objs "${obj}")
+    if(src IN_LIST CHAINSIM_FW_COMMON_SOURCES)
+      list(APPEND common_objs "${obj}")
+    else()
+      list(APPEND objs "${obj}")
+    endif()
   endforeach()
+
+  # firmware/common as a library: gplink takes from it only the objects
+  # whose symbols the program uses (an object file it is given, it keeps
+  # whole), so a program does not carry the gaits or the module loop it
+  # never calls
+  set(commonlib "${objdir}/fw-common.lib")
+  add_custom_command(
+    OUTPUT "${commonlib}"
+    COMMAND "${CMAKE_COMMAND}" -E rm -f "${commonlib}"
+    COMMAND "${CHAINSIM_GPLIB}" -c "${commonlib}" ${common_objs}
+    DEPENDS ${common_objs}
+    COMMENT "gplib ${name}: firmware/common"
+    VERBATIM)
 
   set(out "${P_OUTPUT}")
   set(rtobjs "${rt}/crt0i.o" "${rt}/stack.o")
@@ -133,8 +152,8 @@ function(chainsim_pic_program)
     OUTPUT "${out}.hex" "${out}.cod" "${out}.map"
     COMMAND "${python}" "${CHAINSIM_PIC_LINK_SCRIPT}" --asm-dir "${objdir}" --
             "${CHAINSIM_GPLINK}" -w -r -s "${CHAINSIM_PIC_LKR}" -m -o "${out}.hex"
-            ${rtobjs} ${objs} "${rt}/pic${CHAINSIM_PIC_DEVICE}.o" "${rt}/libsdcc.lib"
-    DEPENDS ${objs} ${rtobjs} "${rt}/pic${CHAINSIM_PIC_DEVICE}.o" "${rt}/libsdcc.lib"
+            ${rtobjs} ${objs} "${commonlib}" "${rt}/pic${CHAINSIM_PIC_DEVICE}.o" "${rt}/libsdcc.lib"
+    DEPENDS ${objs} "${commonlib}" ${rtobjs} "${rt}/pic${CHAINSIM_PIC_DEVICE}.o" "${rt}/libsdcc.lib"
     COMMENT "gplink ${name}.hex"
     VERBATIM)
   add_custom_target(${P_TARGET} ALL
