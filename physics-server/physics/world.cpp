@@ -17,29 +17,13 @@
 // after that nothing is allocated unless a step needs more contacts or
 // working memory than reserved (tested: physics_test StepDoesNotAllocate).
 //
-// Solver: QuickStep, WorldConfig::solver_iterations (default 30). Measured
-// (tests/physics-server/physics, physics_bench), for 10 / 20 / 30 / 40 / 60 iterations:
-//  * (when docks were fixed joints, before they became shared bodies) the
-//    largest docking-joint stretch of an 8-module chain hanging from its head,
-//    swinging limp onto the joint stops: 0.42 / 0.45 / 0.26 / 0.17 / 0.10 mm;
-//  * a servo holding a module at 45 degrees against gravity jitters by
-//    0.44 / 0.21 / 0.12 / 0.07 / 0.03 degrees peak to peak. That is solver
-//    noise (the unconverged iteration, reordered at random by ODE each step):
-//    dWorldStep (exact LCP) gives 0.000, at 3-4x the cost for 8 modules;
-//  * the 10 s crawl distance varies by +-10% with no trend (mildly chaotic);
-//  * cost grows about linearly: ~2 us per iteration for 8 modules.
-// 30 keeps the jitter under one potentiometer count (0.18 degrees) at about
-// 70 us per step for 8 modules.
-// WorldConfig::Solver::Exact steps with dWorldStep instead. An inchworm
-// (S E S, 13 bodies) in a 40 mm pipe, the supports' arm pads gripping the
-// wall (a 2 N extension, 500 ms steps: the gait's ideal 1.5 cm/s), moves at
-// 1.24 / 1.06 / 1.29 cm/s up 0 / 30 / 90 degrees at 30
-// iterations, 1.23 / 1.18 / 1.23 at 50, 1.38 / 1.35 / 1.34 at 100, 1.47 /
-// 1.43 / 1.45 at 200, 1.48 / 1.45 / 1.45 at 300 and 1.47 / 1.46 / 1.45 at
-// 1000; exact: 1.47 / 1.46 / 1.46, at the real-time factor of 30 iterations
-// (15x; 300 iterations: 2.5x). The
-// unconverged iteration lets a gripping support creep back under the
-// extension's push (docs/firmware.md, "Inchworm").
+// Solver: QuickStep, WorldConfig::solver_iterations (default 30), cost about
+// linear in the iterations. Its iteration does not converge: a servo holding
+// a module against gravity jitters (under one potentiometer count, 0.18
+// degrees, at 30), and a gripping support creeps back under an extension's
+// push. WorldConfig::Solver::Exact steps with dWorldStep (the exact LCP)
+// instead, at several times the cost. The figures: docs/benchmarks.md
+// ("Physics step cost") and docs/firmware.md ("Inchworm").
 // Global ERP/CFM 0.2 / 1e-9 (stiff joints; a
 // softer CFM up to 1e-5 changed nothing measurable); contacts use their
 // Material's soft ERP/CFM.
