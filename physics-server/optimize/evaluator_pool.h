@@ -38,7 +38,7 @@ class EvaluatorPool {
                 const std::function<void(size_t, const EvalResult&)>& on_done = nullptr);
 };
 
-// SIGINT and SIGTERM set a flag the pools and the search poll (and no longer
+// SIGINT and SIGTERM set a flag the pools and the search poll (they do not
 // kill the process); call once from the command
 void install_interrupt_handlers();
 // the signal that asked to stop, or 0

@@ -66,7 +66,7 @@ void load_pipe(const SceneYaml& y, const YAML::Node& n, PipeSpec* pipe) {
   if (!segs) y.fail(n, "'" + p + "' needs 'segments' (a list such as [{type: straight, length_m: 0.5}])");
   if (!segs.IsSequence() || segs.size() == 0)
     y.fail(segs, "'" + p + ".segments' must be a non-empty list of segments");
-  // each segment is a collider and mesh pieces: 100 000 used to be accepted and never finish building
+  // each segment is a collider and mesh pieces: 100 000 would never finish building
   constexpr size_t kMaxSegments = 1000;
   if (segs.size() > kMaxSegments)
     y.fail(segs, "'" + p + ".segments' has " + std::to_string(segs.size()) + " segments, more than the limit of " +

@@ -111,9 +111,9 @@ void WheelContacts::add_module(int module, const std::vector<WheelSetDef>& sets,
 //  * the origin in the wall (an arm's hinge beyond the bore while its
 //    module lies on the wall: arms have no collision shape): no cast from
 //    there; the face, if it is in the wall too, presses from the wall point
-//    nearest to it. Before, such a pad let go until its origin came back
-//    into the bore and then pressed at once from as deep as its face had
-//    gone.
+//    nearest to it. Letting go there instead would make the pad press at
+//    once from as deep as its face had gone when its origin came back into
+//    the bore.
 bool WheelContacts::pad_on_wall(Wheel& w, const Eigen::Vector3d& p, const Eigen::Vector3d& u, WallHit* hit,
                                 double* depth) const {
   const Eigen::Vector3d face = p + w.reach_max * u;
