@@ -55,7 +55,6 @@ void hp_isr_high(void) __interrupt(1)
     LATB = (uint8_t)((LATB & (uint8_t)~SERVO_PINS_MASK) | next_pins);
     if (!PIR1bits.CCP1IF)
         return;
-    PIR1bits.CCP1IF = 0;
     if (next_pins != 0) {
         /* the pulse of this slot just started: schedule its end */
         next_pins = 0;
@@ -74,9 +73,21 @@ void hp_isr_high(void) __interrupt(1)
             next_pins = slot_bit;
 #endif
     }
-    /* high byte first: the half-written value then lies beyond the next edge */
+    /* High byte first: the half-written value (new high, old low) never
+     * equals Timer3 before the low byte follows. Then the high byte once
+     * more, and only then clear the flag: a PIC18 sees the same compare
+     * value and no match in these few cycles (the next edge is >= 2500
+     * counts away). gpsim 0.31 copies CCPR1L into CCPR1H at every Timer2
+     * period match (its PWM duty-cycle latch, also in compare mode) and
+     * takes the compare value from both registers at each write: a copy
+     * between the two writes compared on (old low):(new low) and the edge
+     * came one Timer3 wrap late (docs/pic-in-the-loop.md). The last write,
+     * of the high byte, sets the whole value again; a match on the
+     * half-written value inside the window is dropped with the flag. */
     CCPR1H = (uint8_t)(edge >> 8);
     CCPR1L = (uint8_t)edge;
+    CCPR1H = (uint8_t)(edge >> 8);
+    PIR1bits.CCP1IF = 0;
 }
 
 void hp_servo_init(void)
