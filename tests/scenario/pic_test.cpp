@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <regex>
 
@@ -58,6 +59,16 @@ TEST(PicInTheLoop, TheDefaultSnakeOnTheBoardsBinariesMovesAsTheNativeOneAndCompa
     EXPECT_EQ(m["pic"]["memory"]["flash_total"], 32768);
   }
   for (const auto& m : n["modules"]) EXPECT_EQ(m["target"], "native");
+  // every servo pulse the boards sent lay within 0.5-2.5 ms (a pulse outside
+  // is a glitch of the firmware's pulse schedule or of the simulated chip)
+  int pic_reports = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir + "/pic/modules")) {
+    const std::string f = e.path().string();
+    if (f.size() < 9 || f.compare(f.size() - 9, 9, ".pic.json") != 0) continue;
+    ++pic_reports;
+    EXPECT_EQ(read_json(f)["pins"]["servo_glitches"], 0) << f;
+  }
+  EXPECT_EQ(pic_reports, static_cast<int>(p["modules"].size()));
   // a rotation module's gait step takes a few ms of its 10 ms period on the board
   const auto& cpu = p["modules"][3]["pic"]["cpu"];
   EXPECT_GT(cpu["busy_mean_us"].get<double>(), 1000.0);
