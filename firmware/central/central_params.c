@@ -59,6 +59,12 @@ const hal_param_decl hal_param_table[] = {
               "gait 9: the helicoidal modules' current (SENSORS, ADC counts; poll_ms) at or above this on two "
               "polls in a row is an elbow: the chain bends toward elbow_dir_deg; 0 = only the touch module's "
               "contact"),
+    HAL_PARAM("switch_counts", HAL_PARAM_U16, 0, 1023, 0,
+              "gait 9: a helicoidal module's current (ADC counts; poll_ms) at or above this on two polls in a row "
+              "starts the supports' and extensions' inchworm, the screw still driving (6.7); 0 = never"),
+    HAL_PARAM("switch_ms", HAL_PARAM_U16, 1, 30000, 6000,
+              "gait 9 with switch_counts: how long the inchworm runs before the supports let go and the screw is "
+              "tried alone again, ms"),
     HAL_PARAM_END
 };
 
@@ -90,4 +96,6 @@ void central_params_read(void)
     params.bend_limp = (uint8_t)hal_param("bend_limp");
     params.hold_ms = (uint16_t)hal_param("hold_ms");
     params.stall_counts = (uint16_t)hal_param("stall_counts");
+    params.switch_counts = (uint16_t)hal_param("switch_counts");
+    params.switch_ms = (uint16_t)hal_param("switch_ms");
 }

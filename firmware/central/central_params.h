@@ -39,6 +39,11 @@ typedef struct {
     uint8_t bend_limp;       /* after bend_ms the rotation modules go limp instead of straightening */
     uint16_t hold_ms;        /* the support modules grip this long from the bend, 0 = never */
     uint16_t stall_counts;   /* a helicoidal module's current (ADC counts) that is an elbow, 0 = none */
+    /* gait switching (gait 9; paper 6.7): a helicoidal module's current at
+     * which the supports and extensions take over with the inchworm, and for
+     * how long before the helicoidal drive is tried alone again */
+    uint16_t switch_counts;  /* ADC counts, 0 = never switch */
+    uint16_t switch_ms;
 } central_params;
 
 /* the parameters as read by central_params_read (a global: SDCC reaches it

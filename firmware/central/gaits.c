@@ -71,7 +71,7 @@ static void send_helicoidal(void)
 
 /* gait 8: every support and extension gets the schedule and its index
  * (supports and extensions counted separately, head first) */
-static void send_inchworm(void)
+void gaits_send_inchworm(void)
 {
     uint8_t i, n_sup = 0, k_sup = 0, k_ext = 0;
 
@@ -99,7 +99,7 @@ void gaits_send(void)
     if (params.gait == GAIT_HELICOIDAL)
         send_helicoidal();
     else if (params.gait == GAIT_INCHWORM)
-        send_inchworm();
+        gaits_send_inchworm();
     else
         send_wave();
 }
@@ -117,6 +117,12 @@ void gaits_send_hold(uint8_t hold)
     frame_clear(hold ? GAIT_HOLD : GAIT_NONE);
     cc_put_i16(frame + CC_GAIT_OFF_GRIP, params.grip_cdeg);
     chain_send_to_type(MT_SUPPORT, frame, CC_SET_GAIT_LEN);
+}
+
+void gaits_send_none(uint8_t type)
+{
+    frame_clear(GAIT_NONE);
+    chain_send_to_type(type, frame, CC_SET_GAIT_LEN);
 }
 
 void gaits_send_limp(uint8_t module)

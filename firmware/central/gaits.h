@@ -23,6 +23,13 @@ void gaits_send_bend(uint8_t module, int16_t pitch_cdeg, int16_t yaw_cdeg);
  * module when hold is non-zero, else gait 0 (arms closed) */
 void gaits_send_hold(uint8_t hold);
 
+/* gait 8 (inchworm) to every support and extension, each with its index */
+void gaits_send_inchworm(void);
+
+/* SET_GAIT gait 0 to every module of the type (MT_*): a support closes its
+ * arms, an extension retracts */
+void gaits_send_none(uint8_t type);
+
 /* gait 12 to the module at chain index `module` (a rotation module): its
  * servos go limp */
 void gaits_send_limp(uint8_t module);

@@ -10,6 +10,10 @@
  *    every poll_ms if that parameter is set, and bending the rotation
  *    modules at elbows (elbow.c): at a touch module's contact, or when the
  *    helicoidal modules stall (stall_counts).
+ * 5. Gait switching (switch_counts, paper 6.7): while the helicoidal drive
+ *    labours (its current at or above switch_counts on two polls in a row)
+ *    the supports and extensions run the inchworm for switch_ms, the screw
+ *    still driving; then they let go and the screw is tried alone again.
  * See docs/firmware.md, "Central control". */
 #include "hal.h"
 
@@ -25,6 +29,8 @@
 
 static uint8_t started, stopped;
 static uint32_t next_poll;
+static uint8_t inching;     /* gait switching: the inchworm runs until inch_end */
+static uint32_t inch_end;
 
 /* SET_GAIT and START, if there is a gait and a module to run it */
 static void start(void)
@@ -50,6 +56,34 @@ static void poll(uint32_t now)
     }
 }
 
+/* gait switching (switch_counts): start the inchworm when the screw
+ * labours, end it after switch_ms. Returns 1 while it runs (wake at
+ * inch_end). */
+static uint8_t gait_switch(uint32_t now)
+{
+    if (params.switch_counts == 0 || !started || stopped || params.gait != GAIT_HELICOIDAL) {
+        inching = 0; /* after STOP the supports hold */
+        return 0;
+    }
+    if (!inching) {
+        if (!replies_take_labour())
+            return 0;
+        cio_log_int("switch: inchworm at ms ", now);
+        gaits_send_inchworm();
+        cio_send_code(HAL_I2C_GENERAL_CALL, CC_START); /* one clock for every support and extension */
+        inching = 1;
+        inch_end = now + params.switch_ms;
+    } else if ((int32_t)(now - inch_end) >= 0) {
+        gaits_send_none(MT_SUPPORT);
+        gaits_send_none(MT_EXTENSION);
+        replies_forget_labour();
+        inching = 0;
+        cio_log_int("switch: helicoidal at ms ", now);
+        return 0;
+    }
+    return 1;
+}
+
 /* one pass of the main loop: replies, elbow, stop, poll, then sleep until
  * the earliest of the deadlines or a frame */
 static void serve(void)
@@ -69,6 +103,10 @@ static void serve(void)
     have_wake = elbow_update(now, stopped, replies_take_head_on());
     if (have_wake)
         wake = elbow_wake;
+    if (gait_switch(now) && (!have_wake || (int32_t)(inch_end - wake) < 0)) {
+        wake = inch_end;
+        have_wake = 1;
+    }
     if (started && !stopped && params.stop_ms != 0) {
         if ((int32_t)(now - params.stop_ms) >= 0) {
             cio_send_code(HAL_I2C_GENERAL_CALL, CC_STOP);

@@ -15,6 +15,24 @@ static int16_t touch_up;      /* where up was */
 static uint8_t touch_closed;  /* the cover's switches closed now (from the last TOUCH frame) */
 static uint8_t touch_all;     /* every switch closed at once since replies_take_head_on */
 static uint8_t stall_polls;   /* SENSORS of helicoidal modules in a row at or above stall_counts (3: taken) */
+static uint8_t switch_polls;  /* the same at or above switch_counts */
+
+/* one more SENSORS reply of a helicoidal module: current against threshold */
+static uint8_t count_poll(uint8_t n, int16_t current, uint16_t threshold)
+{
+    if (current < (int16_t)threshold)
+        return 0u;
+    return n < 3u ? (uint8_t)(n + 1u) : 3u;
+}
+
+/* 1 the first time *n reached 2, then 3 (once per run of polls) */
+static uint8_t take_polls(uint8_t *n)
+{
+    if (*n != 2u)
+        return 0;
+    *n = 3u;
+    return 1;
+}
 
 static void log_reply(const uint8_t *buf, uint8_t len)
 {
@@ -30,10 +48,12 @@ static void log_reply(const uint8_t *buf, uint8_t len)
         }
         /* a helicoidal module's current (its second value) at stall */
         i = (uint8_t)(buf[1] - CHAIN_FIRST_MODULE_ADDR);
-        if (params.stall_counts != 0 && i < chain_n_modules && chain_module_type[i] == MT_HELICOIDAL && buf[2] >= 2u)
-            stall_polls = cc_get_i16(buf + 5u) < (int16_t)params.stall_counts ? 0u
-                          : stall_polls < 3u                                   ? (uint8_t)(stall_polls + 1u)
-                                                                               : 3u;
+        if (i < chain_n_modules && chain_module_type[i] == MT_HELICOIDAL && buf[2] >= 2u) {
+            if (params.stall_counts != 0)
+                stall_polls = count_poll(stall_polls, cc_get_i16(buf + 5u), params.stall_counts);
+            if (params.switch_counts != 0)
+                switch_polls = count_poll(switch_polls, cc_get_i16(buf + 5u), params.switch_counts);
+        }
     } else if (buf[0] == CC_STATUS_REPLY && len == CC_STATUS_REPLY_LEN) {
         sb_str(&cio_sb, "status ");
         sb_hex8(&cio_sb, buf[1]);
@@ -96,10 +116,17 @@ uint8_t replies_take_touch(int16_t *dir_deg, int16_t *up_deg)
 
 uint8_t replies_take_stall(void)
 {
-    if (stall_polls != 2u)
-        return 0;
-    stall_polls = 3u; /* once per stall */
-    return 1;
+    return take_polls(&stall_polls); /* once per stall */
+}
+
+uint8_t replies_take_labour(void)
+{
+    return take_polls(&switch_polls);
+}
+
+void replies_forget_labour(void)
+{
+    switch_polls = 0;
 }
 
 uint8_t replies_take_head_on(void)

@@ -26,6 +26,12 @@ uint8_t replies_take_head_on(void);
  * is 0 */
 uint8_t replies_take_stall(void);
 
+/* the same for params.switch_counts (gait switching, main.c) */
+uint8_t replies_take_labour(void);
+
+/* count the polls at or above switch_counts from 0 again */
+void replies_forget_labour(void);
+
 /* sleep until hal_millis() >= until_ms, logging replies */
 void replies_sleep_until(uint32_t until_ms);
 
