@@ -51,9 +51,8 @@ double time_out(const Trace& tr) {
 
 // the time (s) of the central control's first "elbow: <what> at ms N" line, -1 if none
 double log_time(const std::string& log, const std::string& what) {
-  const std::string key = "elbow: " + what + " at ms ";
-  const size_t p = log.find(key);
-  return p == std::string::npos ? -1.0 : std::atof(log.c_str() + p + key.size()) * 1e-3;
+  const std::vector<double> t = log_times(log, "elbow: " + what);
+  return t.empty() ? -1.0 : t[0];
 }
 
 const std::pair<std::string, std::string> kExactSolver = {"tick_us: 1000", "tick_us: 1000\n  solver: exact"};

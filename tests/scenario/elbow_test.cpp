@@ -51,14 +51,6 @@ Head head(const Outcome& o, double elbow_x, double r = 0.08) {
   return h;
 }
 
-// the times (s) of the log's "elbow: <what> at ms N" lines
-std::vector<double> log_times(const std::string& log, const std::string& what) {
-  std::vector<double> out;
-  const std::string key = "elbow: " + what + " at ms ";
-  for (size_t p = log.find(key); p != std::string::npos; p = log.find(key, p + 1))
-    out.push_back(std::atof(log.c_str() + p + key.size()) * 1e-3);
-  return out;
-}
 
 // whether a steering (bend, then straight) began with the head within 5 cm
 // of the elbow's start (a touch far from the elbow also steers)
@@ -66,8 +58,8 @@ bool steered_at_elbow(const Outcome& o, const std::string& log, double elbow_x) 
   auto tr = read_trace(o.dir + "/trace.csv");
   const auto& t = tr.at("t_s");
   const auto& x = tr.at("m0.cover.x");
-  const std::vector<double> straights = log_times(log, "straight");
-  for (double tb : log_times(log, "bend")) {
+  const std::vector<double> straights = log_times(log, "elbow: straight");
+  for (double tb : log_times(log, "elbow: bend")) {
     size_t i = 0;
     while (i + 1 < t.size() && t[i] < tb) ++i;
     const bool ended = std::any_of(straights.begin(), straights.end(), [&](double ts) { return ts > tb; });

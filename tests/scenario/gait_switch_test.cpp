@@ -29,15 +29,6 @@ using Trace = std::map<std::string, std::vector<double>>;
 // is 4.0 cm above the level leg, the slope's foot
 constexpr double kSlopeFootZ = 0.3 * (1 - 0.8660254);
 
-// the times (s) of the central control's "switch: <what> at ms N" lines
-std::vector<double> log_times(const std::string& log, const std::string& what) {
-  std::vector<double> t;
-  const std::string key = "switch: " + what + " at ms ";
-  for (size_t p = log.find(key); p != std::string::npos; p = log.find(key, p + 1))
-    t.push_back(std::atof(log.c_str() + p + key.size()) * 1e-3);
-  return t;
-}
-
 // the first time the H's pig is z_m above the level leg, -1 if never
 double time_up(const Trace& tr, double z_m) {
   const auto &t = tr.at("t_s"), &z = tr.at("m0.pig.z");
@@ -71,7 +62,7 @@ TEST(GaitSwitch, HSESSwitchesToTheInchwormWhereTheScrewStallsAndClimbs) {
     const Outcome o = run_scene("gait-switch", "gait-switch-HSES", 30, edits);
     ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
     const std::string log = central_log(o, 4);
-    const std::vector<double> inch = log_times(log, "inchworm"), heli = log_times(log, "helicoidal");
+    const std::vector<double> inch = log_times(log, "switch: inchworm"), heli = log_times(log, "switch: helicoidal");
     const Trace tr = read_trace(o.dir + "/trace.csv");
     const double level_speed = (x_at(tr, 4.0) - x_at(tr, 0.5)) / 3.5;
     const double z = tr.at("m0.pig.z").back(), t_up = time_up(tr, 0.05);

@@ -209,6 +209,14 @@ std::string central_log(const Outcome& o, int n) {
   return read_file(o.dir + "/modules/" + (n < 10 ? "0" : "") + std::to_string(n) + "-central.log");
 }
 
+std::vector<double> log_times(const std::string& log, const std::string& what) {
+  std::vector<double> out;
+  const std::string key = what + " at ms ";
+  for (size_t p = log.find(key); p != std::string::npos; p = log.find(key, p + 1))
+    out.push_back(std::atof(log.c_str() + p + key.size()) * 1e-3);
+  return out;
+}
+
 TmpDirForChildren::TmpDirForChildren(const std::string& dir) {
   if (const char* t = getenv("TMPDIR")) had = true, old = t;
   setenv("TMPDIR", dir.c_str(), 1);

@@ -57,6 +57,9 @@ Outcome run_scene(const std::string& tag, const std::string& name, double durati
                   const std::vector<std::pair<std::string, std::string>>& edits = {});
 // the central control's log of a run of n modules (it is endpoint n)
 std::string central_log(const Outcome& o, int n);
+// the times (s) of a program's log lines "<what> at ms N" (e.g. "elbow:
+// bend"), in the log's order
+std::vector<double> log_times(const std::string& log, const std::string& what);
 
 // TMPDIR for the chainsim processes a test starts (their socket
 // directories), restored when it goes
