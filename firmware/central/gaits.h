@@ -1,7 +1,8 @@
 /* The gait commands: SET_GAIT to the modules a gait moves, addressed so that
  * other module types never see it (gaits 1-7: rotation modules; 8 inchworm:
  * supports and extensions, each with its index; 9 helicoidal drive:
- * helicoidal modules; 10 bend: rotation modules). START and STOP go by
+ * helicoidal modules; 10 bend, 12 limp: rotation modules; 11 hold:
+ * supports). START and STOP go by
  * general call from main.c. Parameters: central_params.h. */
 #ifndef GAITS_H
 #define GAITS_H

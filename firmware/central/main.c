@@ -14,6 +14,8 @@
  *    labours (its current at or above switch_counts on two polls in a row)
  *    the supports and extensions run the inchworm for switch_ms, the screw
  *    still driving; then they let go and the screw is tried alone again.
+ *    It waits while an elbow's bend or the supports' hold lasts, and a
+ *    stall while the inchworm runs is not taken for an elbow.
  * See docs/firmware.md, "Central control". */
 #include "hal.h"
 
@@ -57,9 +59,11 @@ static void poll(uint32_t now)
 }
 
 /* gait switching (switch_counts): start the inchworm when the screw
- * labours, end it after switch_ms. Returns 1 while it runs (wake at
- * inch_end). */
-static uint8_t gait_switch(uint32_t now)
+ * labours, end it after switch_ms; not while the elbow steering or the
+ * supports' hold lasts (elbow_busy: they would send the supports other
+ * gaits), and a labour seen then is dropped. Returns 1 while it runs (wake
+ * at inch_end). */
+static uint8_t gait_switch(uint32_t now, uint8_t elbow_busy)
 {
     if (params.switch_counts == 0 || !started || stopped || params.gait != GAIT_HELICOIDAL) {
         inching = 0; /* after STOP the supports hold */
@@ -68,6 +72,10 @@ static uint8_t gait_switch(uint32_t now)
     if (!inching) {
         if (!replies_take_labour())
             return 0;
+        if (elbow_busy) {
+            replies_forget_labour();
+            return 0;
+        }
         cio_log_int("switch: inchworm at ms ", now);
         gaits_send_inchworm();
         cio_send_code(HAL_I2C_GENERAL_CALL, CC_START); /* one clock for every support and extension */
@@ -96,14 +104,15 @@ static void serve(void)
     now = hal_millis();
     if (replies_take_touch(&touch_dir, &touch_up) && started && !stopped && params.gait == GAIT_HELICOIDAL)
         elbow_contact(now, touch_dir, touch_up);
-    if (replies_take_stall() && started && !stopped && params.gait == GAIT_HELICOIDAL) {
+    /* a stall while the inchworm runs is the switch's business, not an elbow */
+    if (replies_take_stall() && started && !stopped && params.gait == GAIT_HELICOIDAL && !inching) {
         cio_log_int("elbow: stall at ms ", now);
         elbow_contact(now, CC_TOUCH_NONE, CC_TOUCH_NONE); /* no direction: the given one */
     }
     have_wake = elbow_update(now, stopped, replies_take_head_on());
     if (have_wake)
         wake = elbow_wake;
-    if (gait_switch(now) && (!have_wake || (int32_t)(inch_end - wake) < 0)) {
+    if (gait_switch(now, have_wake) && (!have_wake || (int32_t)(inch_end - wake) < 0)) {
         wake = inch_end;
         have_wake = 1;
     }

@@ -14,24 +14,38 @@ static int16_t touch_dir;     /* its obstacle direction */
 static int16_t touch_up;      /* where up was */
 static uint8_t touch_closed;  /* the cover's switches closed now (from the last TOUCH frame) */
 static uint8_t touch_all;     /* every switch closed at once since replies_take_head_on */
-static uint8_t stall_polls;   /* SENSORS of helicoidal modules in a row at or above stall_counts (3: taken) */
-static uint8_t switch_polls;  /* the same at or above switch_counts */
+/* A helicoidal module's current at or above a threshold on two of its own
+ * SENSORS replies in a row: per module, whether its last reply was high and
+ * whether its current run has fired; one pending trigger for the main loop. */
+#define WATCH_HIGH 1u  /* the module's last reply was at or above */
+#define WATCH_TAKEN 2u /* its current run of replies has fired */
+typedef struct {
+    uint8_t module[CHAIN_MAX_MODULES]; /* WATCH_* bits of each module */
+    uint8_t pending;                   /* fired since the last take */
+} current_watch;
+static current_watch stall_watch;  /* stall_counts: an elbow */
+static current_watch switch_watch; /* switch_counts: the screw labours */
 
-/* one more SENSORS reply of a helicoidal module: current against threshold */
-static uint8_t count_poll(uint8_t n, int16_t current, uint16_t threshold)
+static void watch_reply(current_watch *w, uint8_t module, int16_t current, uint16_t threshold)
 {
-    if (current < (int16_t)threshold)
-        return 0u;
-    return n < 3u ? (uint8_t)(n + 1u) : 3u;
+    uint8_t *m = &w->module[module];
+    if (current < (int16_t)threshold) {
+        *m = 0; /* a reply below ends the run */
+        return;
+    }
+    if (*m == WATCH_HIGH) {
+        *m = WATCH_HIGH | WATCH_TAKEN; /* once per run */
+        w->pending = 1;
+    } else if (*m == 0) {
+        *m = WATCH_HIGH;
+    }
 }
 
-/* 1 the first time *n reached 2, then 3 (once per run of polls) */
-static uint8_t take_polls(uint8_t *n)
+static uint8_t take_watch(current_watch *w)
 {
-    if (*n != 2u)
-        return 0;
-    *n = 3u;
-    return 1;
+    uint8_t p = w->pending;
+    w->pending = 0;
+    return p;
 }
 
 static void log_reply(const uint8_t *buf, uint8_t len)
@@ -50,9 +64,9 @@ static void log_reply(const uint8_t *buf, uint8_t len)
         i = (uint8_t)(buf[1] - CHAIN_FIRST_MODULE_ADDR);
         if (i < chain_n_modules && chain_module_type[i] == MT_HELICOIDAL && buf[2] >= 2u) {
             if (params.stall_counts != 0)
-                stall_polls = count_poll(stall_polls, cc_get_i16(buf + 5u), params.stall_counts);
+                watch_reply(&stall_watch, i, cc_get_i16(buf + 5u), params.stall_counts);
             if (params.switch_counts != 0)
-                switch_polls = count_poll(switch_polls, cc_get_i16(buf + 5u), params.switch_counts);
+                watch_reply(&switch_watch, i, cc_get_i16(buf + 5u), params.switch_counts);
         }
     } else if (buf[0] == CC_STATUS_REPLY && len == CC_STATUS_REPLY_LEN) {
         sb_str(&cio_sb, "status ");
@@ -116,17 +130,20 @@ uint8_t replies_take_touch(int16_t *dir_deg, int16_t *up_deg)
 
 uint8_t replies_take_stall(void)
 {
-    return take_polls(&stall_polls); /* once per stall */
+    return take_watch(&stall_watch);
 }
 
 uint8_t replies_take_labour(void)
 {
-    return take_polls(&switch_polls);
+    return take_watch(&switch_watch);
 }
 
 void replies_forget_labour(void)
 {
-    switch_polls = 0;
+    uint8_t i;
+    for (i = 0; i < CHAIN_MAX_MODULES; i++)
+        switch_watch.module[i] = 0;
+    switch_watch.pending = 0;
 }
 
 uint8_t replies_take_head_on(void)

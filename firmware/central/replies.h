@@ -20,16 +20,17 @@ uint8_t replies_take_touch(int16_t *dir_deg, int16_t *up_deg);
  * head-on) since the last call, then cleared */
 uint8_t replies_take_head_on(void);
 
-/* 1 when the helicoidal modules' current (SENSORS, the second value) has
- * been at or above params.stall_counts on two replies in a row: once per
- * stall (a reply below it starts the count again); never when stall_counts
+/* 1 when a helicoidal module's current (SENSORS, the second value) has been
+ * at or above params.stall_counts on two of its replies in a row (each
+ * module counted on its own), since the last call: once per stall (a reply
+ * of that module below it starts its count again); never when stall_counts
  * is 0 */
 uint8_t replies_take_stall(void);
 
 /* the same for params.switch_counts (gait switching, main.c) */
 uint8_t replies_take_labour(void);
 
-/* count the polls at or above switch_counts from 0 again */
+/* count every module's replies at or above switch_counts from 0 again */
 void replies_forget_labour(void);
 
 /* sleep until hal_millis() >= until_ms, logging replies */

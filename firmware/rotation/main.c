@@ -132,6 +132,8 @@ static void start_gait(void)
         stop_gait();
         return;
     }
+    if (ca_gait == GAIT_LIMP)
+        return; /* a START to the whole chain (e.g. the supports' inchworm) leaves a limp module limp */
     ca_running = 1;
     chain_app_clock_start(); /* first step now */
 }

@@ -1,6 +1,7 @@
-// Decimal text of numbers, for every output and message of the server and
-// tools (trace, logs, reports, error messages): the one place their formats
-// live, so equal values give equal bytes everywhere. Always the C locale.
+// Decimal text of numbers for the server's and tools' outputs and messages
+// (trace, logs, reports): the one place these formats live, so equal values
+// give equal bytes everywhere. Always the C locale. (Some messages and the
+// search report still format their own numbers.)
 #pragma once
 
 #include <cstdint>

@@ -123,10 +123,11 @@ TEST(PicInTheLoop, TheInchwormOnTheBoardsBinariesCrawlsAsFast) {
   // The board's speed depends on when the gait starts against its servos'
   // 20 ms pulse frame (a step's set-point waits for the next frame): over 6 s
   // 2.20-2.22 cm/s for about 12 ms of each 20 ms of START times and
-  // 1.94-1.98 for the rest (start_ms 80-116, 2026-11-29), native 2.15-2.28
+  // 1.94-1.98 (0.85-0.87 of native) for the rest (start_ms 80-116,
+  // 2026-11-29), native 2.15-2.28
   // for any start (docs/pic-in-the-loop.md)
   EXPECT_GT(speed(n), 0.015);
-  EXPECT_GT(speed(p), 0.85 * speed(n));
+  EXPECT_GT(speed(p), 0.80 * speed(n));
   EXPECT_LT(speed(p), 1.05 * speed(n));
 }
 

@@ -46,7 +46,7 @@ void print_markdown(const ProgramParams& p) {
                 d.meaning.c_str());
 }
 
-int run() {
+int run_params() {
   const std::string path = program_path(g_params_args.program, g_params_args.firmware_dir);
   ProgramParams p;
   try {
@@ -76,7 +76,7 @@ Command add_params_command(CLI::App& app) {
   sub->add_flag("--markdown", g_params_args.markdown, "a Markdown table, as in docs/firmware.md");
   sub->footer("The program is run with " CS_PARAMS_ARG " (hal-sim prints its hal_param_table and exits). "
               "Exit codes: 0 listed; 1 the program is missing or printed no listing.");
-  return {sub, [] { return run(); }};
+  return {sub, [] { return run_params(); }};
 }
 
 

@@ -51,7 +51,7 @@ std::vector<std::string> view_failure(const std::string& dir, double t_s, std::s
   return files;
 }
 
-int run() {
+int run_test_command() {
   if (!g_test_args.seeds.empty()) {
     try {
       g_test_args.run.seeds = parse_seed_range(g_test_args.seeds);
@@ -98,7 +98,7 @@ Command add_test_command(CLI::App& app) {
       ->check(CLI::IsMember({"stop", "warn"}))
       ->capture_default_str();
   g_sub = sub;
-  return {sub, [] { return run(); }};
+  return {sub, [] { return run_test_command(); }};
 }
 
 bool test_command_selected() { return g_sub && g_sub->count() > 0; }
