@@ -63,9 +63,9 @@ static void poll(uint32_t now)
  * supports' hold lasts (elbow_busy: they would send the supports other
  * gaits), and a labour seen then is dropped. Returns 1 while it runs (wake
  * at inch_end). */
-static uint8_t gait_switch(uint32_t now, uint8_t elbow_busy)
+static uint8_t gait_switch(uint32_t now, uint8_t driving, uint8_t elbow_busy)
 {
-    if (params.switch_counts == 0 || !started || stopped || params.gait != GAIT_HELICOIDAL) {
+    if (params.switch_counts == 0 || !driving) {
         inching = 0; /* after STOP the supports hold */
         return 0;
     }
@@ -97,22 +97,23 @@ static uint8_t gait_switch(uint32_t now, uint8_t elbow_busy)
 static void serve(void)
 {
     uint32_t now, wake = 0, left;
-    uint8_t have_wake;
+    uint8_t have_wake, driving; /* driving: the helicoidal gait runs (started, not stopped) */
     int16_t touch_dir, touch_up;
 
     replies_drain();
     now = hal_millis();
-    if (replies_take_touch(&touch_dir, &touch_up) && started && !stopped && params.gait == GAIT_HELICOIDAL)
+    driving = started && !stopped && params.gait == GAIT_HELICOIDAL;
+    if (replies_take_touch(&touch_dir, &touch_up) && driving)
         elbow_contact(now, touch_dir, touch_up);
     /* a stall while the inchworm runs is the switch's business, not an elbow */
-    if (replies_take_stall() && started && !stopped && params.gait == GAIT_HELICOIDAL && !inching) {
+    if (replies_take_stall() && driving && !inching) {
         cio_log_int("elbow: stall at ms ", now);
         elbow_contact(now, CC_TOUCH_NONE, CC_TOUCH_NONE); /* no direction: the given one */
     }
     have_wake = elbow_update(now, stopped, replies_take_head_on());
     if (have_wake)
         wake = elbow_wake;
-    if (gait_switch(now, have_wake) && (!have_wake || (int32_t)(inch_end - wake) < 0)) {
+    if (gait_switch(now, driving, have_wake) && (!have_wake || (int32_t)(inch_end - wake) < 0)) {
         wake = inch_end;
         have_wake = 1;
     }
