@@ -55,8 +55,6 @@ double log_time(const std::string& log, const std::string& what) {
   return t.empty() ? -1.0 : t[0];
 }
 
-const std::pair<std::string, std::string> kExactSolver = {"tick_us: 1000", "tick_us: 1000\n  solver: exact"};
-
 }  // namespace
 
 // The verdict, under QuickStep (the scene) and with the solver converged:

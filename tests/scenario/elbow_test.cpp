@@ -25,8 +25,6 @@ using namespace scenario;
 
 namespace {
 
-
-
 struct Head {
   double x = 0, y = 0;
   double t_out = -1;  // first time the head is 5 cm into the outgoing leg
@@ -95,8 +93,6 @@ std::string text(const Head& h) {
   return s.str();
 }
 
-// the scene edit that makes an elbow scene step with the exact solver
-const std::pair<std::string, std::string> kExactSolver = {"tick_us: 1000", "tick_us: 1000\n  solver: exact"};
 // the scene edits that give the turn (left: elbow_dir_deg 90) instead of
 // sensing it, and that turn the steering off
 const std::pair<std::string, std::string> kGivenLeft = {"bend_cdeg: 4500", "elbow_dir_deg: 90\n    bend_cdeg: 4500"};

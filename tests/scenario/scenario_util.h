@@ -55,6 +55,9 @@ std::string scene_path(const std::string& name);
 // .second (a missing one fails the test); tag names the test's /tmp directory
 Outcome run_scene(const std::string& tag, const std::string& name, double duration_s,
                   const std::vector<std::pair<std::string, std::string>>& edits = {});
+// run_scene's edit that makes a scene step with the exact solver (scenes
+// whose physics set tick_us: 1000, e.g. the elbow scenes)
+inline const std::pair<std::string, std::string> kExactSolver = {"tick_us: 1000", "tick_us: 1000\n  solver: exact"};
 // the central control's log of a run of n modules (it is endpoint n)
 std::string central_log(const Outcome& o, int n);
 // the times (s) of a program's log lines "<what> at ms N" (e.g. "elbow:
