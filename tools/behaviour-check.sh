@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Fingerprint of what chainsim produces, to prove that a refactor kept
 # behaviour: every shipped scene's trace and bus log, the modules' logs, the
-# servo bench's output and a calibration's report, as sha256 lines.
+# servo bench's output, a bench and a robot calibration's reports and a
+# small design search's history, as sha256 lines.
 #
 #   tools/behaviour-check.sh record FILE    write the fingerprint to FILE
 #   tools/behaviour-check.sh compare FILE   fingerprint again, diff against FILE
@@ -87,6 +88,20 @@ done
   --scene-template 'scenes/helicoidal-{slope}.yaml' --duration 2.5 --out "$work/robot" --quiet \
   >/dev/null 2>&1 || true
 echo "calibrate robot report.json $(json_sha "$work/robot/report.json")" >>"$out"
+
+# a shipped problem's design search, a small one (4 individuals, 1 generation,
+# 3 trials each): its history without the wall-clock column
+"$bin" optimize scenes/optimize/terrain-gait.yaml --population 4 --generations 1 --workers 2 \
+  --verify-top 0 --no-replay --out "$work/opt" --quiet >/dev/null 2>&1 || true
+if [[ -f $work/opt/history.csv ]]; then
+  echo "optimize terrain-gait history $(python3 -c '
+import csv, sys
+rows = list(csv.reader(open(sys.argv[1])))
+w = rows[0].index("wall_s")
+print("\n".join(",".join(c for i, c in enumerate(r) if i != w) for r in rows))' "$work/opt/history.csv" | sha256sum | cut -d' ' -f1)" >>"$out"
+else
+  echo "optimize terrain-gait history missing" >>"$out"
+fi
 
 if [[ $mode == record ]]; then
   cp "$out" "$file"

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "scene/scene_stop.h"
+#include "text/number_text.h"
 
 namespace chainsim {
 
@@ -12,12 +13,6 @@ namespace {
 // trace.csv writes positions to the micrometre: a mark missed by less than
 // that may read as reached there, so only a clear miss stops the run
 constexpr double kTraceResolutionM = 1e-6;
-
-std::string fmt(const char* f, double v) {
-  char b[48];
-  std::snprintf(b, sizeof b, f, v);
-  return b;
-}
 
 }  // namespace
 
@@ -51,17 +46,17 @@ bool EarlyStop::check(int64_t t_us, const Eigen::Vector3d& head, const Eigen::Ve
       if (t_us - k.t0_us < within_us || k.window.front().first > t_us - within_us) continue;
       const double gained = k.best - k.window.front().second;
       if (gained < r.by_m) {
-        why_ = "early stop at " + fmt("%.3f", t_us * 1e-6) + " s: " + who + " got " + fmt("%.1f", gained * 1e3) +
-               " mm further" + along + " in the last " + fmt("%g", r.within_s) + " s (" + stop_rule_text(r) + ")";
+        why_ = "early stop at " + fixed_text(t_us * 1e-6, 3) + " s: " + who + " got " + fixed_text(gained * 1e3, 1) +
+               " mm further" + along + " in the last " + general_text(r.within_s) + " s (" + stop_rule_text(r) + ")";
         fired_ = &r;
         return true;
       }
     } else {
       const int64_t by_us = std::llround(r.by_s * 1e6);
       if (t_us > by_us && k.best < r.reach_m - kTraceResolutionM) {
-        why_ = "early stop at " + fmt("%.3f", t_us * 1e-6) + " s: " + who + " got no further than " +
-               fmt("%.4f", k.best) + " m" + along + ", short of " + fmt("%g", r.reach_m) + " m by " +
-               fmt("%g", r.by_s) + " s (" + stop_rule_text(r) + ")";
+        why_ = "early stop at " + fixed_text(t_us * 1e-6, 3) + " s: " + who + " got no further than " +
+               fixed_text(k.best, 4) + " m" + along + ", short of " + general_text(r.reach_m) + " m by " +
+               general_text(r.by_s) + " s (" + stop_rule_text(r) + ")";
         fired_ = &r;
         return true;
       }

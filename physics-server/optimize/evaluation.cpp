@@ -230,7 +230,7 @@ void Evaluation::finish(const ExitStatus& st) {
     const RunOutcome rec = read_run_outcome(run_dir(r));
     infra = infrastructure_fault(st, rec.fault);
     s = score_run(pr.measures, pr.objective, pr.constraints, rec, pr.pipe.get());
-  } catch (const RunOutcomeError& e) {
+  } catch (const RunReadError& e) {
     // no usable outputs: say what the process said
     const std::string said = last_lines(dir_ + "/chainsim.out", 600);
     infra = infrastructure_fault(st, said);

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "optimize/verify.h"
+#include "text/number_text.h"
 
 namespace chainsim {
 
@@ -28,12 +29,18 @@ std::string esc(const std::string& s) {
 }
 
 // a number in the report: empty for NaN, "never" for +inf
-std::string shown_num(double v, const char* fmt = "%.6g") {
-  if (std::isnan(v)) return "";
-  if (std::isinf(v)) return v > 0 ? "never" : "-inf";
-  char b[48];
-  std::snprintf(b, sizeof b, fmt, v);
-  return b;
+// a report cell's word for what is not a finite number: blank for NaN, "never"
+// for +inf (a time never reached)
+std::string not_finite_word(double v) { return std::isnan(v) ? "" : v > 0 ? "never" : "-inf"; }
+
+// printf's %.<digits>g, or the word above
+std::string shown_num(double v, int digits = 6) {
+  return std::isfinite(v) ? general_text(v, digits) : not_finite_word(v);
+}
+
+// printf's %.<decimals>f, or the word above
+std::string shown_fixed(double v, int decimals) {
+  return std::isfinite(v) ? fixed_text(v, decimals) : not_finite_word(v);
 }
 
 // the fitness plot: one polyline per series over the generations
@@ -59,7 +66,7 @@ std::string plot_svg(const Problem& pr, const std::vector<GenerationStats>& st) 
     << "' fill='none' stroke='#888'/>";
   for (int k = 0; k <= 4; ++k) {
     const double v = lo + (hi - lo) * k / 4;
-    o << "<text x='" << L - 6 << "' y='" << Y(v) + 4 << "' text-anchor='end'>" << shown_num(v, "%.4g") << "</text>";
+    o << "<text x='" << L - 6 << "' y='" << Y(v) + 4 << "' text-anchor='end'>" << shown_num(v, 4) << "</text>";
     o << "<line x1='" << L << "' x2='" << W - R << "' y1='" << Y(v) << "' y2='" << Y(v) << "' stroke='#eee'/>";
   }
   const int step = std::max(1, (g1 - g0) / 10);
@@ -138,7 +145,7 @@ std::string report_html(const Problem& pr, const std::vector<HistoryRow>& rows, 
   o << "; a failed run scores " << shown_num(pr.objective.failed_fitness) << ".</p>";
   if (best.valid)
     o << "<h2>Best</h2><p><b><code>" << esc(best.key) << "</code></b>, fitness in the search "
-      << shown_num(best.fitness, "%.10g") << (best.failed ? " (failed)" : "") << ", found in generation " << best.generation
+      << shown_num(best.fitness, 10) << (best.failed ? " (failed)" : "") << ", found in generation " << best.generation
       << " (island " << best.island << ", individual " << best.individual << "). " << esc(notes.replay) << "</p>";
   for (const std::string* t : {&notes.trials, &notes.noise})
     if (!t->empty()) o << "<p>" << (t == &notes.noise ? "<b>Warning:</b> " : "") << esc(*t) << ".</p>";
@@ -159,15 +166,15 @@ std::string report_html(const Problem& pr, const std::vector<HistoryRow>& rows, 
       << (exact ? "<th>exact solver</th>" : "") << (pic ? "<th>board</th>" : "") << "<th class='l'>flags</th></tr>";
     auto cell = [&](const EvalResult& r) {
       if (r.failed) return "<td class='l'>fails: " + esc(r.why) + "</td>";
-      std::string t = shown_num(r.fitness, "%.6g");
-      if (r.trials > 1 && std::isfinite(r.fitness_sd)) t += " &plusmn; " + shown_num(r.fitness_sd, "%.3g");
+      std::string t = shown_num(r.fitness, 6);
+      if (r.trials > 1 && std::isfinite(r.fitness_sd)) t += " &plusmn; " + shown_num(r.fitness_sd, 3);
       return "<td>" + t + " (" + std::to_string(r.trials) + ")</td>";
     };
     for (size_t l = 0; l < v->leaders.size(); ++l) {
       const VerifiedLeader& x = v->leaders[l];
       o << "<tr><td class='l'><code>" << esc(x.search.genome) << "</code>"
         << (static_cast<int>(l) == v->best ? " <b>(verified best)</b>" : "") << "</td>" << cell(x.search.result)
-        << cell(x.fresh) << "<td>" << shown_num(x.fresh.fitness_min, "%.6g") << " .. " << shown_num(x.fresh.fitness_max, "%.6g")
+        << cell(x.fresh) << "<td>" << shown_num(x.fresh.fitness_min, 6) << " .. " << shown_num(x.fresh.fitness_max, 6)
         << "</td>";
       if (exact) o << (x.has_exact ? cell(x.exact) : "<td></td>");
       if (pic) o << (x.has_pic ? cell(x.pic) : "<td></td>");
@@ -195,9 +202,9 @@ std::string report_html(const Problem& pr, const std::vector<HistoryRow>& rows, 
   o << "<th>first seen</th><th class='l'>fault or why</th></tr>";
   for (size_t i = 0; i < distinct.size() && i < 15; ++i) {
     const HistoryRow& r = *distinct[i];
-    o << "<tr><td class='l'><code>" << esc(r.genome) << "</code></td><td>" << shown_num(r.result.fitness, "%.6g") << "</td><td>"
-      << r.result.trials << "</td><td>" << shown_num(r.result.fitness_sd, "%.3g") << "</td><td>"
-      << shown_num(r.result.fitness_min, "%.6g") << " .. " << shown_num(r.result.fitness_max, "%.6g") << "</td>";
+    o << "<tr><td class='l'><code>" << esc(r.genome) << "</code></td><td>" << shown_num(r.result.fitness, 6) << "</td><td>"
+      << r.result.trials << "</td><td>" << shown_num(r.result.fitness_sd, 3) << "</td><td>"
+      << shown_num(r.result.fitness_min, 6) << " .. " << shown_num(r.result.fitness_max, 6) << "</td>";
     for (double m : r.result.measures) o << "<td>" << shown_num(m) << "</td>";
     o << "<td>gen " << r.generation << (pr.ga.islands > 1 ? " island " + std::to_string(r.island) : std::string())
       << " #" << r.individual << "</td><td class='l'>" << esc(r.result.why)
@@ -210,7 +217,7 @@ std::string report_html(const Problem& pr, const std::vector<HistoryRow>& rows, 
        "<th>failed</th><th>cache hits</th><th>simulation wall s</th></tr>";
   for (const auto& s : st)
     o << "<tr><td>" << s.generation << "</td><td>" << shown_num(s.best) << "</td><td>" << shown_num(s.mean) << "</td><td>"
-      << shown_num(s.worst) << "</td><td>" << s.failed << "</td><td>" << s.cached << "</td><td>" << shown_num(s.wall_s, "%.1f")
+      << shown_num(s.worst) << "</td><td>" << s.failed << "</td><td>" << s.cached << "</td><td>" << shown_fixed(s.wall_s, 1)
       << "</td></tr>";
   o << "</table>";
   if (!replay_html.empty())

@@ -2,36 +2,11 @@
 
 #include <nlohmann/json.hpp>
 
-#include <cstdlib>
-#include <fstream>
-#include <sstream>
+#include "output/run_reader.h"
 
 namespace chainsim {
 
 namespace {
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw RunOutcomeError(path + ": cannot open");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::vector<std::string> split(const std::string& line, char sep) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (char c : line) {
-    if (c == sep) {
-      out.push_back(cur);
-      cur.clear();
-    } else if (c != '\r') {
-      cur += c;
-    }
-  }
-  out.push_back(cur);
-  return out;
-}
 
 // index of "m<k>.<body>.x" for the first (or last) body of module k
 int body_x_column(const std::vector<std::string>& cols, int k, bool last) {
@@ -48,14 +23,13 @@ int body_x_column(const std::vector<std::string>& cols, int k, bool last) {
   return found;
 }
 
-}  // namespace
 
-RunOutcome parse_run_outcome(const std::string& summary_json, const std::string& trace_csv,
-                           const std::string& source) {
+// the outcome from the run's files (the trace read with outcome_column)
+RunOutcome outcome_of(RunReader& run) {
   RunOutcome r;
-  nlohmann::json s;
+  const std::string summary_file = run.dir() + "/summary.json";
   try {
-    s = nlohmann::json::parse(summary_json);
+    const nlohmann::json& s = run.summary();
     r.sim_time_s = s.at("sim_time_s").get<double>();
     std::string module_fault;  // with --on-module-fault=limp a run can finish with one
     for (const auto& m : s.at("modules")) {
@@ -77,39 +51,48 @@ RunOutcome parse_run_outcome(const std::string& summary_json, const std::string&
     r.finished = r.fault.empty();
     if (s.contains("early_stop") && s["early_stop"].is_string()) r.early_stop = s["early_stop"].get<std::string>();
   } catch (const nlohmann::json::exception& e) {
-    throw RunOutcomeError(source + "/summary.json: " + e.what());
+    throw RunReadError(summary_file + ": " + e.what());
   }
 
-  std::istringstream in(trace_csv);
-  std::string line;
-  if (!std::getline(in, line)) throw RunOutcomeError(source + "/trace.csv: empty");
-  const std::vector<std::string> cols = split(line, ',');
+  const std::vector<std::string>& cols = run.trace_columns();
   const int hx = body_x_column(cols, 0, false);
   const int tx = body_x_column(cols, r.modules - 1, true);
   if (hx < 0 || tx < 0)
-    throw RunOutcomeError(source + "/trace.csv: no body position columns for modules 0 and " +
-                         std::to_string(r.modules - 1));
-  int row = 1;
-  while (std::getline(in, line)) {
-    ++row;
-    if (line.empty()) continue;
-    const std::vector<std::string> v = split(line, ',');
-    if (v.size() != cols.size()) {
-      // a run stopped by a fault may end in a torn row; anything else is damage
-      if (in.peek() == EOF) break;
-      throw RunOutcomeError(source + "/trace.csv:" + std::to_string(row) + ": " + std::to_string(v.size()) +
-                           " fields, the header has " + std::to_string(cols.size()));
-    }
-    auto num = [&](int i) { return std::strtod(v[static_cast<size_t>(i)].c_str(), nullptr); };
-    r.t_s.push_back(num(0));
-    r.head.emplace_back(num(hx), num(hx + 1), num(hx + 2));
-    r.tail.emplace_back(num(tx), num(tx + 1), num(tx + 2));
-  }
+    throw RunReadError(run.dir() + "/trace.csv: no body position columns for modules 0 and " +
+                       std::to_string(r.modules - 1));
+  const auto track = [&](int x) {
+    const std::vector<double>* c[3];
+    for (int i = 0; i < 3; ++i) c[i] = run.trace_column(cols[static_cast<size_t>(x + i)]);
+    std::vector<Eigen::Vector3d> out;
+    out.reserve(c[0]->size());
+    for (size_t k = 0; k < c[0]->size(); ++k) out.emplace_back((*c[0])[k], (*c[1])[k], (*c[2])[k]);
+    return out;
+  };
+  r.t_s = run.trace_time();
+  r.head = track(hx);
+  r.tail = track(tx);
   return r;
 }
 
+// the columns outcome_of reads: time and body positions
+bool outcome_column(const std::string& name) {
+  if (name == "t_s") return true;
+  const size_t n = name.size();
+  return name.rfind("m", 0) == 0 && n > 2 && name[n - 2] == '.' &&
+         (name[n - 1] == 'x' || name[n - 1] == 'y' || name[n - 1] == 'z');
+}
+
+}  // namespace
+
+RunOutcome parse_run_outcome(const std::string& summary_json, const std::string& trace_csv,
+                             const std::string& source) {
+  RunReader run = RunReader::from_text(source, summary_json, trace_csv, {{}, outcome_column});
+  return outcome_of(run);
+}
+
 RunOutcome read_run_outcome(const std::string& run_dir) {
-  return parse_run_outcome(slurp(run_dir + "/summary.json"), slurp(run_dir + "/trace.csv"), run_dir);
+  RunReader run(run_dir, {{}, outcome_column});
+  return outcome_of(run);
 }
 
 }  // namespace chainsim

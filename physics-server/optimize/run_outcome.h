@@ -5,9 +5,10 @@
 
 #include <Eigen/Core>
 
-#include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "output/run_reader.h"
 
 namespace chainsim {
 
@@ -23,12 +24,9 @@ struct RunOutcome {
   double energy_j = 0;           // summed over the modules
 };
 
-struct RunOutcomeError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-
-// reads run_dir/summary.json and run_dir/trace.csv; throws RunOutcomeError
-// naming the file when one is missing or malformed
+// reads run_dir/summary.json and run_dir/trace.csv through the run reader
+// (output/run_reader.h), keeping only the trace's time and body positions;
+// throws RunReadError naming the file when one is missing or malformed
 RunOutcome read_run_outcome(const std::string& run_dir);
 
 // the same from the files' text (tests); source names them in errors

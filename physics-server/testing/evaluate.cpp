@@ -6,7 +6,7 @@
 #include <functional>
 
 #include "testing/motion.h"
-#include "testing/run_record.h"
+#include "output/run_reader.h"
 #include "text/number_text.h"
 
 namespace chainsim {
@@ -36,7 +36,7 @@ void numeric_paths(const nlohmann::json& j, const std::string& pre, std::vector<
     for (size_t i = 0; i < j.size(); ++i) numeric_paths(j[i], pre + "." + std::to_string(i), out);
 }
 
-CheckResult summary_value(const Expectation& e, RunRecord& run) {
+CheckResult summary_value(const Expectation& e, RunReader& run) {
   const nlohmann::json* j = &run.summary();
   size_t b = 0;
   for (;;) {
@@ -67,7 +67,7 @@ CheckResult summary_value(const Expectation& e, RunRecord& run) {
   return compared(e.cmp, j->get<double>(), run.end_s());
 }
 
-const std::vector<double>& trace_column(const Expectation& e, RunRecord& run) {
+const std::vector<double>& trace_column(const Expectation& e, RunReader& run) {
   if (const auto* c = run.trace_column(e.path)) return *c;
   // name the columns of the same module (or the first ones)
   const size_t dot = e.path.find('.');
@@ -83,7 +83,7 @@ const std::vector<double>& trace_column(const Expectation& e, RunRecord& run) {
                         ": " + list + (n > 40 ? ", ..." : "") + ")");
 }
 
-CheckResult trace_stat(const Expectation& e, RunRecord& run) {
+CheckResult trace_stat(const Expectation& e, RunReader& run) {
   const auto& v = trace_column(e, run);
   const auto& t = run.trace_time();
   if (v.empty()) return {false, "the trace has no rows", NAN, run.end_s()};
@@ -146,7 +146,7 @@ CheckResult timed(const Timing& tm, double first_t, int count, const std::string
   return r;
 }
 
-CheckResult trace_when(const Expectation& e, RunRecord& run) {
+CheckResult trace_when(const Expectation& e, RunReader& run) {
   const auto& v = trace_column(e, run);
   const auto& t = run.trace_time();
   for (size_t i = 0; i < v.size(); ++i)
@@ -154,7 +154,7 @@ CheckResult trace_when(const Expectation& e, RunRecord& run) {
   return timed(e.timing, 0, 0, "", run.end_s());
 }
 
-int endpoint(const EndpointName& who, RunRecord& run) {
+int endpoint(const EndpointName& who, RunReader& run) {
   const int n = run.module_count();
   if (!who.central && who.module >= n)
     throw EvaluationError(who.text() + ": the chain has " + std::to_string(n) + " modules (m0.." +
@@ -162,7 +162,7 @@ int endpoint(const EndpointName& who, RunRecord& run) {
   return run.endpoint_index(who.central, who.module);
 }
 
-CheckResult log_match(const Expectation& e, RunRecord& run) {
+CheckResult log_match(const Expectation& e, RunReader& run) {
   const auto& lines = run.log(endpoint(e.who, run));
   double first = 0;
   std::string first_text;
@@ -180,7 +180,7 @@ bool field_is(const BusEvent& ev, const char* key, long want, int base) {
   return it != ev.field.end() && std::strtol(it->second.c_str(), nullptr, base) == want;
 }
 
-CheckResult bus_match(const Expectation& e, RunRecord& run, const std::string& event,
+CheckResult bus_match(const Expectation& e, RunReader& run, const std::string& event,
                       const std::function<bool(const BusEvent&)>& match) {
   double first = 0;
   int count = 0;
@@ -192,7 +192,7 @@ CheckResult bus_match(const Expectation& e, RunRecord& run, const std::string& e
   return timed(e.timing, first, count, "", run.end_s());
 }
 
-CheckResult bus(const Expectation& e, RunRecord& run) {
+CheckResult bus(const Expectation& e, RunReader& run) {
   if (e.event == "i2c" || e.event == "i2c-drop") {
     const int from = e.from ? endpoint(*e.from, run) : -1;
     return bus_match(e, run, e.event, [&](const BusEvent& ev) {
@@ -216,7 +216,7 @@ CheckResult bus(const Expectation& e, RunRecord& run) {
   });
 }
 
-CheckResult no_faults(RunRecord& run) {
+CheckResult no_faults(RunReader& run) {
   CheckResult r;
   int n = 0;
   std::string first;
@@ -242,7 +242,7 @@ CheckResult no_faults(RunRecord& run) {
 
 }  // namespace
 
-CheckResult evaluate(const Expectation& e, RunRecord& run) {
+CheckResult evaluate(const Expectation& e, RunReader& run) {
   try {
     switch (e.kind) {
       case Expectation::Kind::no_faults: return no_faults(run);
@@ -265,7 +265,7 @@ CheckResult evaluate(const Expectation& e, RunRecord& run) {
         });
       }
     }
-  } catch (const RunRecordError& x) {
+  } catch (const RunReadError& x) {
     return {false, std::string("cannot be measured: ") + x.what(), NAN, -1};
   }
   return {};

@@ -9,7 +9,7 @@
 
 namespace chainsim {
 
-class RunRecord;
+class RunReader;
 
 // the expectation names something no run of this scene has: an unknown
 // summary path, trace column, motion metric or module; a mistake in the test
@@ -25,9 +25,9 @@ struct CheckResult {
   double t_s = -1;       // the simulated time that shows the outcome (for a picture of a failure)
 };
 
-// measures e in run; throws EvaluationError, or RunRecordError when a file
-// of the run directory is missing or broken, or RunRecordStopped when the
+// measures e in run; throws EvaluationError, or RunReadError when a file
+// of the run directory is missing or broken, or RunReadStopped when the
 // run record's stop check says so
-CheckResult evaluate(const Expectation& e, RunRecord& run);
+CheckResult evaluate(const Expectation& e, RunReader& run);
 
 }  // namespace chainsim

@@ -4,7 +4,7 @@
 #include <map>
 
 #include "physics/units.h"
-#include "testing/run_record.h"
+#include "output/run_reader.h"
 
 namespace chainsim {
 namespace {
@@ -14,7 +14,7 @@ constexpr double kEndWindowS = 1.0;
 constexpr double kPathWindowS = 0.5;
 
 // the body prefixes "mK.<body>" of each module, in trace order
-std::vector<std::vector<std::string>> bodies_by_module(RunRecord& run) {
+std::vector<std::vector<std::string>> bodies_by_module(RunReader& run) {
   std::map<int, std::vector<std::string>> by;
   for (const std::string& c : run.trace_columns()) {
     if (c.size() < 5 || c[0] != 'm' || c.compare(c.size() - 2, 2, ".x") != 0) continue;
@@ -33,7 +33,7 @@ std::vector<std::vector<std::string>> bodies_by_module(RunRecord& run) {
   return out;
 }
 
-const std::vector<double>& col(RunRecord& run, const std::string& name) {
+const std::vector<double>& col(RunReader& run, const std::string& name) {
   const auto* c = run.trace_column(name);
   if (!c) throw MotionError("trace.csv has no column " + name);
   return *c;
@@ -50,7 +50,7 @@ double window_mean(const std::vector<double>& t, const std::vector<double>& v, d
 
 }  // namespace
 
-ChainMotion chain_motion(RunRecord& run) {
+ChainMotion chain_motion(RunReader& run) {
   const auto& t = run.trace_time();
   const size_t T = t.size();
   if (T < 2) throw MotionError("the trace has fewer than 2 rows");
@@ -108,7 +108,7 @@ ChainMotion chain_motion(RunRecord& run) {
 
 // q_prev^-1 q_cur is each row's rotation in the body frame; its part about
 // the local z axis is 2 atan2(z, w)
-static double twist_deg(RunRecord& run, const std::string& body) {
+static double twist_deg(RunReader& run, const std::string& body) {
   const auto& qw = col(run, body + ".qw");
   const auto& qx = col(run, body + ".qx");
   const auto& qy = col(run, body + ".qy");
@@ -131,7 +131,7 @@ const std::vector<std::string>& motion_metric_names() {
   return names;
 }
 
-double motion_metric(RunRecord& run, const std::string& name) {
+double motion_metric(RunReader& run, const std::string& name) {
   static const std::string kTwist = ".twist_deg";
   if (name.size() > kTwist.size() && name.compare(name.size() - kTwist.size(), kTwist.size(), kTwist) == 0) {
     const std::string body = name.substr(0, name.size() - kTwist.size());

@@ -20,7 +20,7 @@
 
 namespace chainsim {
 
-class RunRecord;
+class RunReader;
 
 // a metric that does not exist (unknown: a mistake in the test file) or that
 // cannot be computed for this run (e.g. a trace cut short by a fault)
@@ -38,11 +38,11 @@ struct ChainMotion {
 };
 
 // the chain's motion over the whole trace; throws MotionError
-ChainMotion chain_motion(RunRecord& run);
+ChainMotion chain_motion(RunReader& run);
 
 // motion.<name> of a run: dx_m, dy_m, dz_m, distance_m, heading_deg, axial_m,
 // lateral_m, or mK.<body>.twist_deg; throws MotionError naming the known ones
-double motion_metric(RunRecord& run, const std::string& name);
+double motion_metric(RunReader& run, const std::string& name);
 
 // the metric names motion_metric knows (twist as mK.<body>.twist_deg)
 const std::vector<std::string>& motion_metric_names();

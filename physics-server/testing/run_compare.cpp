@@ -50,7 +50,7 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 }
 
 // the servo set-point columns of module m: (column, tolerance)
-std::vector<std::pair<std::string, double>> setpoint_columns(RunRecord& r, int m, const CompareTolerances& tol) {
+std::vector<std::pair<std::string, double>> setpoint_columns(RunReader& r, int m, const CompareTolerances& tol) {
   std::vector<std::pair<std::string, double>> out;
   const std::string prefix = "m" + std::to_string(m) + ".s";
   for (const std::string& c : r.trace_columns()) {
@@ -64,7 +64,7 @@ std::vector<std::pair<std::string, double>> setpoint_columns(RunRecord& r, int m
 
 // a set-point column: the first row where either run's value has no match
 // in the other's within the lag window
-void compare_setpoint(RunRecord& a, RunRecord& b, const std::string& col, double tol, double cut,
+void compare_setpoint(RunReader& a, RunReader& b, const std::string& col, double tol, double cut,
                       const CompareTolerances& t, EndpointComparison* ec) {
   const std::string channel = "setpoint " + col.substr(0, col.rfind('.'));
   const auto* va = a.trace_column(col);
@@ -129,7 +129,7 @@ SetpointLag best_lag(const std::string& col, const std::vector<double>& a, const
 }
 
 // the time of the fault bus.log records for an endpoint named who
-double fault_time(RunRecord& r, const std::string& name_prefix) {
+double fault_time(RunReader& r, const std::string& name_prefix) {
   for (const BusEvent& e : r.bus())
     if (e.event == "fault" && e.text.rfind(name_prefix, 0) == 0) return static_cast<double>(e.t_us) * 1e-6;
   return r.end_s();
@@ -150,7 +150,7 @@ const Divergence* CompareReport::first() const {
   return best;
 }
 
-CompareReport compare_runs(RunRecord& a, RunRecord& b, const std::string& label_a, const std::string& label_b,
+CompareReport compare_runs(RunReader& a, RunReader& b, const std::string& label_a, const std::string& label_b,
                            const CompareTolerances& tol) {
   CompareReport r;
   r.label_a = label_a;
@@ -182,14 +182,14 @@ CompareReport compare_runs(RunRecord& a, RunRecord& b, const std::string& label_
     ec.who = name + type + ")";
     const int ep = static_cast<int>(e);
 
-    auto logs = [&](RunRecord& r) {
+    auto logs = [&](RunReader& r) {
       std::vector<Item> out;
       for (const LogLine& l : r.log(ep)) out.push_back({l.t_s, l.text});
       return out;
     };
     walk(logs(a), logs(b), cut, "log", 0, &ec);
 
-    auto frames = [&](RunRecord& r) {
+    auto frames = [&](RunReader& r) {
       std::vector<Item> out;
       for (const BusEvent& ev : r.bus()) {
         if (ev.event != "i2c") continue;
@@ -204,7 +204,7 @@ CompareReport compare_runs(RunRecord& a, RunRecord& b, const std::string& label_
     };
     walk(frames(a), frames(b), cut, "i2c", 0, &ec);
 
-    auto edges = [&](RunRecord& r) {
+    auto edges = [&](RunReader& r) {
       std::vector<Item> out;
       for (const BusEvent& ev : r.bus()) {
         if (ev.event != "sync") continue;

@@ -16,7 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "scene/scene.h"
-#include "testing/run_record.h"
+#include "output/run_reader.h"
 
 namespace chainsim {
 
@@ -79,8 +79,8 @@ struct CompareReport {
   const Divergence* first() const;
 };
 
-// throws RunRecordError when a run directory lacks what is compared
-CompareReport compare_runs(RunRecord& a, RunRecord& b, const std::string& label_a, const std::string& label_b,
+// throws RunReadError when a run directory lacks what is compared
+CompareReport compare_runs(RunReader& a, RunReader& b, const std::string& label_a, const std::string& label_b,
                            const CompareTolerances& tol = {});
 
 std::string compare_text(const CompareReport& r);

@@ -25,7 +25,7 @@
 #include "text/number_text.h"
 #include "testing/junit.h"
 #include "testing/run_compare.h"
-#include "testing/run_record.h"
+#include "output/run_reader.h"
 #include "testing/test_file.h"
 
 namespace chainsim {
@@ -121,7 +121,7 @@ std::string tail_of(const std::string& path, size_t n) {
 }
 
 // measures a finished run: each expectation (evaluate.h); a read or a
-// measurement stops with RunRecordStopped once interrupted
+// measurement stops with RunReadStopped once interrupted
 void measure_run(Case& c, int exit_code) {
   TestCaseResult& r = c.result;
   if (exit_code != kExitOk && exit_code != kExitModuleFault && exit_code != kExitSilentModule) {
@@ -130,12 +130,12 @@ void measure_run(Case& c, int exit_code) {
               "): " + tail_of(c.dir + "/chainsim.log", 600);
     return;
   }
-  RunRecord run(c.dir, [] { return g_interrupted != 0; });
+  RunReader run(c.dir, {[] { return g_interrupted != 0; }, {}});
   try {
     const auto& s = run.summary();
     r.trace_sha256 = s.value("trace_sha256", "");
     r.sim_s = run.end_s();
-  } catch (const RunRecordError&) {
+  } catch (const RunReadError&) {
   }
   r.status = TestCaseResult::Status::passed;
   for (const TestExpectation& te : c.test->expect) {
@@ -163,7 +163,7 @@ void measure(Case& c, int exit_code) {
   if (exit_code == kExitInterrupted || g_interrupted) return interrupted(r, "interrupted");
   try {
     measure_run(c, exit_code);
-  } catch (const RunRecordStopped&) {
+  } catch (const RunReadStopped&) {
     interrupted(r, "interrupted while measuring");
   }
 }
@@ -365,7 +365,7 @@ int run_all(const TestRunOptions& o, const FailureViewer& viewer, FILE* out, std
                              "-compare.txt";
     try {
       const auto stop = [] { return g_interrupted != 0; };
-      RunRecord ra(a.dir, stop), rb(b.dir, stop);
+      RunReader ra(a.dir, {stop, {}}), rb(b.dir, {stop, {}});
       const CompareReport rep = compare_runs(ra, rb, target_name(o.compare[0]), target_name(o.compare[1]));
       std::ofstream(file) << compare_text(rep);
       const Divergence* d = rep.first();

@@ -1,7 +1,7 @@
 // Decimal text of numbers for the server's and tools' outputs and messages
 // (trace, logs, reports): the one place these formats live, so equal values
-// give equal bytes everywhere. Always the C locale. (Some messages and the
-// search report still format their own numbers.)
+// give equal bytes everywhere. Always the C locale. (Some one-off messages
+// still format a number in place with snprintf.)
 #pragma once
 
 #include <cstdint>

@@ -31,7 +31,7 @@
 #include "output/run_dir.h"
 #include "scene/scene.h"
 #include "testing/run_compare.h"
-#include "testing/run_record.h"
+#include "output/run_reader.h"
 #include "testing/test_runner.h"
 
 
@@ -101,7 +101,7 @@ int run_compare(const Scene& scene, RunOptions opt, const std::vector<Target>& t
     }
   }
   try {
-    RunRecord a(dirs[0]), b(dirs[1]);
+    RunReader a(dirs[0]), b(dirs[1]);
     const CompareReport report = compare_runs(a, b, target_name(targets[0]), target_name(targets[1]));
     const std::string text = compare_text(report);
     std::ofstream(base + "/compare.txt") << text;

@@ -20,7 +20,7 @@
 #include "viewer/headless_chromium.h"
 #include "cosim/lockstep_server.h"
 #include "testing/run_compare.h"
-#include "testing/run_record.h"
+#include "output/run_reader.h"
 #include "viewer/viewer_page.h"
 
 extern char** environ;
@@ -151,7 +151,7 @@ nlohmann::json compare_boot(const ViewArgs& a, nlohmann::json boot_a, std::vecto
   if (la == lb) la += " (A)", lb += " (B)";
   nlohmann::json boot = {{"mode", "compare"}, {"labels", {la, lb}}};
   try {
-    RunRecord ra(a.run_dir), rb(a.other_dir);
+    RunReader ra(a.run_dir), rb(a.other_dir);
     const CompareReport r = compare_runs(ra, rb, la, lb);
     boot["report"] = compare_json(r);
     boot["report_text"] = compare_text(r);

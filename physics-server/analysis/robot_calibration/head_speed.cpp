@@ -2,11 +2,9 @@
 #include "analysis/robot_calibration/head_speed.h"
 
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
-#include "readers/csv_table.h"
+#include "output/run_reader.h"
 #include "physics/units.h"
 
 namespace chainsim {
@@ -30,26 +28,33 @@ std::optional<Axis> pipe_axis(const Scene& scene) {
   return Axis{std::cos(slope) * std::cos(head), std::cos(slope) * std::sin(head), std::sin(slope)};
 }
 
-double head_speed_cm_s(const std::string& trace_csv_text, const std::string& file, double t0_s,
-                       const std::optional<Axis>& axis) {
-  const CsvTable tab = CsvTable::parse(trace_csv_text, file, {{"t_s"}, {}});
-  // the head's first body: the first position column after the time
-  const std::string first = tab.names().size() > 1 ? tab.names()[1] : "";
+namespace {
+
+// the head's first body: the first position column after the time
+bool head_column(const std::string& name) { return name == "t_s" || name.rfind("m0.", 0) == 0; }
+
+double head_speed(RunReader& run, double t0_s, const std::optional<Axis>& axis) {
+  const std::string file = run.dir() + "/trace.csv";
+  const std::vector<std::string>& names = run.trace_columns();
+  const std::string first = names.size() > 1 ? names[1] : "";
   if (first.rfind("m0.", 0) != 0 || !ends_with(first, ".x"))
     throw std::runtime_error(file + ": no head position columns (m0.<body>.x, .y, .z)");
   const std::string body = first.substr(0, first.size() - 1);
-  const int ct = tab.column("t_s"), cx = tab.find(body + "x"), cy = tab.find(body + "y"), cz = tab.find(body + "z");
-  if (cy < 0 || cz < 0) throw std::runtime_error(file + ": no head position columns " + body + "y, " + body + "z");
+  const std::vector<double>& t = run.trace_time();
+  const std::vector<double>*px = run.trace_column(body + "x"), *py = run.trace_column(body + "y"),
+                           *pz = run.trace_column(body + "z");
+  if (!py || !pz) throw std::runtime_error(file + ": no head position columns " + body + "y, " + body + "z");
   double ta = NAN, tb = NAN, pa[3] = {0, 0, 0}, pb[3] = {0, 0, 0};
-  for (size_t r = 0; r < tab.rows(); ++r) {
-    const double t = tab.number(r, ct);
-    if (t + 1e-9 < t0_s) continue;
-    const double p[3] = {tab.number(r, cx), tab.number(r, cy), tab.number(r, cz)};
-    if (std::isnan(ta)) ta = t, pa[0] = p[0], pa[1] = p[1], pa[2] = p[2];
-    tb = t, pb[0] = p[0], pb[1] = p[1], pb[2] = p[2];
+  for (size_t r = 0; r < t.size(); ++r) {
+    if (t[r] + 1e-9 < t0_s) continue;
+    const double p[3] = {(*px)[r], (*py)[r], (*pz)[r]};
+    if (std::isnan(ta)) ta = t[r], pa[0] = p[0], pa[1] = p[1], pa[2] = p[2];
+    tb = t[r], pb[0] = p[0], pb[1] = p[1], pb[2] = p[2];
   }
   if (std::isnan(ta) || !(tb > ta)) throw std::runtime_error(file + ": the run is shorter than the speed window");
   const double d[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
+  if (!std::isfinite(d[0]) || !std::isfinite(d[1]) || !std::isfinite(d[2]))
+    throw std::runtime_error(file + ": the head's position is not finite in the speed window");
   double dir[3];
   if (axis) {
     for (int i = 0; i < 3; ++i) dir[i] = (*axis)[i];
@@ -60,12 +65,17 @@ double head_speed_cm_s(const std::string& trace_csv_text, const std::string& fil
   return 100 * (d[0] * dir[0] + d[1] * dir[1] + d[2] * dir[2]) / (tb - ta);
 }
 
-double head_speed_from_trace(const std::string& trace_csv, double t0_s, const std::optional<Axis>& axis) {
-  std::ifstream in(trace_csv, std::ios::binary);
-  if (!in) throw std::runtime_error(trace_csv + ": cannot read the run's trace");
-  std::stringstream text;
-  text << in.rdbuf();
-  return head_speed_cm_s(text.str(), trace_csv, t0_s, axis);
+}  // namespace
+
+double head_speed_cm_s(const std::string& trace_csv_text, const std::string& run_dir, double t0_s,
+                       const std::optional<Axis>& axis) {
+  RunReader run = RunReader::from_text(run_dir, std::nullopt, trace_csv_text, {{}, head_column});
+  return head_speed(run, t0_s, axis);
+}
+
+double head_speed_of_run(const std::string& run_dir, double t0_s, const std::optional<Axis>& axis) {
+  RunReader run(run_dir, {{}, head_column});
+  return head_speed(run, t0_s, axis);
 }
 
 }  // namespace chainsim

@@ -82,7 +82,7 @@ std::vector<double> SceneRunner::speeds(const KnobSetting& st) {
     if (!st_i.exited || st_i.code != 0)
       throw RobotError("chainsim run " + scene[i] + " failed (" + st_i.text() + "): " + log_text(log[i]));
     try {
-      v[i] = head_speed_from_trace(out[i] + "/trace.csv", opt_.window_start_s, pipe_axis(scenes_.scene(i)));
+      v[i] = head_speed_of_run(out[i], opt_.window_start_s, pipe_axis(scenes_.scene(i)));
     } catch (const std::exception& e) {
       throw RobotError(std::string("chainsim run ") + scene[i] + ": " + e.what());
     }

@@ -55,8 +55,8 @@ TEST(RunOutcome, ReadsTracksEnergyAndHowTheRunEnded) {
   const RunOutcome limp = parse_run_outcome(summary(0, "", "crashed"), kTrace, "run");
   EXPECT_FALSE(limp.finished);  // finished its time, but with a module powered off
   EXPECT_EQ(limp.fault, "crashed");
-  EXPECT_THROW(parse_run_outcome("{", kTrace, "run"), RunOutcomeError);
-  EXPECT_THROW(parse_run_outcome(summary(0), "t_s,a\n1,2\n", "run"), RunOutcomeError);
+  EXPECT_THROW(parse_run_outcome("{", kTrace, "run"), RunReadError);
+  EXPECT_THROW(parse_run_outcome(summary(0), "t_s,a\n1,2\n", "run"), RunReadError);
 }
 
 TEST(Objective, MeasuresAlongAnAxis) {

@@ -11,7 +11,7 @@
 
 #include "testing/evaluate.h"
 #include "testing/motion.h"
-#include "testing/run_record.h"
+#include "output/run_reader.h"
 
 using namespace chainsim;
 
@@ -61,7 +61,7 @@ class RunDir : public ::testing::Test {
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
   CheckResult check(const std::string& text) {
-    RunRecord run(dir_);
+    RunReader run(dir_);
     return evaluate(parse_expectation(text), run);
   }
   std::string error(const std::string& text) {
@@ -167,7 +167,7 @@ TEST_F(RunDir, BusEvents) {
 }
 
 TEST_F(RunDir, ChainMotion) {
-  RunRecord run(dir_);
+  RunReader run(dir_);
   const ChainMotion m = chain_motion(run);
   // centroid: mean of [0, 0.2] at 0.06 m, of [2, 3] at 0.30 m
   EXPECT_NEAR(m.dx_m, 0.24, 1e-9);
@@ -186,19 +186,19 @@ TEST_F(RunDir, AMissingFileFailsTheExpectation) {
   std::filesystem::remove(dir_ + "/trace.csv");
   const CheckResult r = check("trace.m0.body.x final > 0");
   EXPECT_FALSE(r.pass);
-  EXPECT_NE(r.measured.find("cannot read"), std::string::npos) << r.measured;
+  EXPECT_NE(r.measured.find(dir_ + "/trace.csv: cannot open"), std::string::npos) << r.measured;
 }
 
 // chainsim test interrupted: a run record whose stop check says so gives up
-// reading and matching with RunRecordStopped, a log as a trace or the bus
+// reading and matching with RunReadStopped, a log as a trace or the bus
 TEST_F(RunDir, AStopCheckEndsReadingAndMatching) {
   bool stop = false;
-  RunRecord run(dir_, [&] { return stop; });
+  RunReader run(dir_, {[&] { return stop; }, {}});
   EXPECT_TRUE(evaluate(parse_expectation("log central /sensors 0x20/ count == 2"), run).pass);
   stop = true;
   for (const char* e : {"log central /sensors 0x20/ count == 2", "log m0 /contact/ never", "bus i2c-drop never",
                         "trace.m0.s0.current_a max < 1"}) {
-    RunRecord fresh(dir_, [&] { return stop; });
-    EXPECT_THROW(evaluate(parse_expectation(e), fresh), RunRecordStopped) << e;
+    RunReader fresh(dir_, {[&] { return stop; }, {}});
+    EXPECT_THROW(evaluate(parse_expectation(e), fresh), RunReadStopped) << e;
   }
 }

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "analysis/robot_calibration/head_speed.h"
+#include "output/run_reader.h"
 #include "analysis/robot_calibration/speed_table.h"
 #include "readers/csv_table.h"
 #include "physics/units.h"
@@ -33,30 +34,30 @@ std::string trace(const Axis& u, double until_s = 2.0) {
 TEST(HeadSpeed, AlongTheAxisFromTheWindowStart) {
   const double c = std::cos(30 * kPi / 180), s = std::sin(30 * kPi / 180);
   const Axis u = {0, c, s};
-  EXPECT_NEAR(head_speed_cm_s(trace(u), "trace.csv", 1.0, u), 2.0, 1e-6);
+  EXPECT_NEAR(head_speed_cm_s(trace(u), "run", 1.0, u), 2.0, 1e-6);
   // with no axis: along its own displacement (the same here)
-  EXPECT_NEAR(head_speed_cm_s(trace(u), "trace.csv", 1.0, std::nullopt), 2.0, 1e-6);
+  EXPECT_NEAR(head_speed_cm_s(trace(u), "run", 1.0, std::nullopt), 2.0, 1e-6);
   // across the motion: nothing
-  EXPECT_NEAR(head_speed_cm_s(trace(u), "trace.csv", 1.0, Axis{1, 0, 0}), 0.0, 1e-6);
+  EXPECT_NEAR(head_speed_cm_s(trace(u), "run", 1.0, Axis{1, 0, 0}), 0.0, 1e-6);
   // the window starts at the first row at or after t0: 0.5 s sees the wobble's half period too
-  EXPECT_NEAR(head_speed_cm_s(trace(u), "trace.csv", 0.5, u), 2.0, 1e-6);
+  EXPECT_NEAR(head_speed_cm_s(trace(u), "run", 0.5, u), 2.0, 1e-6);
 }
 
 TEST(HeadSpeed, ATraceThatCannotBeMeasuredIsAnError) {
   const Axis u = {1, 0, 0};
-  EXPECT_THROW(head_speed_cm_s(trace(u, 0.9), "trace.csv", 1.0, u), std::runtime_error);  // ends before
-  EXPECT_THROW(head_speed_cm_s("t_s,m0.s0.command\n0,1\n1,1\n", "trace.csv", 0, u), std::runtime_error);
+  EXPECT_THROW(head_speed_cm_s(trace(u, 0.9), "run", 1.0, u), std::runtime_error);  // ends before
+  EXPECT_THROW(head_speed_cm_s("t_s,m0.s0.command\n0,1\n1,1\n", "run", 0, u), std::runtime_error);
   std::string bad = trace(u);
   bad.replace(bad.find("0.100000,"), 9, "0.1x0000,");
   try {
-    head_speed_cm_s(bad, "trace.csv", 0, u);
+    head_speed_cm_s(bad, "run", 0, u);
     FAIL() << "no error";
-  } catch (const CsvError& e) {
-    EXPECT_NE(std::string(e.what()).find("trace.csv:3:1: '0.1x0000' in column 't_s' is not a number"),
+  } catch (const RunReadError& e) {
+    EXPECT_NE(std::string(e.what()).find("run/trace.csv:3:1: '0.1x0000' in column 't_s' is not a number"),
               std::string::npos)
         << e.what();
   }
-  EXPECT_THROW(head_speed_from_trace("/no/such/trace.csv", 0, u), std::runtime_error);
+  EXPECT_THROW(head_speed_of_run("/no/such/run", 0, u), RunReadError);
 }
 
 TEST(HeadSpeed, PipeAxisFromTheScenesFirstStraightSegment) {
