@@ -1,14 +1,17 @@
-// An individual as a scene: the problem's base scene with the genome applied
-// (the chain string, program parameters), its own seed and duration, and
-// every file it names made absolute so that the text runs from anywhere.
-// This text is what `chainsim run` simulates for the individual, and what
-// best.yaml holds.
+// An individual as a scene: the problem's base scene (as loaded) with the
+// genome applied through scene/'s edits (scene_edit.h: the chain string,
+// program parameters), its own seed and duration, and written by
+// write_scene (scene_write.h), which makes every file it names absolute so
+// that the text runs from anywhere. This text is what `chainsim run`
+// simulates for the individual, and what best.yaml holds.
 #pragma once
 
 #include <cstdint>
 #include <string>
 
 #include "optimize/genome.h"
+#include "scene/scene.h"
+#include "scene/scene_edit.h"  // program_file_name: what a program[NAME] target matches
 
 namespace chainsim {
 
@@ -16,17 +19,16 @@ struct Problem;
 
 // the seed of an individual's run: from the search seed and the individual's
 // key only (never from the worker that runs it), in 0 .. 2^62 - 1
-// the file name of a program as a scene names it ("fw-sine" of "../build/fw-sine"):
-// what a program[NAME] target matches
-std::string program_file_name(const std::string& program);
-
 uint64_t evaluation_seed(uint64_t search_seed, const std::string& key);
 
-// the scene text; throws SceneError if the base scene cannot take the genome.
+// the scene; throws SceneError if the base scene cannot take the genome.
 // seed is the trial's: the run's seed, and (with evaluation.perturb) where
 // the start pose's perturbation is drawn from. solver "exact" runs it with
 // the converged solver (verification); "" as the base scene says. target
 // "native" or "pic" puts every endpoint on it ("": the problem's --target).
+Scene individual_scene(const Problem& problem, const Phenotype& p, uint64_t seed, const std::string& solver = "",
+                       const std::string& target = "");
+// the same as the text of a scene file (write_scene)
 std::string individual_scene_yaml(const Problem& problem, const Phenotype& p, uint64_t seed,
                                   const std::string& solver = "", const std::string& target = "");
 

@@ -288,8 +288,7 @@ void load_evaluation(const SceneYaml& y, const YAML::Node& e, Problem* pr) {
   if (ev.fitness != TrialFitness::Quantile && e["quantile"])
     y.fail(e["quantile"], "'evaluation.quantile' applies to 'fitness: quantile' only");
   ev.quantile = y.number(e, "quantile", 0.5, 0, 1, path);
-  const YAML::Node placement = YAML::Load(pr->scene_text)["placement"];
-  const bool pipe_entry = placement && placement.IsMap() && placement["at"];
+  const bool pipe_entry = pr->scene->placement.at_pipe_entry;
   if (const YAML::Node p = e["perturb"]) load_perturb(y, p, pipe_entry, &ev.perturb);
   if (const YAML::Node st = e["stop_when"]) {
     Scene tmp;
@@ -350,10 +349,10 @@ void load_base_scene(const SceneYaml& y, const YAML::Node& root, Problem* pr) {
   } catch (const SceneError& e) {
     y.fail(root["scene"], std::string("'scene': ") + e.what());
   }
-  const YAML::Node chain = YAML::Load(pr->scene_text)["chain"];
-  pr->base_modules = chain.IsScalar() ? static_cast<int>(chain.as<std::string>().size()) : static_cast<int>(chain.size());
+  pr->base_modules = static_cast<int>(scene.modules.size());
   if (scene.world.environment.type == EnvironmentType::Pipe)
     pr->pipe = std::make_shared<PipeProgress>(layout_pipe(scene.world.environment.pipe));
+  pr->scene = std::make_shared<const Scene>(std::move(scene));
 }
 
 Problem load(const std::string& text, const std::string& file) {

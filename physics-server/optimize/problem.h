@@ -79,6 +79,7 @@ struct Problem {
   std::string name;
   std::string scene_file;            // the base scene, resolved against the problem's directory
   std::string scene_text;
+  std::shared_ptr<const Scene> scene;  // the base scene as loaded (individual_scene.h edits a copy)
   int base_modules = 0;              // modules in the base scene's chain
   bool exhaustive = false;           // search: exhaustive (every individual, in gene order)
   GenomeSpec genome;

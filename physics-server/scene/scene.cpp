@@ -12,6 +12,7 @@
 
 #include "physics/units.h"
 #include "readers/safe_text.h"
+#include "scene/scene_edit.h"
 #include "scene/scene_environment.h"
 #include "scene/scene_stop.h"
 #include "scene/scene_modules.h"
@@ -21,16 +22,6 @@ namespace chainsim {
 namespace {
 
 using Ctx = SceneYaml;
-
-constexpr size_t kMaxModules = 64;
-
-// a parameter name goes on the wire and into the firmware's lookups: no control characters, no spaces
-bool is_param_name(const std::string& s) {
-  if (s.empty() || s.size() > 15) return false;
-  for (char ch : s)
-    if (!((ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') || ch == '_')) return false;
-  return true;
-}
 
 // map's `params` into *params, and where each key is into *at
 void get_params(const Ctx& c, const YAML::Node& map, const std::string& path,
@@ -53,22 +44,22 @@ Target load_target(const Ctx& c, const YAML::Node& n, const std::string& path) {
   return c.choice(n, "target", "native", {"native", "pic"}, path) == "pic" ? Target::Pic : Target::Native;
 }
 
+// a program given as a relative path resolves against the scene's directory,
+// as mesh and module-type files do (a bare name is looked up at run time)
+void resolve_program(const std::string& base_dir, std::string* program) {
+  if (base_dir.empty()) return;
+  const std::filesystem::path given(*program);
+  if (program->find('/') != std::string::npos && given.is_relative())
+    *program = (std::filesystem::path(base_dir) / given).string();
+}
+
 // `programs: {all: {firmware, params}, <type>: {firmware, params}}`: the
 // program and parameters of every module, and of every module of a type. A
 // module's own firmware wins over its type's, which wins over all's; params
-// merge name by name in the same order.
-struct ProgramDefaults {
-  std::string firmware;  // empty: not given
-  std::string firmware_at;
-  std::optional<Target> target;
-  std::string target_at;
-  std::optional<bool> may_stay_silent;
-  std::map<std::string, int32_t> params;
-  std::map<std::string, std::string> param_at;
-};
-
-std::map<std::string, ProgramDefaults> load_programs(const Ctx& c, const YAML::Node& n, const Scene& s) {
-  std::map<std::string, ProgramDefaults> out;
+// merge name by name in the same order (scene_module_of_type).
+std::map<std::string, SceneProgram> load_programs(const Ctx& c, const YAML::Node& n, const Scene& s,
+                                                  const std::string& base_dir) {
+  std::map<std::string, SceneProgram> out;
   if (!n) return out;
   if (!n.IsMap()) c.fail(n, "'programs' must be a mapping of module type (or all): {firmware, params}");
   for (const auto& kv : n) {
@@ -79,13 +70,14 @@ std::map<std::string, ProgramDefaults> load_programs(const Ctx& c, const YAML::N
                        "the scene's module_types, or all)");
     if (!kv.second.IsMap()) c.fail(kv.second, "'" + p + "' must be a mapping with firmware and/or params");
     c.keys(kv.second, p, {"firmware", "params", "may_stay_silent", "target"});
-    ProgramDefaults d;
+    SceneProgram d;
     if (kv.second["target"]) {
       d.target = load_target(c, kv.second, p);
       d.target_at = c.where(kv.second["target"]);
     }
     if (kv.second["may_stay_silent"]) d.may_stay_silent = c.flag(kv.second, "may_stay_silent", false, p);
     d.firmware = c.string(kv.second, "firmware", "", p);
+    resolve_program(base_dir, &d.firmware);
     if (kv.second["firmware"]) d.firmware_at = c.where(kv.second["firmware"]);
     get_params(c, kv.second, p, &d.params, &d.param_at);
     out[type] = d;
@@ -94,48 +86,36 @@ std::map<std::string, ProgramDefaults> load_programs(const Ctx& c, const YAML::N
 }
 
 // chain: the scene's chain node (a module's own may_stay_silent wins when given)
-void apply_programs(const std::map<std::string, ProgramDefaults>& programs, const YAML::Node& chain, Scene* s) {
-  const auto get = [&](const std::string& key) {
-    const auto it = programs.find(key);
-    return it == programs.end() ? ProgramDefaults{} : it->second;
-  };
-  const ProgramDefaults all = get("all");
+void apply_programs(const YAML::Node& chain, Scene* s) {
   for (size_t i = 0; i < s->modules.size(); ++i) {
     SceneModule& m = s->modules[i];
-    const ProgramDefaults type = get(m.type);
+    const SceneModule from = scene_module_of_type(*s, m.type);
     if (m.firmware.empty()) {
-      const ProgramDefaults& from = !type.firmware.empty() ? type : all;
-      m.firmware = !from.firmware.empty() ? from.firmware : default_firmware(m.type);
-      if (!from.firmware.empty()) m.firmware_at = from.firmware_at;
+      m.firmware = from.firmware;
+      if (!from.firmware_at.empty()) m.firmware_at = from.firmware_at;
     }
-    std::map<std::string, int32_t> params = all.params;
-    std::map<std::string, std::string> at = all.param_at;
-    for (const auto& [k, v] : type.params) params[k] = v;
-    for (const auto& [k, v] : type.param_at) at[k] = v;
+    std::map<std::string, int32_t> params = from.params;
+    std::map<std::string, std::string> at = from.param_at;
     for (const auto& [k, v] : m.params) params[k] = v;
     for (const auto& [k, v] : m.param_at) at[k] = v;
     m.params = params;
     m.param_at = at;
-    if (!(chain.IsSequence() && chain[i]["may_stay_silent"]))
-      m.may_stay_silent = type.may_stay_silent.value_or(all.may_stay_silent.value_or(false));
-    if (m.target_at.empty()) {  // the module's own target wins, then its type's, then all's
-      const ProgramDefaults& from = type.target ? type : all;
-      if (from.target) {
-        m.target = *from.target;
-        m.target_at = from.target_at;
-      }
+    if (!(chain.IsSequence() && chain[i]["may_stay_silent"])) m.may_stay_silent = from.may_stay_silent;
+    if (m.target_at.empty()) {  // the module's own target wins, then its type's, then all's, then the scene's
+      m.target = from.target;
+      m.target_at = from.target_at;
     }
   }
 }
 
-void load_chain(const Ctx& c, const YAML::Node& root, Scene* s) {
+void load_chain(const Ctx& c, const YAML::Node& root, const std::string& base_dir, Scene* s) {
   const YAML::Node n = root["chain"];
   if (!n) c.fail(root, "missing key 'chain' (a string such as \"RRRRRRRR\" or a list of modules)");
   // bounded before anything is built: one process and one socket per module
   const size_t count = n.IsScalar() ? n.Scalar().size() : n.IsSequence() ? n.size() : 0;
-  if (count > kMaxModules)
+  if (count > kMaxSceneModules)
     c.fail(n, "'chain' has " + std::to_string(count) + " modules, more than the limit of " +
-                  std::to_string(kMaxModules));
+                  std::to_string(kMaxSceneModules));
   if (n.IsScalar()) {
     const std::string letters = n.as<std::string>();
     if (letters.empty()) c.fail(n, "'chain' is empty");
@@ -163,6 +143,7 @@ void load_chain(const Ctx& c, const YAML::Node& root, Scene* s) {
       }
       sm.type = c.string(m, "type", "", p);
       sm.firmware = c.string(m, "firmware", "", p);  // empty: apply_programs
+      resolve_program(base_dir, &sm.firmware);
       sm.firmware_at = c.where(m["firmware"] ? m["firmware"] : m);
       get_params(c, m, p, &sm.params, &sm.param_at);
       sm.may_stay_silent = c.flag(m, "may_stay_silent", false, p);
@@ -215,6 +196,11 @@ const char* target_name(Target t) { return t == Target::Pic ? "pic" : "native"; 
 void set_target(Scene* scene, Target t) {
   for (SceneModule& m : scene->modules) m.target = t;
   scene->central.target = t;
+  scene->target = t;
+  for (auto& [type, program] : scene->programs) {
+    program.target.reset();
+    program.target_at.clear();
+  }
 }
 
 bool uses_pic(const Scene& scene) {
@@ -261,22 +247,16 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
       name.empty() || name[0] == '<' ? "" : std::filesystem::path(name).parent_path().string();
   load_scene_environment(name, base_dir, root["environment"], root["contacts"], &s.world);
 
-  load_scene_module_types(name, base_dir, root["module_types"], &s.world);  // scene_modules.cpp
-  load_chain(c, root, &s);
+  load_scene_module_types(name, base_dir, root["module_types"], &s);  // scene_modules.cpp
+  load_chain(c, root, base_dir, &s);
   check_scene_chain_types(name, root["chain"], s);
   // `target`: every endpoint's, unless programs or the module say otherwise
-  std::optional<Target> scene_target;
-  std::string scene_target_at;
   if (root["target"]) {
-    scene_target = load_target(c, root, "scene");
-    scene_target_at = c.where(root["target"]);
+    s.target = load_target(c, root, "scene");
+    s.target_at = c.where(root["target"]);
   }
-  auto programs = load_programs(c, root["programs"], s);
-  if (scene_target && !programs["all"].target) {
-    programs["all"].target = scene_target;
-    programs["all"].target_at = scene_target_at;
-  }
-  apply_programs(programs, root["chain"], &s);
+  s.programs = load_programs(c, root["programs"], s, base_dir);
+  apply_programs(root["chain"], &s);
   if (const YAML::Node p = root["pic"]) {
     c.keys(p, "pic", {"cpu_budget_us", "stall_ms"});
     s.pic.cpu_budget_us = c.integer(p, "cpu_budget_us", 0, 0, 1000000000, "pic");
@@ -285,19 +265,23 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
 
   if (const YAML::Node p = root["placement"]) {
     c.keys(p, "placement", {"position_m", "heading_deg", "roll_deg", "at", "inset_m"});
-    s.world.head_position = c.vec3(p, "position_m", s.world.head_position, "placement");
-    s.world.heading_rad = deg_to_rad(c.number(p, "heading_deg", 0.0, -360.0, 360.0, "placement"));
-    s.world.roll_rad = deg_to_rad(c.number(p, "roll_deg", 0.0, -360.0, 360.0, "placement"));
-    load_scene_placement_at(name, p, s.chain_types(), &s.world);  // at: pipe_entry
+    ScenePlacement& pl = s.placement;
+    pl.position_m = c.vec3(p, "position_m", pl.position_m, "placement");
+    pl.heading_deg = c.number(p, "heading_deg", 0.0, -360.0, 360.0, "placement");
+    pl.roll_deg = c.number(p, "roll_deg", 0.0, -360.0, 360.0, "placement");
+    s.world.head_position = pl.position_m;
+    s.world.heading_rad = deg_to_rad(pl.heading_deg);
+    s.world.roll_rad = deg_to_rad(pl.roll_deg);
+    load_scene_placement_at(name, p, s.chain_types(), &s.world, &pl);  // at: pipe_entry
   }
   load_scene_stop_when(name, root["stop_when"], &s);  // scene_stop.cpp
 
   s.central.type = "central";
   s.central.firmware = "fw-central";
   s.central.firmware_at = c.where(root);
-  if (scene_target) {
-    s.central.target = *scene_target;
-    s.central.target_at = scene_target_at;
+  if (s.target) {
+    s.central.target = *s.target;
+    s.central.target_at = s.target_at;
   }
   if (const YAML::Node ce = root["central"]) {
     c.keys(ce, "central", {"program", "params", "discovery_s", "target"});
@@ -307,20 +291,9 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
     }
     s.discovery_s = c.number(ce, "discovery_s", s.discovery_s, 0.001, 86400.0, "central");
     s.central.firmware = c.string(ce, "program", "fw-central", "central");
+    resolve_program(base_dir, &s.central.firmware);
     s.central.firmware_at = c.where(ce["program"] ? ce["program"] : ce);
     get_params(c, ce, "central", &s.central.params, &s.central.param_at);
-  }
-
-  // a program given as a relative path resolves against the scene's directory,
-  // as mesh and module-type files do (a bare name is looked up at run time)
-  if (!base_dir.empty()) {
-    auto resolve = [&](std::string* program) {
-      const std::filesystem::path given(*program);
-      if (program->find('/') != std::string::npos && given.is_relative())
-        *program = (std::filesystem::path(base_dir) / given).string();
-    };
-    for (SceneModule& m : s.modules) resolve(&m.firmware);
-    resolve(&s.central.firmware);
   }
 
   if (const YAML::Node o = root["output"]) {

@@ -56,6 +56,34 @@ struct StopRule {
   double within_s = 0;        // ... within every window of this long
   double reach_m = 0;         // NotReached: the position to reach ...
   double by_s = 0;            // ... by this time
+  // `along` as written when it is a vector (axis is it normalised): what
+  // write_scene writes, since normalising a normalised vector again can
+  // change its last bit
+  std::optional<Eigen::Vector3d> along_given;
+};
+
+// `programs: {all: {...}, <type>: {...}}` as the scene file gives them: what
+// a module of a type gets unless it says otherwise (scene.cpp's
+// apply_programs, set_chain in scene_edit.h)
+struct SceneProgram {
+  std::string firmware;  // empty: not given; a path resolved as a module's firmware is
+  std::string firmware_at;
+  std::optional<Target> target;
+  std::string target_at;
+  std::optional<bool> may_stay_silent;
+  std::map<std::string, int32_t> params;
+  std::map<std::string, std::string> param_at;
+};
+
+// `placement` as the scene file gives it; WorldConfig's head_position,
+// heading_rad, roll_rad and head_orientation are derived from it and the
+// chain (place_scene_chain in scene_edit.h)
+struct ScenePlacement {
+  bool at_pipe_entry = false;        // `at: pipe_entry`
+  double inset_m = 0.005;            // with at_pipe_entry
+  Eigen::Vector3d position_m{0, 0, 0.02};  // without it
+  double heading_deg = 0;            // without it
+  double roll_deg = 0;
 };
 
 struct Scene {
@@ -82,12 +110,26 @@ struct Scene {
   } pic;
   std::vector<StopRule> stop_when;  // any one ends the run early
 
+  // what the file gives that the fields above hold only merged or derived,
+  // kept so that write_scene (scene_write.h) writes the scene back and the
+  // edits of scene_edit.h keep it whole:
+  // `module_types`: each type's name and its file, resolved against the
+  // scene's directory as loading it was (world.module_types holds the
+  // definitions, in the same order)
+  std::vector<std::pair<std::string, std::string>> module_type_files;
+  std::map<std::string, SceneProgram> programs;  // `programs`, by type or "all"
+  std::optional<Target> target;                  // the scene-wide `target`
+  std::string target_at;
+  ScenePlacement placement;
+
   // the module types of the chain, head first (what World's constructor takes)
   std::vector<std::string> chain_types() const;
 };
 
 // every endpoint (modules and central control) runs on target t, whatever
-// the scene says (`--target` of run, test and optimize)
+// the scene says (`--target` of run, test and optimize); the scene-wide
+// target becomes t and the programs' targets are dropped, so that a module
+// added later (set_chain) and the written scene run on t too
 void set_target(Scene* scene, Target t);
 // whether any endpoint runs on the PIC
 bool uses_pic(const Scene& scene);

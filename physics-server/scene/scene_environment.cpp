@@ -195,7 +195,7 @@ void load_scene_environment(const std::string& file, const std::string& base_dir
 }
 
 void load_scene_placement_at(const std::string& file, const YAML::Node& placement,
-                             const std::vector<std::string>& chain, WorldConfig* world) {
+                             const std::vector<std::string>& chain, WorldConfig* world, ScenePlacement* given) {
   const SceneYaml y{file};
   const YAML::Node at = placement["at"];
   if (!at) {
@@ -207,6 +207,8 @@ void load_scene_placement_at(const std::string& file, const YAML::Node& placemen
     if (placement[k])
       y.fail(placement[k], std::string("'placement.") + k + "' cannot be used with 'placement.at'");
   const double inset = y.number(placement, "inset_m", 0.005, 0, 1000, "placement");
+  given->at_pipe_entry = true;
+  given->inset_m = inset;
   try {
     place_chain_at_pipe_entry(world, chain, inset);
   } catch (const std::invalid_argument& e) {

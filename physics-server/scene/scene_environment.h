@@ -21,8 +21,9 @@ void load_scene_environment(const std::string& file, const std::string& base_dir
                             const YAML::Node& environment, const YAML::Node& contacts,
                             WorldConfig* world);
 
-// `placement.at` and `placement.inset_m` for `chain` (module type names, head first)
+// `placement.at` and `placement.inset_m` for `chain` (module type names,
+// head first), into *world and as given into *given
 void load_scene_placement_at(const std::string& file, const YAML::Node& placement,
-                             const std::vector<std::string>& chain, WorldConfig* world);
+                             const std::vector<std::string>& chain, WorldConfig* world, ScenePlacement* given);
 
 }  // namespace chainsim

@@ -17,7 +17,7 @@ namespace {
 }  // namespace
 
 void load_scene_module_types(const std::string& file, const std::string& base_dir,
-                             const YAML::Node& node, WorldConfig* world) {
+                             const YAML::Node& node, Scene* scene) {
   if (!node) return;
   if (!node.IsMap())
     throw SceneError(SceneYaml{file}.where(node) +
@@ -38,7 +38,8 @@ void load_scene_module_types(const std::string& file, const std::string& base_di
     if (def.type != name)
       throw SceneError(SceneYaml{file}.where(kv.first) + ": 'module_types." + name + "': " + path.string() +
                        " defines type '" + def.type + "', not '" + name + "'");
-    world->module_types.push_back(std::move(def));
+    scene->world.module_types.push_back(std::move(def));
+    scene->module_type_files.emplace_back(name, path.string());
   }
 }
 

@@ -12,11 +12,12 @@
 
 namespace chainsim {
 
-// appends the types of `module_types` (may be absent) to world->module_types;
+// appends the types of `module_types` (may be absent) to
+// scene->world.module_types and their files to scene->module_type_files;
 // relative paths are resolved against base_dir (the scene file's directory;
 // empty = the working directory)
 void load_scene_module_types(const std::string& file, const std::string& base_dir,
-                             const YAML::Node& module_types, WorldConfig* world);
+                             const YAML::Node& module_types, Scene* scene);
 
 // whether type is a built-in module type or one of world's module_types
 bool is_module_type(const WorldConfig& world, const std::string& type);

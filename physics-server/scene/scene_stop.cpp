@@ -27,29 +27,27 @@ std::string stop_rule_text(const StopRule& r) {
 }
 
 YAML::Node stop_rule_yaml(const StopRule& r) {
+  const auto number = [](double v) { return YAML::Node(round_trip_text(v)); };
   YAML::Node n;
   n["of"] = r.tail ? "tail" : "head";
-  if (r.along_pipe) {
-    n["along"] = "pipe";
-  } else {
-    const std::string a = along_text(r);
-    if (a.size() == 1) {
-      n["along"] = a;
-    } else {
-      YAML::Node v(YAML::NodeType::Sequence);
-      for (int i = 0; i < 3; ++i) v.push_back(r.axis[i]);
-      v.SetStyle(YAML::EmitterStyle::Flow);
-      n["along"] = v;
-    }
+  const std::string a = along_text(r);
+  if (r.along_pipe || (a.size() == 1 && !r.along_given)) {
+    n["along"] = r.along_pipe ? "pipe" : a;
+  } else {  // a vector: as written, which reading normalises again
+    YAML::Node v(YAML::NodeType::Sequence);
+    const Eigen::Vector3d along = r.along_given.value_or(r.axis);
+    for (int i = 0; i < 3; ++i) v.push_back(number(along[i]));
+    v.SetStyle(YAML::EmitterStyle::Flow);
+    n["along"] = v;
   }
   YAML::Node e;
   if (r.kind == StopRule::Kind::NoProgress) {
-    n["by_m"] = r.by_m;
-    n["within_s"] = r.within_s;
+    n["by_m"] = number(r.by_m);
+    n["within_s"] = number(r.within_s);
     e["no_progress"] = n;
   } else {
-    n["reach_m"] = r.reach_m;
-    n["by_s"] = r.by_s;
+    n["reach_m"] = number(r.reach_m);
+    n["by_s"] = number(r.by_s);
     e["not_reached"] = n;
   }
   return e;
@@ -92,6 +90,7 @@ void load_scene_stop_when(const std::string& file, const YAML::Node& list, Scene
     if (a && a.IsSequence()) {
       r.axis = y.vec3(n, "along", r.axis, q, 1e6);
       if (r.axis.norm() < 1e-12) y.fail(a, "'" + q + ".along' must not be the zero vector");
+      r.along_given = r.axis;
       r.axis.normalize();
     } else {
       const std::string along = y.choice(n, "along", "x", {"x", "y", "z", "pipe"}, q);

@@ -35,6 +35,12 @@ std::string fixed_text(double value, int decimals) {
   return s;
 }
 
+std::string round_trip_text(double value) {
+  char buf[64];
+  const auto r = std::to_chars(buf, buf + sizeof buf, value);  // shortest; the C locale by definition
+  return std::string(buf, r.ptr);
+}
+
 std::string general_text(double value, int digits) {
   char buf[64];  // "-d.<16 digits>e-308" at most
   if (digits < 1) digits = 1;

@@ -23,4 +23,8 @@ std::string fixed_text(double value, int decimals);
 // clamped to 1..17
 std::string general_text(double value, int digits = 6);
 
+// the shortest decimal text that reads back as exactly this double ("0.1",
+// "1e-05", "0.30000000000000004"): for files that are read again (write_scene)
+std::string round_trip_text(double value);
+
 }  // namespace chainsim
