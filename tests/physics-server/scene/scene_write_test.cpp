@@ -193,14 +193,16 @@ TEST(SceneWrite, DifferencesNameTheField) {
 // scene at a pipe's entry is placed again for the new chain
 TEST(SceneEdit, ChainTakesItsTypesProgramsAndIsPlacedAgain) {
   const fs::path dir = scratch("edit-chain");
-  write_file(dir / "s.yaml", R"(
+  const auto scene_of = [](const std::string& chain) {
+    return R"(
 environment: {type: pipe, pipe: {inner_diameter_m: 0.04, segments: [{type: straight, length_m: 1}]}}
 programs:
   all: {params: {gait: 3}}
   rotation: {firmware: ../bin/fw-rot, params: {amp: 7}}
-chain: TR
 placement: {at: pipe_entry}
-)");
+chain: )" + chain + "\n";
+  };
+  write_file(dir / "s.yaml", scene_of("TR"));
   Scene s = load_scene_file((dir / "s.yaml").string());
   set_chain(&s, "RRT");
   ASSERT_EQ(s.modules.size(), 3u);
@@ -208,14 +210,7 @@ placement: {at: pipe_entry}
   EXPECT_EQ(s.modules[1].params, (std::map<std::string, int32_t>{{"amp", 7}, {"gait", 3}}));
   EXPECT_EQ(s.modules[2].firmware, "fw-touch");
   // the same as the file with that chain says
-  write_file(dir / "t.yaml", R"(
-environment: {type: pipe, pipe: {inner_diameter_m: 0.04, segments: [{type: straight, length_m: 1}]}}
-programs:
-  all: {params: {gait: 3}}
-  rotation: {firmware: ../bin/fw-rot, params: {amp: 7}}
-chain: RRT
-placement: {at: pipe_entry}
-)");
+  write_file(dir / "t.yaml", scene_of("RRT"));
   EXPECT_EQ(scene_differences(s, load_scene_file((dir / "t.yaml").string())), std::vector<std::string>{});
   expect_round_trip(s, dir / "elsewhere");
   // too long for the pipe's straight
