@@ -36,6 +36,11 @@ std::string make_header(const World& w, const std::vector<SensorColumn>& sensors
     }
     for (int k = first[m]; k < first[m + 1]; ++k) out += "," + sensors[k].name;
   }
+  // docks as joints (physics.dock) only: what crosses each dock
+  for (int d = 0; d < w.dock_count(); ++d) {
+    const std::string dp = ",dock" + std::to_string(d) + ".";
+    out += dp + "axial_N" + dp + "shear_N" + dp + "bend_Nm" + dp + "twist_Nm" + dp + "bend_deg";
+  }
   out += "\n";
   return out;
 }
@@ -162,6 +167,14 @@ void TraceWriter::append_row(std::string* out) const {
         case SensorColumn::Source::Counter: integer_field(out, c.channel < 4 ? s.counter[c.channel] : 0); break;
       }
     }
+  }
+  for (int d = 0; d < w.dock_count(); ++d) {
+    const World::DockForce f = w.dock_force(d);
+    field(out, f.axial_n, 4);
+    field(out, f.shear_n, 4);
+    field(out, f.bend_nm, 6);
+    field(out, f.twist_nm, 6);
+    field(out, f.bend_deg, 3);
   }
   out->push_back('\n');
 }

@@ -13,6 +13,8 @@
 // (World::sample): <sensor>.counts (motor current: ADC counts; wheel
 // encoder: its counter), <sensor>.x_counts, .y_counts, .z_counts
 // (accelerometer, ADC counts), <sensor>.in (touch: digital input, 0 or 1).
+// After all modules, only when the docks are joints (physics.dock), per dock
+// k: dock<k>.axial_N, shear_N, bend_Nm, twist_Nm, bend_deg (World::dock_force).
 // docs/outputs.md lists them all.
 #pragma once
 

@@ -113,7 +113,8 @@ class RigidGroups {
 
 std::vector<ModuleBodies> build_chain_bodies(dWorldID world, dSpaceID space,
                                              const std::vector<ModuleDef>& defs,
-                                             const std::vector<Eigen::Isometry3d>& frames) {
+                                             const std::vector<Eigen::Isometry3d>& frames,
+                                             bool share_docks) {
   // every part, numbered module by module
   std::vector<size_t> first(defs.size() + 1, 0);
   for (size_t k = 0; k < defs.size(); ++k) first[k + 1] = first[k] + defs[k].bodies.size();
@@ -130,7 +131,7 @@ std::vector<ModuleBodies> build_chain_bodies(dWorldID world, dSpaceID space,
   for (size_t k = 0; k < defs.size(); ++k) {
     for (const JointDef& jd : defs[k].joints)
       if (jd.type == JointType::Fixed) groups.join(first[k] + jd.child, first[k] + jd.parent);
-    if (k + 1 < defs.size())
+    if (share_docks && k + 1 < defs.size())
       groups.join(first[k] + defs[k].back.body, first[k + 1] + defs[k + 1].front.body);
   }
 

@@ -32,11 +32,14 @@ struct ModuleBodies {
 
 // creates the parts and joints of a chain: module k is defs[k] with its
 // module frame at frames[k] (module frame -> world); module k's back face is
-// docked to module k + 1's front face. Throws std::invalid_argument naming
-// the joint when a hinge or slider would join two parts of one rigid group.
+// docked to module k + 1's front face: the two parts share one body, or, with
+// share_docks false, keep their own (the caller joins them). Throws
+// std::invalid_argument naming the joint when a hinge or slider would join two
+// parts of one rigid group.
 std::vector<ModuleBodies> build_chain_bodies(dWorldID world, dSpaceID space,
                                              const std::vector<ModuleDef>& defs,
-                                             const std::vector<Eigen::Isometry3d>& frames);
+                                             const std::vector<Eigen::Isometry3d>& frames,
+                                             bool share_docks = true);
 
 // a part's own mass in its own frame (centre at its origin), as ODE computes it
 dMass part_mass(const BodyDef& bd);

@@ -135,6 +135,7 @@ struct World::Impl {
   void add_module(int index, const ModuleDef& def, const Eigen::Isometry3d& frame,
                   const ModuleBodies& parts, const WorldConfig& cfg);
   void check_start_clear() const;
+  void add_docks(const WorldConfig::DockConfig& dc);
   void begin_actuators();
   void end_actuators();
 
@@ -160,6 +161,14 @@ struct World::Impl {
   std::vector<Actuator> actuators;
   std::vector<Module> modules;
   Sensors sensors;   // accelerometers, wheel encoders, joint friction (sensors.h)
+  // docks as joints (WorldConfig::dock): dock k joins module k's back part
+  // (body1) to module k + 1's front part (body2); sized once, so the
+  // feedback ODE writes into stays where it is
+  struct Dock {
+    dJointID ball = nullptr, motor = nullptr;
+    dJointFeedback ball_fb{}, motor_fb{};
+  };
+  std::vector<Dock> docks;
 };
 
 World::Impl::~Impl() {
@@ -202,10 +211,11 @@ void World::Impl::build(const WorldConfig& cfg, const std::vector<std::string>& 
     frames.push_back(face * to_isometry(def.front.frame).inverse());
     face = frames.back() * to_isometry(def.back.frame);
   }
-  // docked faces share one body (module_builder.h)
-  const std::vector<ModuleBodies> parts = build_chain_bodies(world, space, defs, frames);
+  // docked faces share one body (module_builder.h), or are joined by joints
+  const std::vector<ModuleBodies> parts = build_chain_bodies(world, space, defs, frames, !cfg.dock);
   for (size_t k = 0; k < defs.size(); ++k)
     add_module(static_cast<int>(k), defs[k], frames[k], parts[k], cfg);
+  if (cfg.dock) add_docks(*cfg.dock);
   check_start_clear();
 
   // memory for step(): ODE's stepper keeps what it reserved; the contact
@@ -276,6 +286,48 @@ void World::Impl::add_module(int index, const ModuleDef& def, const Eigen::Isome
   md.back_in_body = parts.offsets[def.back.body] *
                     to_isometry(def.bodies[def.back.body].pose).inverse() * to_isometry(def.back.frame);
   modules.push_back(std::move(md));
+}
+
+// each dock as a ball joint at the faces' centre (its three rows at the
+// world's ERP/CFM, as stiff as the solver makes a joint) and an angular
+// motor in Euler mode (axis 0 the back face's x on body1, axis 2 the front
+// face's z on body2) whose stops at +-play on all three angles hold the
+// faces' relative turn, with the dock's stiffness and damping as the stops'
+// ERP and CFM. With no play the stops are two-sided at 0 (ODE treats equal
+// stops as a fixed position).
+void World::Impl::add_docks(const WorldConfig::DockConfig& dc) {
+  docks.resize(modules.size() > 0 ? modules.size() - 1 : 0);
+  for (size_t k = 0; k + 1 < modules.size(); ++k) {
+    const Body& a = bodies[modules[k].back_body];
+    const Body& b = bodies[modules[k + 1].front_body];
+    const Eigen::Isometry3d fa = body_isometry(a.id) * modules[k].back_in_body;
+    const Eigen::Isometry3d fb = body_isometry(b.id) * modules[k + 1].front_in_body;
+    Dock& d = docks[k];
+    d.ball = dJointCreateBall(world, nullptr);
+    dJointAttach(d.ball, a.id, b.id);
+    dJointSetBallAnchor(d.ball, fa.translation().x(), fa.translation().y(), fa.translation().z());
+    dJointSetFeedback(d.ball, &d.ball_fb);
+    d.motor = dJointCreateAMotor(world, nullptr);
+    dJointAttach(d.motor, a.id, b.id);
+    dJointSetAMotorMode(d.motor, dAMotorEuler);
+    const Eigen::Vector3d x = fa.linear().col(0), z = fb.linear().col(2);
+    dJointSetAMotorAxis(d.motor, 0, 1, x.x(), x.y(), x.z());
+    dJointSetAMotorAxis(d.motor, 2, 2, z.x(), z.y(), z.z());
+    static const int kLo[3] = {dParamLoStop, dParamLoStop2, dParamLoStop3};
+    static const int kHi[3] = {dParamHiStop, dParamHiStop2, dParamHiStop3};
+    static const int kErp[3] = {dParamStopERP, dParamStopERP2, dParamStopERP3};
+    static const int kCfm[3] = {dParamStopCFM, dParamStopCFM2, dParamStopCFM3};
+    for (int i = 0; i < 3; ++i) {
+      dJointSetAMotorParam(d.motor, kLo[i], -dc.play_rad);
+      dJointSetAMotorParam(d.motor, kHi[i], dc.play_rad);
+      if (dc.stiffness_nm_per_rad > 0) {
+        const double hk = h * dc.stiffness_nm_per_rad, c = dc.damping_nm_s_per_rad;
+        dJointSetAMotorParam(d.motor, kErp[i], hk / (hk + c));
+        dJointSetAMotorParam(d.motor, kCfm[i], 1.0 / (hk + c));
+      }
+    }
+    dJointSetFeedback(d.motor, &d.motor_fb);
+  }
 }
 
 // a body that starts inside the environment is thrown out of it at the
@@ -532,6 +584,32 @@ double World::max_docking_error_m() const {
     worst = std::max(worst, (a - b).norm());
   }
   return worst;
+}
+
+int World::dock_count() const { return static_cast<int>(impl_->docks.size()); }
+
+World::DockForce World::dock_force(int dock) const {
+  const Impl& w = *impl_;
+  if (dock < 0 || dock >= static_cast<int>(w.docks.size()))
+    throw std::out_of_range("dock " + std::to_string(dock) + " out of range (" + std::to_string(w.docks.size()) +
+                            " docks as joints)");
+  const Impl::Dock& d = w.docks[dock];
+  const Impl::Module& ma = w.modules[dock];
+  const Impl::Module& mb = w.modules[dock + 1];
+  const Eigen::Isometry3d fa = body_isometry(w.bodies[ma.back_body].id) * ma.back_in_body;
+  const Eigen::Isometry3d fb = body_isometry(w.bodies[mb.front_body].id) * mb.front_in_body;
+  const Eigen::Vector3d x = fb.linear().col(0);
+  // on body2 (module k + 1's front part): the ball's force acts at the
+  // faces' centre, so the moment across the faces is the motor's alone
+  const Eigen::Vector3d f(d.ball_fb.f2[0], d.ball_fb.f2[1], d.ball_fb.f2[2]);
+  const Eigen::Vector3d t(d.motor_fb.t2[0], d.motor_fb.t2[1], d.motor_fb.t2[2]);
+  DockForce out;
+  out.axial_n = f.dot(x);
+  out.shear_n = (f - out.axial_n * x).norm();
+  out.twist_nm = t.dot(x);
+  out.bend_nm = (t - out.twist_nm * x).norm();
+  out.bend_deg = std::acos(std::clamp(fa.linear().col(0).dot(x), -1.0, 1.0)) * 180.0 / M_PI;
+  return out;
 }
 
 World::Penetration World::deepest_contact() const {

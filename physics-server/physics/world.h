@@ -57,6 +57,22 @@ struct WorldConfig {
   // chains whose results depend on the iterations (world.cpp)
   enum class Solver { QuickStep, Exact };
   Solver solver = Solver::QuickStep;
+  // The docks (module k's back face on module k + 1's front face). Unset
+  // (the default): the docked parts share one ODE body, rigid and with no
+  // joint (module_builder.h). Set: each dock is a joint between the two
+  // parts' own bodies, whose force and moment are measured (World::dock_force):
+  // a ball joint at the faces' centre (as stiff as the solver makes a joint)
+  // and an angular motor whose stops let the faces turn play_rad each way
+  // about each axis, then hold them with the stops' stiffness and damping
+  // (0: as stiff as the solver makes a joint; else ERP = h k / (h k + c),
+  // CFM = 1 / (h k + c)). The real docks' play and the compliance of their
+  // plastic: docs/scene-reference.md, physics.dock.
+  struct DockConfig {
+    double play_rad = 0;
+    double stiffness_nm_per_rad = 0;
+    double damping_nm_s_per_rad = 0;
+  };
+  std::optional<DockConfig> dock;
   // module types the chain may name besides the built-ins (looked up first:
   // test fixtures, a scene's own types)
   std::vector<ModuleDef> module_types;
@@ -145,9 +161,22 @@ class World {
   // a force (world frame, N) at a body's centre of mass during the next step
   // only (a test load: pushing a traveller along the floor)
   void add_body_force(int module, int body, const Eigen::Vector3d& force_n);
+  // the docks' forces in the last step, when they are joints
+  // (WorldConfig::dock); dock k joins module k's back face to module k + 1's
+  // front face. What module k passes to module k + 1 across the faces:
+  // axial along k + 1's front face's x (+: k pulls k + 1 towards itself,
+  // tension), shear across it; the moment about the faces' centre across
+  // the axis (bend) and about it (twist); and the angle between the two
+  // faces' axes
+  struct DockForce {
+    double axial_n = 0, shear_n = 0, bend_nm = 0, twist_nm = 0, bend_deg = 0;
+  };
+  int dock_count() const;  // 0 when docked parts share one body
+  DockForce dock_force(int dock) const;
   // largest distance between the two docking-face frames of a docked pair
   // (back face of k, front face of k+1), each computed from its own part: 0
-  // up to rounding, since docked parts share one ODE body, m
+  // up to rounding where docked parts share one ODE body (the default;
+  // with WorldConfig::dock the ball joint's error), m
   double max_docking_error_m() const;
   // contact joints created in the last step
   int last_contact_count() const;

@@ -224,7 +224,7 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
   s.world.seed = static_cast<uint64_t>(c.integer(root, "seed", 1, 0, INT64_MAX, "scene"));
 
   if (const YAML::Node p = root["physics"]) {
-    c.keys(p, "physics", {"dt_us", "tick_us", "gravity_m_s2", "solver", "solver_iterations"});
+    c.keys(p, "physics", {"dt_us", "tick_us", "gravity_m_s2", "solver", "solver_iterations", "dock"});
     s.world.dt_us = c.integer(p, "dt_us", s.world.dt_us, 10, 100000, "physics");
     s.tick_us = c.integer(p, "tick_us", s.tick_us, 10, 1000000, "physics");
     s.world.gravity_m_s2 = c.number(p, "gravity_m_s2", s.world.gravity_m_s2, 0.0, 100.0, "physics");
@@ -235,6 +235,18 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
         c.fail(p["solver_iterations"], "'physics.solver_iterations' applies to the quickstep solver only, and "
                                        "'physics.solver' is exact");
       s.world.solver = WorldConfig::Solver::Exact;
+    }
+    if (const YAML::Node d = p["dock"]) {  // docks as measured joints (world.h, WorldConfig::dock)
+      if (!d.IsMap()) c.fail(d, "'physics.dock' must be a mapping (play_deg, stiffness_n_m_per_rad, damping_n_m_s_per_rad)");
+      c.keys(d, "physics.dock", {"play_deg", "stiffness_n_m_per_rad", "damping_n_m_s_per_rad"});
+      WorldConfig::DockConfig dc;
+      dc.play_rad = c.number(d, "play_deg", 0.0, 0.0, 10.0, "physics.dock") * kPi / 180;
+      dc.stiffness_nm_per_rad = c.number(d, "stiffness_n_m_per_rad", 0.0, 0.0, 1e6, "physics.dock");
+      dc.damping_nm_s_per_rad = c.number(d, "damping_n_m_s_per_rad", 0.0, 0.0, 1e3, "physics.dock");
+      if (d["damping_n_m_s_per_rad"] && dc.stiffness_nm_per_rad == 0)
+        c.fail(d["damping_n_m_s_per_rad"], "'physics.dock.damping_n_m_s_per_rad' needs a 'stiffness_n_m_per_rad' "
+                                          "above 0 (without one the dock is as stiff as the solver makes a joint)");
+      s.world.dock = dc;
     }
     if (s.tick_us % s.world.dt_us != 0)
       c.fail(p, "'physics.tick_us' (" + std::to_string(s.tick_us) +

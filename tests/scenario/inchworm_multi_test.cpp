@@ -1,0 +1,86 @@
+// S E S E S E S (gait 8, scenes/inchworm-multi.yaml, level, 500 ms steps,
+// the fitted 0.356 N extension), paper 6.5: with rigid docks it all but
+// stalls, each extension stopping a couple of millimetres into its 15 mm
+// stroke; with the male/female connectors' play (physics.dock.play_deg,
+// docs/scene-reference.md) it moves at most of the gait's ideal speed,
+// stroke / (n_supports x step) = 0.75 cm/s. Measured, both solvers:
+// docs/notes/2026-11-29-inchworm-multi-forces.md.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "scenario_util.h"
+
+using namespace scenario;
+
+namespace {
+
+using Trace = std::map<std::string, std::vector<double>>;
+
+// the exact solver and the docks as joints with play_deg of play
+std::pair<std::string, std::string> exact_with_docks(const std::string& play_deg) {
+  return {"tick_us: 1000", "tick_us: 1000\n  solver: exact\n  dock: {play_deg: " + play_deg + "}"};
+}
+
+// the head support's speed along the level pipe (+x) from from_s to the end, cm/s
+double multi_head_speed_cm_s(const Trace& tr, double from_s) {
+  const std::vector<double>& t = tr.at("t_s");
+  const std::vector<double>& x = tr.at("m0.front.x");
+  size_t i = 0;
+  while (i + 1 < t.size() && t[i] < from_s) ++i;
+  return (x.back() - x[i]) / (t.back() - t[i]) * 100;
+}
+
+}  // namespace
+
+// Rigid docks (joints with no play, so their forces are measured): while
+// the head support is released and extension 0 pushes it, the extension
+// pushes its whole stall force into the gripping support behind it (dock 1)
+// and the slider stops short; only a fraction of that force reaches the
+// head support (dock 0): the rest goes into the wall, where the extension's
+// front box is held against it by a slider axis that the gripping support
+// behind, rigidly docked, holds tilted.
+TEST(InchwormMulti, RigidDocksWedgeTheExtensionAgainstTheWall) {
+  const Outcome o = run_scene("iwm-rigid", "inchworm-multi", 4, {exact_with_docks("0")});
+  ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+  const Trace tr = read_trace(o.dir + "/trace.csv");
+  const double v = multi_head_speed_cm_s(tr, 1.0);
+  // the pushes of extension 0 (set-point out, head support released)
+  // after the first cycle, once the slider has had 150 ms to move
+  const std::vector<double>& t = tr.at("t_s");
+  double pushed = 0, reached = 0, worst_mm = 0;
+  int n = 0;
+  for (size_t i = 0; i < t.size(); ++i) {
+    if (t[i] < 2.0 || tr.at("m1.s0.setpoint_mm")[i] < 10 || tr.at("m0.s0.setpoint_deg")[i] > 45) continue;
+    if (i < 15 || tr.at("m1.s0.setpoint_mm")[i - 15] < 10) continue;  // 150 ms into the stroke
+    pushed += -tr.at("dock1.axial_N")[i];
+    reached += -tr.at("dock0.axial_N")[i];
+    worst_mm = std::max(worst_mm, tr.at("m1.s0.position_mm")[i]);
+    ++n;
+  }
+  ASSERT_GT(n, 5);
+  pushed /= n;
+  reached /= n;
+  std::printf("[ inchworm-multi ] rigid docks: head %.3f cm/s; extension 0 pushes %.3f N into the support behind, "
+              "%.3f N reach the head support, its slider at most %.2f mm out\n",
+              v, pushed, reached, worst_mm);
+  EXPECT_LT(v, 0.25);              // measured 0.08 over 1-10 s (ideal 0.75)
+  EXPECT_GT(pushed, 0.9 * 0.356);  // the extension stalls at its full force...
+  EXPECT_LT(reached, 0.5 * pushed);  // ...and most of it never reaches the head support
+  EXPECT_LT(worst_mm, 5.0);        // of a 15 mm stroke
+}
+
+// The same chain with the docks' play (1 degree each way, the estimate of
+// docs/scene-reference.md): it moves at most of its gait's ideal speed,
+// still half of S E S's (the gait moves one support at a time).
+TEST(InchwormMulti, DockPlayFreesTheLongChain) {
+  const Outcome o = run_scene("iwm-play", "inchworm-multi", 4, {exact_with_docks("1")});
+  ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+  const double v = multi_head_speed_cm_s(read_trace(o.dir + "/trace.csv"), 1.0);
+  std::printf("[ inchworm-multi ] docks with 1 degree of play: head %.3f cm/s (ideal 0.75)\n", v);
+  EXPECT_GT(v, 0.45);  // measured 0.61 over 1-10 s
+  EXPECT_LT(v, 0.78);
+}
