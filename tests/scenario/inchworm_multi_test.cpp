@@ -47,7 +47,7 @@ TEST(InchwormMulti, RigidDocksWedgeTheExtensionAgainstTheWall) {
   const Outcome o = run_scene("iwm-rigid", "inchworm-multi", 4, {exact_with_docks("0")});
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
   const Trace tr = read_trace(o.dir + "/trace.csv");
-  const double v = multi_head_speed_cm_s(tr, 1.0);
+  const double v = multi_head_speed_cm_s(tr, 2.0);
   // the pushes of extension 0 (set-point out, head support released)
   // after the first cycle, once the slider has had 150 ms to move
   const std::vector<double>& t = tr.at("t_s");
@@ -67,7 +67,7 @@ TEST(InchwormMulti, RigidDocksWedgeTheExtensionAgainstTheWall) {
   std::printf("[ inchworm-multi ] rigid docks: head %.3f cm/s; extension 0 pushes %.3f N into the support behind, "
               "%.3f N reach the head support, its slider at most %.2f mm out\n",
               v, pushed, reached, worst_mm);
-  EXPECT_LT(v, 0.25);              // measured 0.08 over 1-10 s (ideal 0.75)
+  EXPECT_LT(v, 0.25);              // measured 0.08 over 2-4 s and 1-10 s (ideal 0.75)
   EXPECT_GT(pushed, 0.9 * 0.356);  // the extension stalls at its full force...
   EXPECT_LT(reached, 0.5 * pushed);  // ...and most of it never reaches the head support
   EXPECT_LT(worst_mm, 5.0);        // of a 15 mm stroke
@@ -79,8 +79,8 @@ TEST(InchwormMulti, RigidDocksWedgeTheExtensionAgainstTheWall) {
 TEST(InchwormMulti, DockPlayFreesTheLongChain) {
   const Outcome o = run_scene("iwm-play", "inchworm-multi", 4, {exact_with_docks("1")});
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
-  const double v = multi_head_speed_cm_s(read_trace(o.dir + "/trace.csv"), 1.0);
+  const double v = multi_head_speed_cm_s(read_trace(o.dir + "/trace.csv"), 2.0);
   std::printf("[ inchworm-multi ] docks with 1 degree of play: head %.3f cm/s (ideal 0.75)\n", v);
-  EXPECT_GT(v, 0.45);  // measured 0.61 over 1-10 s
+  EXPECT_GT(v, 0.45);  // measured 0.67 over 2-4 s (0.61 over 1-10 s: the first cycles are slower)
   EXPECT_LT(v, 0.78);
 }
