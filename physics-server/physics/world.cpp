@@ -317,9 +317,10 @@ void World::Impl::add_docks(const WorldConfig::DockConfig& dc) {
     static const int kHi[3] = {dParamHiStop, dParamHiStop2, dParamHiStop3};
     static const int kErp[3] = {dParamStopERP, dParamStopERP2, dParamStopERP3};
     static const int kCfm[3] = {dParamStopCFM, dParamStopCFM2, dParamStopCFM3};
+    const double play_rad = dc.play_deg * M_PI / 180;
     for (int i = 0; i < 3; ++i) {
-      dJointSetAMotorParam(d.motor, kLo[i], -dc.play_rad);
-      dJointSetAMotorParam(d.motor, kHi[i], dc.play_rad);
+      dJointSetAMotorParam(d.motor, kLo[i], -play_rad);
+      dJointSetAMotorParam(d.motor, kHi[i], play_rad);
       if (dc.stiffness_nm_per_rad > 0) {
         const double hk = h * dc.stiffness_nm_per_rad, c = dc.damping_nm_s_per_rad;
         dJointSetAMotorParam(d.motor, kErp[i], hk / (hk + c));

@@ -62,13 +62,13 @@ struct WorldConfig {
   // joint (module_builder.h). Set: each dock is a joint between the two
   // parts' own bodies, whose force and moment are measured (World::dock_force):
   // a ball joint at the faces' centre (as stiff as the solver makes a joint)
-  // and an angular motor whose stops let the faces turn play_rad each way
+  // and an angular motor whose stops let the faces turn play_deg each way
   // about each axis, then hold them with the stops' stiffness and damping
   // (0: as stiff as the solver makes a joint; else ERP = h k / (h k + c),
   // CFM = 1 / (h k + c)). The real docks' play and the compliance of their
   // plastic: docs/scene-reference.md, physics.dock.
   struct DockConfig {
-    double play_rad = 0;
+    double play_deg = 0;  // as the scene gives it (an exact round trip)
     double stiffness_nm_per_rad = 0;
     double damping_nm_s_per_rad = 0;
   };

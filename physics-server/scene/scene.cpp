@@ -240,7 +240,7 @@ Scene load_scene_text(const std::string& text, const std::string& name) {
       if (!d.IsMap()) c.fail(d, "'physics.dock' must be a mapping (play_deg, stiffness_n_m_per_rad, damping_n_m_s_per_rad)");
       c.keys(d, "physics.dock", {"play_deg", "stiffness_n_m_per_rad", "damping_n_m_s_per_rad"});
       WorldConfig::DockConfig dc;
-      dc.play_rad = c.number(d, "play_deg", 0.0, 0.0, 10.0, "physics.dock") * kPi / 180;
+      dc.play_deg = c.number(d, "play_deg", 0.0, 0.0, 10.0, "physics.dock");
       dc.stiffness_nm_per_rad = c.number(d, "stiffness_n_m_per_rad", 0.0, 0.0, 1e6, "physics.dock");
       dc.damping_nm_s_per_rad = c.number(d, "damping_n_m_s_per_rad", 0.0, 0.0, 1e3, "physics.dock");
       if (d["damping_n_m_s_per_rad"] && dc.stiffness_nm_per_rad == 0)

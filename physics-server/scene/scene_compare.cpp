@@ -173,7 +173,7 @@ class Differences {
 
   void world(const std::string& p, const WorldConfig& a, const WorldConfig& b) {
     const auto& [dt_us, seed, head_position, heading_rad, roll_rad, head_orientation, ground, module_contact, env,
-                 servo, gravity_m_s2, solver_iterations, solver, module_types] = a;
+                 servo, gravity_m_s2, solver_iterations, solver, dock, module_types] = a;
     eq(p + ".dt_us", dt_us, b.dt_us);
     eq(p + ".seed", seed, b.seed);
     vec(p + ".head_position", head_position, b.head_position);
@@ -193,6 +193,13 @@ class Differences {
     num(p + ".gravity_m_s2", gravity_m_s2, b.gravity_m_s2);
     eq(p + ".solver_iterations", solver_iterations, b.solver_iterations);
     eq(p + ".solver", solver, b.solver);
+    same(p + ".dock", dock.has_value() == b.dock.has_value());
+    if (dock && b.dock) {
+      const auto& [play_deg, stiffness, damping] = *dock;
+      num(p + ".dock.play_deg", play_deg, b.dock->play_deg);
+      num(p + ".dock.stiffness_nm_per_rad", stiffness, b.dock->stiffness_nm_per_rad);
+      num(p + ".dock.damping_nm_s_per_rad", damping, b.dock->damping_nm_s_per_rad);
+    }
     // module types: a definition is what its file says (Scene::module_type_files); here their names in order
     eq(p + ".module_types.size", module_types.size(), b.module_types.size());
     for (size_t i = 0; i < module_types.size() && i < b.module_types.size(); ++i)

@@ -214,6 +214,15 @@ std::string write_scene(const Scene& s) {
     physics["solver"] = "quickstep";
     physics["solver_iterations"] = s.world.solver_iterations;
   }
+  if (s.world.dock) {
+    YAML::Node dock;
+    dock["play_deg"] = yaml_number(s.world.dock->play_deg);
+    if (s.world.dock->stiffness_nm_per_rad > 0) {
+      dock["stiffness_n_m_per_rad"] = yaml_number(s.world.dock->stiffness_nm_per_rad);
+      dock["damping_n_m_s_per_rad"] = yaml_number(s.world.dock->damping_nm_s_per_rad);
+    }
+    physics["dock"] = dock;
+  }
   root["physics"] = physics;
   // a scene without `environment` has a plane whose ground_plane is false
   // (it has the plane all the same); any `environment` makes it true

@@ -114,7 +114,8 @@ output: {trace_hz: 33.3}
 name: every_key
 duration_s: 2.7
 seed: 123456789012345
-physics: {dt_us: 250, tick_us: 750, gravity_m_s2: 9.80665, solver_iterations: 41}
+physics: {dt_us: 250, tick_us: 750, gravity_m_s2: 9.80665, solver_iterations: 41,
+          dock: {play_deg: 0.7, stiffness_n_m_per_rad: 1500.5, damping_n_m_s_per_rad: 0.25}}
 )";
   const std::string mesh = common + R"(
 environment:
