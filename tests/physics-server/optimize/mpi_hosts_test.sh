@@ -258,16 +258,22 @@ wait_c_busy() {
   return 1
 }
 
-# the key of the individual host C's rank 2 is evaluating (from its work directory's scene)
+# the key of the individual host C's rank 2 is evaluating (from its work
+# directory's scene, as scene/'s write_scene writes it: the names are the
+# scene's only keys of those names, in block or flow style)
 key_on_c() {
   local scene
   scene=$(ls "$1"/work/rank-2/*/scene.yaml 2>/dev/null | head -1)
   [ -n "$scene" ] || return 1
-  awk '/^  params:/ {
-         a = $0; o = $0; p = $0
-         sub(/.*amplitude_cdeg: /, "", a); sub(/[,}].*/, "", a)
-         sub(/.*omega_mrad_s: /, "", o); sub(/[,}].*/, "", o)
-         sub(/.*phase_mrad: /, "", p); sub(/[,}].*/, "", p)
+  awk 'function value(name,   v) {
+         if (match($0, name ": *-?[0-9]+")) { v = substr($0, RSTART, RLENGTH); sub(/.*: */, "", v); return v }
+         return ""
+       }
+       { if ((v = value("amplitude_cdeg")) != "") a = v
+         if ((v = value("omega_mrad_s")) != "") o = v
+         if ((v = value("phase_mrad")) != "") p = v }
+       END {
+         if (a == "" || o == "" || p == "") exit 1
          printf "central.amplitude_cdeg=%s central.omega_mrad_s=%s central.phase_mrad=%s\n", a, o, p
        }' "$scene"
 }
