@@ -31,7 +31,7 @@ void gaits_log(void)
     cio_log_line(cio_sb.buf);
     if (params.gait == GAIT_HELICOIDAL) {
         cio_log_int("gait: drive_permille=", (uint32_t)(int32_t)params.drive_permille);
-    } else if (params.gait == GAIT_INCHWORM) {
+    } else if (params.gait == GAIT_INCHWORM || params.gait == GAIT_INCHWORM_ALL) {
         sb_reset(&cio_sb);
         cio_put("gait: step_ms=", params.step_ms);
         cio_put(" grip_cdeg=", params.grip_cdeg);
@@ -69,16 +69,16 @@ static void send_helicoidal(void)
     chain_send_to_type(MT_HELICOIDAL, frame, CC_SET_GAIT_LEN);
 }
 
-/* gait 8: every support and extension gets the schedule and its index
- * (supports and extensions counted separately, head first) */
-void gaits_send_inchworm(void)
+/* gait 8 or 13: every support and extension gets the schedule and its
+ * index (supports and extensions counted separately, head first) */
+void gaits_send_inchworm(uint8_t gait)
 {
     uint8_t i, n_sup = 0, k_sup = 0, k_ext = 0;
 
     for (i = 0; i < chain_n_modules; i++)
         if (chain_module_type[i] == MT_SUPPORT)
             n_sup++;
-    frame_clear(GAIT_INCHWORM);
+    frame_clear(gait);
     cc_put_i16(frame + CC_GAIT_OFF_GRIP, params.grip_cdeg);
     cc_put_i16(frame + CC_GAIT_OFF_STEP, params.step_ms);
     frame[CC_GAIT_OFF_NSUP] = n_sup;
@@ -98,8 +98,8 @@ void gaits_send(void)
 {
     if (params.gait == GAIT_HELICOIDAL)
         send_helicoidal();
-    else if (params.gait == GAIT_INCHWORM)
-        gaits_send_inchworm();
+    else if (params.gait == GAIT_INCHWORM || params.gait == GAIT_INCHWORM_ALL)
+        gaits_send_inchworm(params.gait);
     else
         send_wave();
 }

@@ -1,6 +1,7 @@
 /* The gait commands: SET_GAIT to the modules a gait moves, addressed so that
- * other module types never see it (gaits 1-7: rotation modules; 8 inchworm:
- * supports and extensions, each with its index; 9 helicoidal drive:
+ * other module types never see it (gaits 1-7: rotation modules; 8 inchworm
+ * and 13 inchworm with every extension at once: supports and extensions,
+ * each with its index; 9 helicoidal drive:
  * helicoidal modules; 10 bend, 12 limp: rotation modules; 11 hold:
  * supports). START and STOP go by
  * general call from main.c. Parameters: central_params.h. */
@@ -24,8 +25,9 @@ void gaits_send_bend(uint8_t module, int16_t pitch_cdeg, int16_t yaw_cdeg);
  * module when hold is non-zero, else gait 0 (arms closed) */
 void gaits_send_hold(uint8_t hold);
 
-/* gait 8 (inchworm) to every support and extension, each with its index */
-void gaits_send_inchworm(void);
+/* gait 8 (inchworm) or 13 (inchworm, every extension at once) to every
+ * support and extension, each with its index */
+void gaits_send_inchworm(uint8_t gait);
 
 /* SET_GAIT gait 0 to every module of the type (MT_*): a support closes its
  * arms, an extension retracts */

@@ -77,7 +77,7 @@ static uint8_t gait_switch(uint32_t now, uint8_t driving, uint8_t elbow_busy)
             return 0;
         }
         cio_log_int("switch: inchworm at ms ", now);
-        gaits_send_inchworm();
+        gaits_send_inchworm(GAIT_INCHWORM);
         cio_send_code(HAL_I2C_GENERAL_CALL, CC_START); /* one clock for every support and extension */
         inching = 1;
         inch_end = now + params.switch_ms;

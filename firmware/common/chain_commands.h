@@ -102,7 +102,9 @@
 /** SET_GAIT of gait 8 (inchworm), sent to support and extension modules, one
  * frame each: the cycle has n steps (one per support); in step i support i
  * releases, extension i-1 retracts and extension i extends, then support i
- * grips again (docs/firmware.md) */
+ * grips again (docs/firmware.md). Gait 13 (every extension at once) has the
+ * same fields: its cycle is 2 steps, the tail support gripping while all
+ * the extensions extend, then the head while they retract (inchworm.h) */
 #define CC_GAIT_OFF_GRIP 2u   /**< i16 support arm angle when gripping, cdeg (0..9000) */
 #define CC_GAIT_OFF_STEP 4u   /**< i16 duration of one step, ms (>= 40) */
 #define CC_GAIT_OFF_INDEX 6u  /**< i16 this module's index among the supports / extensions */
@@ -132,6 +134,7 @@
 #define GAIT_BEND 10u         /**< rotation modules hold a fixed pitch and yaw (elbows) */
 #define GAIT_HOLD 11u         /**< support modules grip the wall and hold, at once (paper 6.6's support holding the robot) */
 #define GAIT_LIMP 12u         /**< rotation modules release their servos (no pulses: the joints go limp) */
+#define GAIT_INCHWORM_ALL 13u /**< the inchworm with every extension at once (paper 6.5): one support grips, the rest move */
 
 /** axis (SET_GAIT): which servo of a rotation module moves */
 #define CC_AXIS_PITCH 0u /**< servo 0 */

@@ -3,10 +3,11 @@
  * setspangle carries as cdeg x 10 um: 1500 = 15 mm), servo 1 = the pitch
  * servo in front (held at 0).
  *
- * Gait 8 (inchworm): SET_GAIT gives the stroke (um), the step duration,
- * this extension's index j and the number of supports n (chain_commands.h);
- * from START, every control_ms it extends to the stroke or retracts to 0 as
- * the schedule in inchworm.h says for extension j. STOP: it holds its
+ * Gait 8 (inchworm) and gait 13 (inchworm, every extension at once):
+ * SET_GAIT gives the stroke (um), the step duration, this extension's index
+ * j and the number of supports n (chain_commands.h); from START, every
+ * control_ms it extends to the stroke or retracts to 0 as the gait's
+ * schedule in inchworm.h says for extension j. STOP: it holds its
  * length; SET_GAIT with gait 0: retracted. Any other gait sets
  * CC_FLAG_BAD_GAIT. READ_SENSORS: SENSORS with 3 values, the measured length
  * (um / 10), the pitch angle (cdeg) and the linear servo's current in ADC
@@ -27,7 +28,7 @@ const hal_param_decl hal_param_table[] = {
 };
 
 static int16_t stroke_um = STROKE_MAX_UM;
-static iw_schedule sched = {1000, 0, 2};
+static iw_schedule sched = {1000, 0, 2, GAIT_INCHWORM};
 
 static void set_length_um(int16_t um)
 {
@@ -50,7 +51,7 @@ int main(void)
         while (hal_i2c_receive(buf, sizeof buf, &len, &to) == HAL_OK) {
             switch (chain_app_filter(buf, len, to)) {
             case CC_SET_GAIT:
-                (void)chain_app_take_gait(buf, GAIT_INCHWORM);
+                (void)chain_app_take_gait(buf, buf[CC_GAIT_OFF_GAIT] == GAIT_INCHWORM_ALL ? GAIT_INCHWORM_ALL : GAIT_INCHWORM);
                 g = cc_get_i16(buf + CC_GAIT_OFF_STROKE);
                 stroke_um = g < 0 ? 0 : (g > STROKE_MAX_UM ? STROKE_MAX_UM : g);
                 iw_read_schedule(buf, &sched);
@@ -60,7 +61,7 @@ int main(void)
                 }
                 break;
             case CC_START:
-                ca_running = ca_gait == GAIT_INCHWORM;
+                ca_running = ca_gait == GAIT_INCHWORM || ca_gait == GAIT_INCHWORM_ALL;
                 if (ca_gait != GAIT_NONE && !ca_running)
                     hal_log("start: gait not supported by extension module");
                 chain_app_clock_start();
@@ -79,8 +80,6 @@ int main(void)
             }
         }
         if (chain_app_wait(ca_running) && ca_running)
-            set_length_um(iw_extension_extended(chain_app_clock_ms(), sched.step_ms, sched.n_sup, sched.index)
-                              ? stroke_um
-                              : 0);
+            set_length_um(iw_extended(&sched, chain_app_clock_ms()) ? stroke_um : 0);
     }
 }

@@ -2,10 +2,11 @@
  * (0 = closed, 9000 cdeg = perpendicular); opened against the pipe wall they
  * anchor the module.
  *
- * Gait 8 (inchworm): SET_GAIT gives the grip angle, the step duration, this
- * support's index i and the number of supports n (chain_commands.h); from
- * START, every control_ms it opens the arms to the grip angle or closes
- * them (0) as the schedule in inchworm.h says for support i. STOP: it grips
+ * Gait 8 (inchworm) and gait 13 (inchworm, every extension at once):
+ * SET_GAIT gives the grip angle, the step duration, this support's index i
+ * and the number of supports n (chain_commands.h); from START, every
+ * control_ms it opens the arms to the grip angle or closes them (0) as the
+ * gait's schedule in inchworm.h says for support i. STOP: it grips
  * and holds (so that a chain in a vertical pipe does not fall); SET_GAIT
  * with gait 0: arms closed. Gait 11 (hold; the elbow of paper 6.6): SET_GAIT
  * opens the arms to its grip angle at once, without START, and holds them
@@ -27,7 +28,7 @@ const hal_param_decl hal_param_table[] = {
 };
 
 static int16_t grip_cdeg = CC_QUARTER_TURN_CDEG;
-static iw_schedule sched = {1000, 0, 1};
+static iw_schedule sched = {1000, 0, 1, GAIT_INCHWORM};
 
 int main(void)
 {
@@ -45,7 +46,8 @@ int main(void)
         while (hal_i2c_receive(buf, sizeof buf, &len, &to) == HAL_OK) {
             switch (chain_app_filter(buf, len, to)) {
             case CC_SET_GAIT:
-                (void)chain_app_take_gait(buf, buf[CC_GAIT_OFF_GAIT] == GAIT_HOLD ? GAIT_HOLD : GAIT_INCHWORM);
+                g = buf[CC_GAIT_OFF_GAIT];
+                (void)chain_app_take_gait(buf, g == GAIT_HOLD || g == GAIT_INCHWORM_ALL ? (uint8_t)g : GAIT_INCHWORM);
                 g = cc_get_i16(buf + CC_GAIT_OFF_GRIP);
                 grip_cdeg = g < 0 ? 0 : (g > CC_QUARTER_TURN_CDEG ? CC_QUARTER_TURN_CDEG : g);
                 if (ca_gait == GAIT_HOLD) {
@@ -61,7 +63,7 @@ int main(void)
                 }
                 break;
             case CC_START:
-                ca_running = ca_gait == GAIT_INCHWORM;
+                ca_running = ca_gait == GAIT_INCHWORM || ca_gait == GAIT_INCHWORM_ALL;
                 if (ca_gait != GAIT_NONE && !ca_running)
                     hal_log("start: gait not supported by support module");
                 chain_app_clock_start();
@@ -80,11 +82,8 @@ int main(void)
                 break;
             }
         }
-        periodic = ca_running && ca_gait == GAIT_INCHWORM;
+        periodic = ca_running && ca_gait != GAIT_HOLD;
         if (chain_app_wait(periodic) && periodic)
-            chain_app_servo(SERVO_ARM,
-                            iw_support_grips(chain_app_clock_ms(), sched.step_ms, sched.n_sup, sched.index)
-                                ? grip_cdeg
-                                : 0);
+            chain_app_servo(SERVO_ARM, iw_grips(&sched, chain_app_clock_ms()) ? grip_cdeg : 0);
     }
 }

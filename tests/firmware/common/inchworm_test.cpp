@@ -26,7 +26,7 @@ std::vector<uint8_t> gait8_frame(int16_t step_ms, int16_t index, uint8_t n_sup)
 
 iw_schedule read(const std::vector<uint8_t> &f)
 {
-    iw_schedule s{0xFFFF, 0xFF, 0xFF};
+    iw_schedule s{0xFFFF, 0xFF, 0xFF, 0xFF};
     iw_read_schedule(f.data(), &s);
     return s;
 }
@@ -168,4 +168,112 @@ TEST(Inchworm, LateInTheClockTheScheduleIsTheSame)
             ASSERT_EQ(iw_extension_extended(late + t, step, n, i),
                       iw_extension_extended(t, step, n, i));
         }
+}
+
+// ---- gait 13: every extension at once (paper 6.5) ----
+
+namespace {
+
+std::vector<uint8_t> gait13_frame(int16_t step_ms, int16_t index, uint8_t n_sup)
+{
+    std::vector<uint8_t> f = gait8_frame(step_ms, index, n_sup);
+    f[CC_GAIT_OFF_GAIT] = GAIT_INCHWORM_ALL;
+    return f;
+}
+
+} // namespace
+
+TEST(InchwormAll, ReadScheduleKeepsTheGait)
+{
+    EXPECT_EQ(read(gait13_frame(500, 1, 4)).gait, GAIT_INCHWORM_ALL);
+    EXPECT_EQ(read(gait8_frame(500, 1, 4)).gait, GAIT_INCHWORM);
+    std::vector<uint8_t> f = gait8_frame(500, 1, 4);
+    f[CC_GAIT_OFF_GAIT] = GAIT_HOLD;
+    EXPECT_EQ(read(f).gait, GAIT_INCHWORM) << "any other code runs gait 8's schedule";
+}
+
+// S E S E S E S, 1 s steps: step 0 the tail holds and every extension
+// pushes, step 1 the head holds and every extension pulls
+TEST(InchwormAll, TheTailHoldsThePushAndTheHeadThePull)
+{
+    const uint16_t step = 1000;
+    const uint8_t n = 4;
+    const struct {
+        uint32_t t;
+        bool grips[4];
+        bool extended;
+    } want[] = {
+        {0, {false, false, false, true}, false},   // push: the others released, extensions still in
+        {249, {false, false, false, true}, false},
+        {250, {false, false, false, true}, true},  // every extension out
+        {749, {false, false, false, true}, true},
+        {750, {true, false, false, true}, true},   // the head grips: the handover
+        {999, {true, false, false, true}, true},
+        {1000, {true, false, false, false}, true}, // pull: the tail and the middle released
+        {1250, {true, false, false, false}, false}, // every extension in
+        {1750, {true, false, false, true}, false},  // the tail grips: the handover
+        {2000, {false, false, false, true}, false}, // the next cycle
+    };
+    for (const auto &w : want) {
+        for (uint8_t i = 0; i < n; i++)
+            EXPECT_EQ(iw_all_support_grips(w.t, step, n, i) != 0, w.grips[i]) << "support " << int(i) << " at " << w.t;
+        EXPECT_EQ(iw_all_extended(w.t, step) != 0, w.extended) << "t = " << w.t;
+    }
+}
+
+// With S E S (and a lone support) gait 13 is gait 8 tick for tick
+TEST(InchwormAll, WithTwoSupportsItIsGaitEight)
+{
+    const uint16_t step = 100;
+    for (uint32_t t = 0; t < 4u * step; t++) {
+        for (uint8_t i = 0; i < 2; i++)
+            ASSERT_EQ(iw_all_support_grips(t, step, 2, i), iw_support_grips(t, step, 2, i)) << t;
+        ASSERT_EQ(iw_all_extended(t, step), iw_extension_extended(t, step, 2, 0)) << t;
+        ASSERT_TRUE(iw_all_support_grips(t, step, 1, 0)) << "a lone support holds";
+    }
+}
+
+// What makes it the paper's gait, for chains of 2 to 8 supports: the
+// extensions change length only while exactly one end support grips and
+// all the others are released (so the whole stroke of every extension goes
+// into moving the chain, n - 1 strokes a step), the gripping end is the
+// tail while they extend and the head while they retract, and at least one
+// support grips at every instant
+TEST(InchwormAll, EveryExtensionMovesTheChainAgainstOneEndSupport)
+{
+    const uint16_t step = 40;
+    for (uint8_t n = 2; n <= 8; n++) {
+        int extends = 0, retracts = 0;
+        for (uint32_t t = 0; t < 4u * step; t++) {
+            int gripping = 0;
+            for (uint8_t i = 0; i < n; i++)
+                gripping += iw_all_support_grips(t, step, n, i);
+            ASSERT_GE(gripping, 1) << "n = " << int(n) << ", t = " << t;
+            const bool now = iw_all_extended(t, step), next = iw_all_extended(t + 1, step);
+            if (now == next)
+                continue;
+            extends += next;
+            retracts += now;
+            for (uint32_t u : {t, t + 1}) {
+                const uint8_t anchor = next ? n - 1 : 0;
+                for (uint8_t i = 0; i < n; i++)
+                    EXPECT_EQ(iw_all_support_grips(u, step, n, i) != 0, i == anchor)
+                        << "n = " << int(n) << ", support " << int(i) << " at " << u;
+            }
+        }
+        EXPECT_EQ(extends, 2) << "n = " << int(n);
+        EXPECT_EQ(retracts, 2) << "n = " << int(n);
+    }
+}
+
+// the schedule dispatches on the frame's gait
+TEST(InchwormAll, TheScheduleRunsItsGait)
+{
+    const iw_schedule s8 = read(gait8_frame(100, 1, 4)), s13 = read(gait13_frame(100, 1, 4));
+    for (uint32_t t = 0; t < 800; t += 5) {
+        ASSERT_EQ(iw_grips(&s8, t), iw_support_grips(t, 100, 4, 1));
+        ASSERT_EQ(iw_extended(&s8, t), iw_extension_extended(t, 100, 4, 1));
+        ASSERT_EQ(iw_grips(&s13, t), iw_all_support_grips(t, 100, 4, 1));
+        ASSERT_EQ(iw_extended(&s13, t), iw_all_extended(t, 100));
+    }
 }
