@@ -4,8 +4,6 @@
  * docs/firmware.md's table is checked against it (tests/tools/chainsim). */
 #include "central_params.h"
 
-#include "central_io.h"
-
 #include "chain_commands.h"
 #include "hal.h"
 
@@ -14,11 +12,11 @@
 central_params params;
 
 const hal_param_decl hal_param_table[] = {
-    /* 10 (bend), 11 (hold) and 12 (limp) are the elbow's own gaits, never
-     * a parameter: central_params_read refuses them */
-    HAL_PARAM("gait", HAL_PARAM_U8, GAIT_NONE, GAIT_INCHWORM_ALL, GAIT_FORWARD,
+    /* 10 (bend), 11 (hold), 12 (limp) are the elbow's own gaits and 13 is
+     * gait 8 with inchworm_all: never a gait parameter */
+    HAL_PARAM("gait", HAL_PARAM_U8, GAIT_NONE, GAIT_HELICOIDAL, GAIT_FORWARD,
               "0 none, 1 forward, 2 backward, 3 turn left, 4 turn right, 5 roll, 6 rotate in place, 7 lateral shift, "
-              "8 inchworm, 9 helicoidal drive, 13 inchworm with every extension at once (10-12 are not started)"),
+              "8 inchworm, 9 helicoidal drive"),
     HAL_PARAM("amplitude_cdeg", HAL_PARAM_I16, 0, HAL_SERVO_CDEG_MAX, 4000, "amplitude A of the wave, cdeg"),
     HAL_PARAM("omega_mrad_s", HAL_PARAM_I16, -32767, 32767, 6000, "angular velocity w of the wave, mrad/s"),
     HAL_PARAM("phase_mrad", HAL_PARAM_I16, -32767, 32767, 1000, "phase step phi between consecutive modules, mrad"),
@@ -37,10 +35,13 @@ const hal_param_decl hal_param_table[] = {
               "READ_SENSORS to every module every poll_ms, replies logged as 'sensors 0x20: ...'; 0 = never"),
     HAL_PARAM("drive_permille", HAL_PARAM_I16, -1000, 1000, 1000, "gait 9: the screw command, per mille (+ = forward)"),
     HAL_PARAM("step_ms", HAL_PARAM_I16, 40, 30000, 1000,
-              "gaits 8, 13: duration of one step, ms (a cycle: gait 8 one step per support, gait 13 two)"),
+              "gait 8: duration of one step, ms (a cycle has one step per support, or two with inchworm_all)"),
+    HAL_PARAM("inchworm_all", HAL_PARAM_U8, 0, 1, 0,
+              "gait 8: 1 = every extension at once (paper 6.5; the tail support grips while all extend, the head "
+              "while all retract), 0 = one support moves per step"),
     HAL_PARAM("grip_cdeg", HAL_PARAM_I16, 0, CC_QUARTER_TURN_CDEG, CC_QUARTER_TURN_CDEG,
-              "gaits 8, 13: support arm angle when gripping, cdeg"),
-    HAL_PARAM("stroke_um", HAL_PARAM_I16, 0, 15000, 15000, "gaits 8, 13: extension stroke, um"),
+              "gait 8: support arm angle when gripping, cdeg"),
+    HAL_PARAM("stroke_um", HAL_PARAM_I16, 0, 15000, 15000, "gait 8: extension stroke, um"),
     HAL_PARAM("elbow_dir_deg", HAL_PARAM_I16, -2, 359, -1,
               "gait 9: way the next elbow turns, deg (0 up, 90 left, 180 down, 270 right), overriding the touch "
               "module's; -1 = sensed (away from where the touch module was touched); -2 = no steering"),
@@ -75,12 +76,6 @@ const hal_param_decl hal_param_table[] = {
 void central_params_read(void)
 {
     params.gait = (uint8_t)hal_param("gait");
-    if (params.gait > GAIT_HELICOIDAL && params.gait < GAIT_INCHWORM_ALL) {
-        /* the range admits them (it is one interval); starting them would
-         * send the wave's fields as a bend */
-        cio_log_int("gait: 10-12 are the elbow's own, not started: gait ", params.gait);
-        params.gait = GAIT_NONE;
-    }
     params.amp_cdeg = (int16_t)hal_param("amplitude_cdeg");
     params.omega_mrad_s = (int16_t)hal_param("omega_mrad_s");
     params.phase_mrad = (int16_t)hal_param("phase_mrad");
@@ -93,6 +88,7 @@ void central_params_read(void)
     params.bias_cdeg = (int16_t)hal_param("bias_cdeg");
     params.drive_permille = (int16_t)hal_param("drive_permille");
     params.step_ms = (int16_t)hal_param("step_ms");
+    params.inchworm_all = (uint8_t)hal_param("inchworm_all");
     params.grip_cdeg = (int16_t)hal_param("grip_cdeg");
     params.stroke_um = (int16_t)hal_param("stroke_um");
     params.start_ms = (uint32_t)hal_param("start_ms");

@@ -23,6 +23,7 @@ typedef struct {
     int16_t step_ms;
     int16_t grip_cdeg;
     int16_t stroke_um;
+    uint8_t inchworm_all; /* gait 8 as gait 13 on the bus: every extension at once (paper 6.5) */
     /* schedule */
     uint32_t start_ms;     /* START at this simulated time */
     uint32_t stop_ms;      /* STOP at this time, 0 = never */

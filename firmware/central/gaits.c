@@ -31,11 +31,13 @@ void gaits_log(void)
     cio_log_line(cio_sb.buf);
     if (params.gait == GAIT_HELICOIDAL) {
         cio_log_int("gait: drive_permille=", (uint32_t)(int32_t)params.drive_permille);
-    } else if (params.gait == GAIT_INCHWORM || params.gait == GAIT_INCHWORM_ALL) {
+    } else if (params.gait == GAIT_INCHWORM) {
         sb_reset(&cio_sb);
         cio_put("gait: step_ms=", params.step_ms);
         cio_put(" grip_cdeg=", params.grip_cdeg);
         cio_put(" stroke_um=", params.stroke_um);
+        if (params.inchworm_all)
+            sb_str(&cio_sb, " every extension at once");
         cio_log_line(cio_sb.buf);
     } else if (params.gait >= GAIT_TURN_LEFT) {
         sb_reset(&cio_sb);
@@ -98,8 +100,8 @@ void gaits_send(void)
 {
     if (params.gait == GAIT_HELICOIDAL)
         send_helicoidal();
-    else if (params.gait == GAIT_INCHWORM || params.gait == GAIT_INCHWORM_ALL)
-        gaits_send_inchworm(params.gait);
+    else if (params.gait == GAIT_INCHWORM)
+        gaits_send_inchworm(params.inchworm_all ? GAIT_INCHWORM_ALL : GAIT_INCHWORM);
     else
         send_wave();
 }

@@ -96,7 +96,7 @@ namespace {
 Outcome run_gait13(const std::string& tag, const std::string& chain,
                    std::vector<std::pair<std::string, std::string>> extra_edits = {}) {
   std::vector<std::pair<std::string, std::string>> e = {
-      exact_with_docks("0"), {"chain: SESESES", "chain: " + chain}, {"gait: 8", "gait: 13"},
+      exact_with_docks("0"), {"chain: SESESES", "chain: " + chain}, {"gait: 8", "gait: 8\n    inchworm_all: 1"},
       {"length_m: 0.6", "length_m: 1.0"}};
   e.insert(e.end(), extra_edits.begin(), extra_edits.end());
   return run_scene(tag, "inchworm-multi", 4, e);

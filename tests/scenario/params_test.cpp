@@ -47,26 +47,15 @@ TEST(Params, OutOfRangeParameterNamesTheDeclaredRange) {
 TEST(Params, UnknownGaitOfTheShippedCentralControlIsAnError) {
   const std::string dir = temp_dir("params-gait");
   const std::string scene =
-      write_file(dir, "s.yaml", "name: gait\nduration_s: 1\nchain: R\ncentral: {params: {gait: 14}}\n");
+      write_file(dir, "s.yaml", "name: gait\nduration_s: 1\nchain: R\ncentral: {params: {gait: 12}}\n");
   const Outcome o = run({scene, "--check"}, dir);
   EXPECT_EQ(o.exit_code, 1) << o.stderr_text;
-  EXPECT_NE(o.stderr_text.find(scene + ":4:20: parameter 'gait' of the central control is 14, outside the range 0..13 "
+  EXPECT_NE(o.stderr_text.find(scene + ":4:20: parameter 'gait' of the central control is 12, outside the range 0..9 "
                                         "that program fw-central declares (0 none, 1 forward, 2 backward, 3 turn left, "
                                         "4 turn right, 5 roll, 6 rotate in place, 7 lateral shift, 8 inchworm, 9 "
-                                        "helicoidal drive, 13 inchworm with every extension at once (10-12 are not "
-                                        "started))"),
+                                        "helicoidal drive)"),
             std::string::npos)
       << o.stderr_text;
-  // 10-12 lie inside the declared range (one interval) but are the elbow's
-  // own gaits: the central control names the value in its log and starts
-  // nothing (the module stays straight, no START)
-  const std::string inner =
-      write_file(dir, "s3.yaml", "name: gait\nduration_s: 0.2\nchain: R\ncentral: {params: {gait: 12}}\n");
-  const Outcome r = run({inner, "-q"}, temp_dir("params-gait-inner"));
-  EXPECT_EQ(r.exit_code, 0) << r.stderr_text;
-  const std::string log = central_log(r, 1);
-  EXPECT_NE(log.find("gait: 10-12 are the elbow's own, not started: gait 12"), std::string::npos) << log;
-  EXPECT_EQ(log.find("start at ms"), std::string::npos) << log;
   // another central program is checked against its own declarations (fw-test-misbehave: mode 0..6)
   const std::string mine = write_file(dir, "s2.yaml",
                                       "name: gait\nduration_s: 1\nchain: R\ncentral: {program: " FW_MISBEHAVE
