@@ -53,9 +53,11 @@ uint8_t iw_all_support_grips(uint32_t t_ms, uint16_t step_ms, uint8_t n, uint8_t
 /** gait 13: 1 when the extensions (all of them alike) are extended at gait time t_ms */
 uint8_t iw_all_extended(uint32_t t_ms, uint16_t step_ms);
 
-/** this module's state under its schedule's gait (8 or 13) at gait time
- * t_ms: support s->index grips / extension s->index is extended */
+/** under its schedule's gait (8 or 13): 1 when support s->index grips at
+ * gait time t_ms */
 uint8_t iw_grips(const iw_schedule *s, uint32_t t_ms);
+/** under its schedule's gait (8 or 13): 1 when extension s->index is
+ * extended at gait time t_ms */
 uint8_t iw_extended(const iw_schedule *s, uint32_t t_ms);
 
 #endif
