@@ -71,10 +71,11 @@ class Server : public BarrierSink {
       : scene_(scene),
         opt_(opt),
         record_(record),
-        world_(scene.world, scene.chain_types()),
+        chain_(compile_chain(scene)),
+        world_(scene.world, chain_),
         n_modules_(world_.module_count()),
         signals_(io_, SIGINT, SIGTERM),
-        columns_(sensor_columns(scene.world, scene.chain_types())),
+        columns_(sensor_columns(chain_)),
         trace_(world_, TraceWriter::interval_for(world_, scene.trace_hz), columns_),
         touch_(n_modules_, columns_),
         discovery_us_(std::llround(scene.discovery_s * 1e6)),
@@ -153,6 +154,7 @@ class Server : public BarrierSink {
   const Scene& scene_;
   const RunOptions& opt_;
   std::vector<ServoCommand>* record_;
+  const ChainModel chain_;  // the scene's chain, compiled once: the world, trace and scene.json read it
   World world_;
   const int n_modules_;
   asio::io_context io_;
@@ -360,7 +362,7 @@ RunResult Server::run() {
   const int64_t end_us = std::llround(scene_.duration_s * 1e6);
   row_.reserve(1 << 14);
   out_->trace(trace_.header());
-  const nlohmann::json scene_desc = write_scene_json(out_.get(), scene_);
+  const nlohmann::json scene_desc = write_scene_json(out_.get(), scene_, chain_);
   if (opt_.observer) opt_.observer->started(scene_desc, trace_.header());
 
   bool ok = true;

@@ -12,9 +12,9 @@ namespace chainsim {
 
 double replay_physics(const Scene& scene, const std::vector<ServoCommand>& commands,
                       std::string* trace_sha256) {
-  World world(scene.world, scene.chain_types());
-  TraceWriter trace(world, TraceWriter::interval_for(world, scene.trace_hz),
-                    sensor_columns(scene.world, scene.chain_types()));
+  const ChainModel chain = compile_chain(scene);
+  World world(scene.world, chain);
+  TraceWriter trace(world, TraceWriter::interval_for(world, scene.trace_hz), sensor_columns(chain));
   Sha256 sha;
   sha.update(trace.header().data(), trace.header().size());
   std::string row;

@@ -15,7 +15,7 @@ SceneCheck check_scene(const Scene& scene, const std::string& firmware_dir) {
   SceneCheck r;
   int bodies = 0;
   try {
-    const World world(scene.world, scene.chain_types());  // as the run builds it: the same errors
+    const World world(scene.world, compile_chain(scene));  // as the run builds it: the same errors
     for (int m = 0; m < world.module_count(); ++m) bodies += world.body_count(m);
   } catch (const WorldSetupError& e) {  // as a run says it: the scene asks for a world that cannot be built
     r.exit_code = kExitBadInput;

@@ -8,7 +8,7 @@
 #include "environment/pipe_mesh.h"
 #include "environment/pipe_path.h"
 #include "environment/terrain.h"
-#include "physics/units.h"
+#include "model/units.h"
 
 namespace chainsim {
 

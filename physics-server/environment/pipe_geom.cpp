@@ -6,7 +6,7 @@
 #include <limits>
 #include <mutex>
 
-#include "physics/units.h"
+#include "model/units.h"
 
 namespace chainsim {
 namespace {

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "physics/units.h"
+#include "model/units.h"
 
 namespace chainsim {
 namespace {

@@ -7,7 +7,7 @@
 #include <limits>
 #include <sstream>
 
-#include "physics/units.h"
+#include "model/units.h"
 #include "text/number_text.h"
 
 namespace chainsim {

@@ -5,7 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "physics/units.h"
+#include "model/units.h"
 
 namespace chainsim {
 namespace {

@@ -12,7 +12,7 @@
 #include <stdexcept>
 
 #include "model/module_file.h"
-#include "physics/units.h"
+#include "model/units.h"
 
 namespace chainsim {
 

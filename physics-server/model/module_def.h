@@ -36,7 +36,7 @@
 #include <vector>
 
 #include "model/wheel_def.h"
-#include "physics/actuators/servo_model.h"
+#include "model/servo_params.h"
 
 namespace chainsim {
 

@@ -11,7 +11,7 @@
 #include <set>
 
 #include "readers/strict_yaml.h"
-#include "physics/units.h"
+#include "model/units.h"
 
 namespace chainsim {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "physics/world.h"
+#include "physics/world_config.h"
 
 namespace chainsim {
 

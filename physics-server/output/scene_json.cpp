@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <map>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -40,11 +41,14 @@ std::vector<std::string> module_colors(const Scene& scene) {
   return out;
 }
 
-nlohmann::json scene_json(const Scene& scene) {
+nlohmann::json scene_json(const Scene& scene, const ChainModel& chain) {
+  if (chain.size() != static_cast<int>(scene.modules.size()))
+    throw std::invalid_argument("scene_json: the chain model has " + std::to_string(chain.size()) +
+                                " modules, the scene " + std::to_string(scene.modules.size()));
   nlohmann::json modules = nlohmann::json::array();
   const std::vector<std::string> colors = module_colors(scene);
   for (size_t i = 0; i < scene.modules.size(); ++i) {
-    const ModuleDef def = find_module_def(scene.world.module_types, scene.modules[i].type);
+    const ModuleDef& def = chain.modules[i];
     nlohmann::json bodies = nlohmann::json::array();
     for (const BodyDef& b : def.bodies) {
       nlohmann::json j = {{"name", b.name}, {"shape", shape_name(b.shape)}, {"mass_kg", b.mass_kg}};
@@ -82,8 +86,8 @@ nlohmann::json scene_json(const Scene& scene) {
           {"central", {{"index", scene.modules.size()}, {"firmware", scene.central.firmware}}}};
 }
 
-nlohmann::json write_scene_json(RunOutput* out, const Scene& scene) {
-  nlohmann::json j = scene_json(scene);
+nlohmann::json write_scene_json(RunOutput* out, const Scene& scene, const ChainModel& chain) {
+  nlohmann::json j = scene_json(scene, chain);
   out->write_json("scene.json", j);
   return j;
 }

@@ -20,9 +20,10 @@ const char* module_color(const std::string& type);
 // user's one of ten others, in the order the chain first meets the types
 std::vector<std::string> module_colors(const Scene& scene);
 
-nlohmann::json scene_json(const Scene& scene);
+// chain: the scene's, compiled (compile_chain(scene)): each module's bodies and servos
+nlohmann::json scene_json(const Scene& scene, const ChainModel& chain);
 
-// writes scene_json(scene) as the run directory's scene.json; returns it
-nlohmann::json write_scene_json(RunOutput* out, const Scene& scene);
+// writes scene_json(scene, chain) as the run directory's scene.json; returns it
+nlohmann::json write_scene_json(RunOutput* out, const Scene& scene, const ChainModel& chain);
 
 }  // namespace chainsim

@@ -7,7 +7,7 @@
 #include <utility>
 
 #include "text/number_text.h"
-#include "physics/units.h"
+#include "model/units.h"
 
 namespace chainsim {
 namespace {
@@ -69,11 +69,11 @@ void field(std::string* out, double value, int decimals) {
 
 }  // namespace
 
-std::vector<SensorColumn> sensor_columns(const WorldConfig& config, const std::vector<std::string>& chain) {
+std::vector<SensorColumn> sensor_columns(const ChainModel& chain) {
   std::vector<SensorColumn> out;
-  for (int m = 0; m < static_cast<int>(chain.size()); ++m) {
+  for (int m = 0; m < chain.size(); ++m) {
     const std::string pre = "m" + std::to_string(m) + ".";
-    for (const SensorDef& sd : find_module_def(config.module_types, chain[m]).sensors) {
+    for (const SensorDef& sd : chain.modules[m].sensors) {
       const std::string p = pre + sd.name + ".";
       switch (sd.type) {
         case SensorType::MotorCurrent:

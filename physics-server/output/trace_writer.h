@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "model/module_def.h"
+#include "physics/chain_model.h"
 #include "physics/world.h"
 
 namespace chainsim {
@@ -38,9 +39,8 @@ struct SensorColumn {
   std::string sensor;    // its sensor's name in the module definition: "accel"
 };
 
-// the sensor columns of chain (module types, head first; the definitions
-// from config.module_types or the built-ins, as the World takes them)
-std::vector<SensorColumn> sensor_columns(const WorldConfig& config, const std::vector<std::string>& chain);
+// the sensor columns of the chain (as the World is built from it)
+std::vector<SensorColumn> sensor_columns(const ChainModel& chain);
 
 class TraceWriter {
  public:

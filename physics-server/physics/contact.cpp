@@ -8,7 +8,7 @@
 #include <tuple>
 
 #include "environment/environment_geoms.h"
-#include "physics/units.h"
+#include "model/units.h"
 
 namespace chainsim {
 

@@ -10,21 +10,16 @@ namespace chainsim {
 
 double chain_length_m(const std::vector<std::string>& chain,
                       const std::vector<ModuleDef>& module_types) {
-  double length = 0;
-  for (const std::string& name : chain) {
-    const ModuleDef def = find_module_def(module_types, name);
-    // faces dock frame to frame: the chain advances by front -> back in module x
-    length += def.front.frame.position.x() - def.back.frame.position.x();
-  }
-  return length;
+  WorldConfig cfg;
+  cfg.module_types = module_types;
+  return compile_chain(cfg, chain).length_m;
 }
 
-void place_chain_at_pipe_entry(WorldConfig* cfg, const std::vector<std::string>& chain,
-                               double inset_m) {
+void place_chain_at_pipe_entry(WorldConfig* cfg, ChainModel* chain, double inset_m) {
   if (cfg->environment.type != EnvironmentType::Pipe)
     throw std::invalid_argument("placement at the pipe entry needs environment type 'pipe'");
   const PipeLayout layout = layout_pipe(cfg->environment.pipe);
-  const double length = chain_length_m(chain, cfg->module_types);
+  const double length = chain->length_m;
   if (inset_m < 0 || inset_m + length > layout.entry_straight_m) {
     std::ostringstream s;
     s << "the chain (" << length << " m) plus the inset (" << inset_m
@@ -39,6 +34,13 @@ void place_chain_at_pipe_entry(WorldConfig* cfg, const std::vector<std::string>&
   r.col(2) = e.up;
   cfg->head_orientation = Eigen::Quaterniond(r);
   cfg->head_position = e.point + (inset_m + length) * e.tangent;
+  lay_chain(chain, *cfg);
+}
+
+void place_chain_at_pipe_entry(WorldConfig* cfg, const std::vector<std::string>& chain,
+                               double inset_m) {
+  ChainModel c = compile_chain(*cfg, chain);
+  place_chain_at_pipe_entry(cfg, &c, inset_m);
 }
 
 }  // namespace chainsim

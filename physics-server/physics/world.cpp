@@ -1,5 +1,6 @@
 // The ODE world of one run: assembly and the step. See world.h (interface),
-// model/module_def.h (how a module type is described), module_builder.h (its
+// model/module_def.h (how a module type is described), chain_model.h (the
+// chain's definitions and frames), module_builder.h (its
 // bodies and joints), actuators/ (servo, linear servo, screw drive, DC
 // motor), contact.h (collisions), wheels/ (wheels and pads on the wall) and
 // sensors/.
@@ -82,18 +83,6 @@ void ode_init_once() {
   dAllocateODEDataForThread(dAllocateMaskAll);
 }
 
-// the ModuleDef of each chain entry, validated
-std::vector<ModuleDef> resolve_chain(const std::vector<std::string>& chain,
-                                     const std::vector<ModuleDef>& module_types) {
-  std::vector<ModuleDef> defs;
-  defs.reserve(chain.size());
-  for (const std::string& name : chain) {
-    defs.push_back(find_module_def(module_types, name));
-    validate_module_def(defs.back());
-  }
-  return defs;
-}
-
 // the environment's surfaces and the modules: each pair's material, from the
 // environment's pair table or the config's defaults
 ContactMaterials resolve_materials(const WorldConfig& cfg, const EnvironmentGeoms& env) {
@@ -131,7 +120,7 @@ struct World::Impl {
 
   explicit Impl(int64_t dt) : dt_us(dt), h(static_cast<double>(dt) * 1e-6) {}
   ~Impl();
-  void build(const WorldConfig& cfg, const std::vector<std::string>& chain);
+  void build(const WorldConfig& cfg, const ChainModel& chain);
   void add_module(int index, const ModuleDef& def, const Eigen::Isometry3d& frame,
                   const ModuleBodies& parts, const WorldConfig& cfg);
   void check_start_clear() const;
@@ -178,8 +167,9 @@ World::Impl::~Impl() {
   if (world) dWorldDestroy(world);  // destroys bodies and joints
 }
 
-void World::Impl::build(const WorldConfig& cfg, const std::vector<std::string>& chain) {
-  const std::vector<ModuleDef> defs = resolve_chain(chain, cfg.module_types);
+void World::Impl::build(const WorldConfig& cfg, const ChainModel& chain) {
+  const std::vector<ModuleDef>& defs = chain.modules;
+  const std::vector<Eigen::Isometry3d>& frames = chain.frames;
   ode_init_once();
   world = dWorldCreate();
   dWorldSetGravity(world, 0, 0, -cfg.gravity_m_s2);
@@ -197,20 +187,6 @@ void World::Impl::build(const WorldConfig& cfg, const std::vector<std::string>& 
   rand_seed = static_cast<unsigned long>(cfg.seed);
   sensors.init(world, cfg.seed, cfg.gravity_m_s2);
 
-  // head's front face at head_position, chain along +x rotated by heading
-  // about z, or as head_orientation says
-  Eigen::Isometry3d face = Eigen::Isometry3d::Identity();
-  face.linear() = cfg.head_orientation
-                      ? cfg.head_orientation->normalized().toRotationMatrix()
-                      : Eigen::AngleAxisd(cfg.heading_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  if (cfg.roll_rad != 0)  // (only then: an unrolled chain's frame stays bit for bit what it was)
-    face.linear() = face.linear() * Eigen::AngleAxisd(cfg.roll_rad, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  face.translation() = cfg.head_position;
-  std::vector<Eigen::Isometry3d> frames;
-  for (const ModuleDef& def : defs) {
-    frames.push_back(face * to_isometry(def.front.frame).inverse());
-    face = frames.back() * to_isometry(def.back.frame);
-  }
   // docked faces share one body (module_builder.h), or are joined by joints
   const std::vector<ModuleBodies> parts = build_chain_bodies(world, space, defs, frames, !cfg.dock);
   for (size_t k = 0; k < defs.size(); ++k)
@@ -399,11 +375,17 @@ int World::Impl::body_index(int m, int b) const {
   return md.body0 + b;
 }
 
-World::World(const WorldConfig& config, const std::vector<std::string>& chain) {
+World::World(const WorldConfig& config, const ChainModel& chain) {
   if (config.dt_us <= 0) throw std::invalid_argument("dt_us must be > 0");
+  if (chain.frames.size() != chain.modules.size())
+    throw std::invalid_argument("the chain model's " + std::to_string(chain.modules.size()) + " modules have " +
+                                std::to_string(chain.frames.size()) + " frames: compile it with compile_chain");
   impl_ = std::make_unique<Impl>(config.dt_us);
   impl_->build(config, chain);  // on a throw, ~Impl frees what was created
 }
+
+World::World(const WorldConfig& config, const std::vector<std::string>& chain)
+    : World(config, compile_chain(config, chain)) {}
 
 World::~World() = default;
 

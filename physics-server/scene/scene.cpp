@@ -10,7 +10,7 @@
 #include <set>
 #include <sstream>
 
-#include "physics/units.h"
+#include "model/units.h"
 #include "readers/safe_text.h"
 #include "scene/scene_edit.h"
 #include "scene/scene_environment.h"
@@ -173,6 +173,8 @@ std::vector<std::string> Scene::chain_types() const {
   for (const SceneModule& m : modules) types.push_back(m.type);
   return types;
 }
+
+ChainModel compile_chain(const Scene& scene) { return compile_chain(scene.world, scene.chain_types()); }
 
 std::string module_type_for_letter(char letter) {
   switch (letter) {

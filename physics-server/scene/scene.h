@@ -9,7 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "physics/world.h"
+#include "physics/chain_model.h"
+#include "physics/world_config.h"
 
 namespace chainsim {
 
@@ -95,7 +96,7 @@ struct Scene {
   // placement, environment, materials, the scene's own module types
   WorldConfig world;
   // the chain, head first: each module's type and program. The one list of
-  // modules: the World is built from chain_types().
+  // modules: the chain model (compile_chain) is compiled from chain_types().
   std::vector<SceneModule> modules;
   SceneModule central;         // the central control program
   // by this simulated time every module has answered discovery (taken an
@@ -122,9 +123,14 @@ struct Scene {
   std::string target_at;
   ScenePlacement placement;
 
-  // the module types of the chain, head first (what World's constructor takes)
+  // the module types of the chain, head first (what compile_chain takes)
   std::vector<std::string> chain_types() const;
 };
+
+// the scene's chain compiled once (physics/chain_model.h): what the World,
+// the trace's sensor columns and scene.json read the modules from. Throws
+// std::invalid_argument as compile_chain does.
+ChainModel compile_chain(const Scene& scene);
 
 // every endpoint (modules and central control) runs on target t, whatever
 // the scene says (`--target` of run, test and optimize); the scene-wide

@@ -4,8 +4,8 @@
 #include <climits>
 #include <filesystem>
 
+#include "model/units.h"
 #include "physics/placement.h"
-#include "physics/units.h"
 
 namespace chainsim {
 

@@ -13,7 +13,7 @@
 #include "environment/pipe_path.h"
 #include "physics/placement.h"
 #include "environment/terrain.h"
-#include "physics/units.h"
+#include "model/units.h"
 
 namespace chainsim {
 namespace {

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <map>
 
-#include "physics/units.h"
+#include "model/units.h"
 #include "output/run_reader.h"
 
 namespace chainsim {

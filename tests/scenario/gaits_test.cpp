@@ -21,7 +21,7 @@
 #include <map>
 #include <sstream>
 
-#include "physics/units.h"
+#include "model/units.h"
 #include "scenario_util.h"
 
 using namespace scenario;

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "physics/units.h"
+#include "model/units.h"
 #include "scenario_util.h"
 
 using namespace scenario;

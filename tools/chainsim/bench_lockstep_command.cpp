@@ -31,6 +31,7 @@
 #include "cosim/scene_check.h"
 #include "text/number_text.h"
 #include "output/run_dir.h"
+#include "physics/world.h"  // WorldSetupError
 #include "scene/scene.h"
 #include "testing/run_compare.h"
 #include "output/run_reader.h"

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "model/units.h"
 #include "output/run_reader.h"
-#include "physics/units.h"
 
 namespace chainsim {
 namespace {

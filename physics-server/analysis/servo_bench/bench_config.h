@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "physics/actuators/servo_model.h"
+#include "model/servo_params.h"
 
 namespace chainsim {
 

@@ -15,8 +15,8 @@
 // Angles: the bench angle is the hinge angle in degrees, continuous (no stops,
 // no wrap at +-180), so the paper's 30 -> 120 degree test is written as is.
 #include "analysis/servo_bench/servo_stand.h"
+#include "model/units.h"
 #include "physics/actuators/rotary_servo.h"
-#include "physics/units.h"
 
 #include <ode/ode.h>
 

@@ -18,8 +18,8 @@
 #include <cstdint>
 
 #include "model/module_def.h"
+#include "model/units.h"
 #include "physics/actuators/servo_model.h"
-#include "physics/units.h"
 
 namespace chainsim {
 

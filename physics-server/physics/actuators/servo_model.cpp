@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "physics/units.h"
+#include "model/units.h"
 
 namespace chainsim {
 

@@ -96,41 +96,12 @@
 
 #include <cstdint>
 
+#include "model/servo_params.h"
+
 namespace chainsim {
 
 // the smoothing rate of coulomb_friction, rad/s
 constexpr double kCoulombRate = 0.005;
-
-struct ServoParams {
-  double kp = 12.0;        // V/rad
-  double km = 0.14;        // V/(rad/s)
-  double kt = 0.14;        // N m/A
-  double r = 12.0;         // ohm
-  double l = 0.0075;       // H
-  double b = 3.5e-6;       // N m/(rad/s)
-  double j = 7.0e-7;       // kg m^2, referred to the output shaft
-  double supply_v = 5.0;   // V
-  double current_filter_tau_s = 0.003;
-  // static-friction current threshold, A: no torque for |i| <= it (see above); 0 = off
-  double i_threshold_a = 0.0;
-  // effect catalogue (see above); 0 = off for each
-  double coulomb_nm = 0.0;       // coulomb_friction: torque, N m
-  double backlash_deg = 0.0;     // backlash: total play, degrees of output
-  double deadband_deg = 0.0;     // deadband: total width of the error dead band, degrees
-  double supply_sag_ohm = 0.0;   // supply_sag: supply internal resistance, ohm
-  double pwm_frame_s = 0.0;      // pwm_frame_delay: set-point frame period, s (50 Hz = 0.02)
-  double current_limit_a = 0.0;  // current_limit: driver current limit, A
-  // variants and extra parameters of the catalogue's effects (see above); 0 = as without them
-  double pwm_frame_phase_s = 0.0;          // pwm_frame_delay: time of the first frame after reset, s
-  double supply_sag_linear_ohm = 0.0;      // supply_sag, linear driver: Rs, ohm (limit Vs - Rs |i|)
-  double backlash_stiffness_nm_rad = 0.0;  // backlash, compliant mesh: N m/rad (0 = rigid, plastic closing)
-  double supply_rail_f = 0.0;              // supply_sag, rail variant: the rail capacitor, F (0 = none)
-  // Current sense chain (our assumption, the paper gives no figures): a 1 ohm
-  // shunt, an amplifier of gain 10 and a 10-bit ADC with a 5 V reference:
-  // 1023 counts = 0.5 A (0.489 mA per count). The stall current is
-  // Vs/R = 0.417 A = 853 counts, so the full range is used with headroom.
-  double adc_full_scale_a = 0.5;
-};
 
 class ServoModel {
  public:

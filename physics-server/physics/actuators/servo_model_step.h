@@ -8,8 +8,8 @@
 #include <climits>
 #include <cmath>
 
+#include "model/units.h"
 #include "physics/actuators/servo_model.h"
-#include "physics/units.h"
 
 namespace chainsim {
 

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "physics/sensors/module_sample.h"
-#include "physics/units.h"
+#include "model/units.h"
 #include "physics/splitmix64.h"
 
 namespace chainsim {

@@ -7,7 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "physics/units.h"
+#include "model/units.h"
 #include "physics/module_builder.h"
 
 namespace chainsim {

@@ -30,7 +30,7 @@
 #include "environment/pipe_path.h"
 #include "pipe_probe.h"
 #include "physics/placement.h"
-#include "physics/units.h"
+#include "model/units.h"
 #include "physics/world.h"
 
 using namespace chainsim;

@@ -12,16 +12,14 @@
 
 #include "model/module_def.h"
 #include "environment/pipe_path.h"
-#include "physics/units.h"
+#include "model/units.h"
 #include "physics/world.h"
 
 namespace chainsim {
 
-// ModuleDef of each module of chain (types looked up as the World does)
+// ModuleDef of each module of chain (compiled as the World compiles it)
 inline std::vector<ModuleDef> chain_defs(const WorldConfig& cfg, const std::vector<std::string>& chain) {
-  std::vector<ModuleDef> out;
-  for (const std::string& name : chain) out.push_back(find_module_def(cfg.module_types, name));
-  return out;
+  return compile_chain(cfg, chain).modules;
 }
 
 struct PipeProbe {

@@ -10,7 +10,7 @@
 
 #include "pipe_probe.h"
 #include "environment/terrain.h"
-#include "physics/units.h"
+#include "model/units.h"
 #include "physics/world.h"
 
 namespace chainsim {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "model/module_def.h"
-#include "physics/units.h"
+#include "model/units.h"
 
 namespace chainsim {
 namespace {

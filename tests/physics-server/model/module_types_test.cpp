@@ -183,7 +183,7 @@ TEST(SceneModuleTypes, UserTypeFromASceneFileWorksEndToEnd) {
   w.sample(1, &smp);
   EXPECT_EQ(smp.digital_in, 1u << 3);  // the bead rests on the floor
   EXPECT_LT(w.max_docking_error_m(), 1e-3);
-  const nlohmann::json j = scene_json(s);
+  const nlohmann::json j = scene_json(s, compile_chain(s));
   EXPECT_EQ(j["modules"][1]["type"], "bead");
   EXPECT_EQ(j["modules"][1]["bodies"][0]["shape"], "sphere");
 }

@@ -25,7 +25,8 @@ TEST(SceneJson, TypesOfYourOwnGetDistinctColours) {
   std::ofstream(d.path / "s.yaml") << "chain:\n  - {type: rotation}\n  - {type: mine}\n  - {type: yours}\n"
                                       "  - {type: mine}\n  - {type: helicoidal}\n"
                                       "module_types: {mine: mine.yaml, yours: yours.yaml}\n";
-  const nlohmann::json j = scene_json(load_scene_file((d.path / "s.yaml").string()));
+  const Scene s = load_scene_file((d.path / "s.yaml").string());
+  const nlohmann::json j = scene_json(s, compile_chain(s));
   std::vector<std::string> c;
   for (const auto& m : j["modules"]) c.push_back(m["color"].get<std::string>());
   ASSERT_EQ(c.size(), 5u);

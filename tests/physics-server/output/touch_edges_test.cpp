@@ -16,7 +16,7 @@ TEST(TouchEdges, OneLinePerChangeOfTheTouchInput) {
   c.head_position = Eigen::Vector3d(0, 0, 0.0126);
   World w(c, {"passive", "touch"});
   w.pin_body(0, 0);  // held straight behind a pinned module, the cover stays off the floor
-  TouchEdges edges(w.module_count(), sensor_columns(c, {"passive", "touch"}));
+  TouchEdges edges(w.module_count(), sensor_columns(compile_chain(c, {"passive", "touch"})));
   std::vector<std::string> lines, events;
   auto log = [&](const char* line) { lines.push_back(line); };
   auto event = [&](int m, const std::string& sensor, bool contact) {
@@ -34,7 +34,7 @@ TEST(TouchEdges, OneLinePerChangeOfTheTouchInput) {
   w.set_module_powered(1, true);
 
   World lone(c, {"touch"});  // alone it tips forward onto its cover (sensors_test.cpp)
-  TouchEdges lone_edges(1, sensor_columns(c, {"touch"}));
+  TouchEdges lone_edges(1, sensor_columns(compile_chain(c, {"touch"})));
   for (int k = 0; k < 1000; ++k) {
     lone.step();
     lone_edges.sample(lone, log, event);

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "model/units.h"
 #include "output/trace_writer.h"
-#include "physics/units.h"
 
 namespace chainsim {
 namespace {
@@ -100,7 +100,7 @@ TEST(TraceWriter, SensorColumnsAreNamedAfterTheModuleTypesSensors) {
   c.head_position = Eigen::Vector3d(0, 0, 0.5);
   const std::vector<std::string> chain{"touch", "rotation", "traveller"};
   World w(c, chain);
-  const TraceWriter t(w, 10000, sensor_columns(c, chain));
+  const TraceWriter t(w, 10000, sensor_columns(compile_chain(c, chain)));
   const std::string& h = t.header();
   for (const char* col : {",m0.touch.0.in,m0.touch.1.in,m0.touch.2.in,m0.accel.x_counts,m0.accel.y_counts,m0.accel.z_counts,m1.",
                           ",m1.pitch_current.counts,m1.yaw_current.counts,m2.",
@@ -120,7 +120,7 @@ TEST(TraceWriter, SensorColumnsReadWhatTheFirmwareReads) {
   const std::vector<std::string> chain{"touch"};
   World w(c, chain);  // alone it tips forward onto its cover (sensors_test.cpp)
   for (int k = 0; k < 2000; ++k) w.step();
-  TraceWriter t(w, 500, sensor_columns(c, chain));
+  TraceWriter t(w, 500, sensor_columns(compile_chain(c, chain)));
   std::string row;
   t.append_row(&row);
   const std::vector<std::string> cols = split(t.header().substr(0, t.header().size() - 1));

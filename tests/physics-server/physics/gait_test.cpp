@@ -30,7 +30,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "physics/units.h"
+#include "model/units.h"
 #include "physics/world.h"
 
 namespace chainsim {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "bench_args.h"
-#include "physics/units.h"
+#include "model/units.h"
 #include "physics/world.h"
 
 using namespace chainsim;

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "physics/units.h"
+#include "model/units.h"
 #include "physics/world.h"
 
 namespace chainsim {

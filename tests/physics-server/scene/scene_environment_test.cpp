@@ -14,7 +14,7 @@
 #include "environment/mesh_loader.h"
 #include "scene/scene.h"
 #include "output/scene_json.h"
-#include "physics/units.h"
+#include "model/units.h"
 
 namespace chainsim {
 namespace {
@@ -229,7 +229,7 @@ TEST(SceneEnvironment, MissingAndBrokenMeshFilesNameTheFileAndTheReason) {
 
 TEST(SceneEnvironment, SceneJsonDescribesThePipe) {
   const Scene s = load_scene_text(kPipeScene, "s.yaml");
-  const nlohmann::json j = scene_json(s)["environment"];
+  const nlohmann::json j = scene_json(s, compile_chain(s))["environment"];
   EXPECT_EQ(j["type"], "pipe");
   EXPECT_DOUBLE_EQ(j["material"]["mu"].get<double>(), 0.6);
   EXPECT_EQ(j["contacts"][0]["between"][0], "pipe");

@@ -11,7 +11,7 @@
 #include "output/run_reader.h"
 #include "analysis/robot_calibration/speed_table.h"
 #include "readers/csv_table.h"
-#include "physics/units.h"
+#include "model/units.h"
 
 namespace chainsim {
 namespace {

@@ -9,9 +9,9 @@
 #include <limits>
 
 #include "model/module_def.h"
+#include "model/units.h"
 #include "physics/actuators/actuator.h"
 #include "physics/actuators/force_motor.h"
-#include "physics/units.h"
 #include "physics/world.h"
 
 namespace chainsim {

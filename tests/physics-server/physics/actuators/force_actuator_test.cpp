@@ -13,7 +13,7 @@
 #include <string>
 
 #include "model/module_def.h"
-#include "physics/units.h"
+#include "model/units.h"
 #include "physics/world.h"
 
 namespace chainsim {

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <vector>
 
+#include "model/units.h"
 #include "physics/actuators/servo_model.h"
-#include "physics/units.h"
 
 namespace chainsim {
 namespace {

@@ -8,8 +8,8 @@
 #include <string>
 
 #include "model/module_def.h"
+#include "model/units.h"
 #include "physics/sensors/module_channels.h"
-#include "physics/units.h"
 #include "physics/world.h"
 
 namespace chainsim {

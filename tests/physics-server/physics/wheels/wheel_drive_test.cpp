@@ -8,8 +8,8 @@
 #include <cstdio>
 
 #include "model/module_def.h"
+#include "model/units.h"
 #include "physics/placement.h"
-#include "physics/units.h"
 #include "physics/world.h"
 
 namespace chainsim {
