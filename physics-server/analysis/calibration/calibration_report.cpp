@@ -170,7 +170,7 @@ nlohmann::ordered_json calibration_report_json(const ServoCalibration& c) {
   j["regimes"] = regimes_json(c);
   j["candidates"] = candidates_json(c);
   j["ode_check_max_angle_diff_deg"] = c.ode_check_max_angle_diff_deg;
-  j["model_runs"] = c.problem.model_runs;
+  j["model_runs"] = c.model_runs;
   return j;
 }
 

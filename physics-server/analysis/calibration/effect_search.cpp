@@ -202,215 +202,265 @@ double resolved_change(std::vector<double> change) {
   return change[k];
 }
 
-EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<int>& regime,
-                            const CalibrationProgress& say) {
+NoiseScale round_noise(const FitProblem& p, const Fit& cur) {
+  return white_noise_scale(run_model(p, model_config(p.datasheet, cur.effects, cur.x)).residual, p.split);
+}
+
+FitProblem with_noise(const FitProblem& p, const NoiseScale& noise) {
+  FitProblem q = p;
+  q.noise = noise;
+  return q;
+}
+
+Reference fit_reference(const FitProblem& p, const Fit& cur, const CalibrationProgress& say) {
+  Reference r;
+  r.fit = evaluate_fit(p, cur.effects, cur.x);
+  r.fit.held_ci = cur.held_ci;
+  r.fit = refit_from_starts(p, r.fit, {cur.x, datasheet_start(cur.x)}, kMaxEvalBase);
+  {  // a frame clock found before the other effects: fitted again with them
+    const double before = r.fit.train;
+    r.fit = refit_frame_clock(p, r.fit);
+    if (r.fit.train < before) say("  the frame clock fitted again on top of the other effects: training loss " +
+                                  fmt_g(before) + " -> " + fmt_g(r.fit.train));
+  }
+  r.residual = run_model(p, model_config(p.datasheet, r.fit.effects, r.fit.x)).residual;
+  return r;
+}
+
+namespace {
+
+// The candidates' fits are independent of each other: each stage below runs
+// them two at a time (run_paired), each writing its own slot and its own
+// lines, and the lines are said in the order of the slots.
+using Lines = std::vector<std::string>;
+
+void say_all(const CalibrationProgress& say, const std::vector<Lines>& lines) {
+  for (const Lines& ls : lines)
+    for (const std::string& l : ls) say(l);
+}
+
+// the rest of a candidate fitted in full: its resolution and its line
+void finish_candidate(const FitProblem& p, const Fit& ref, const std::vector<int>& regime, Candidate& c,
+                      Lines& out) {
+  c.resolution = effect_resolution(p, c.fit, ref, c.effect, regime);
+  out.push_back("  candidate " + effect_label(c.effect) + " = " + fmt_g(c.fit.x[param_count(ref.effects)]) +
+                ": training loss " + fmt_g(c.fit.train) + ", held-out NRMSE " + fmt_g(c.fit.held) + " (" +
+                std::to_string(c.runs) + " model runs" + (c.second_start_skipped ? ", its first start only" : "") +
+                ")");
+}
+
+// a candidate's fit, screened (screen_for) or not: from both starts and
+// finished where both_starts_at_once, else from its first start alone
+// (the datasheet start is decided in fit_second_starts)
+Candidate fit_candidate(const FitProblem& p, const Reference& ref, const std::vector<int>& regime, int e,
+                        bool screened, const Fit* refined, Lines& out) {
+  const Effect& ef = effect_catalogue()[e];
+  const int runs_candidate = thread_model_runs();
+  Candidate c;
+  c.effect = e;
+  c.signature = regime_signature(ref.residual, regime, ef.regimes);
+  c.screen = screen_for(p, ref.fit, e, refined);
+  GiveUp* screen = screened ? &c.screen : nullptr;
+  const bool both = both_starts_at_once(e);
+  c.fit = both ? fit_with_effect(p, ref.fit, e, screen, refined) : fit_effect_start(p, ref.fit, e, 0, screen, refined);
+  c.runs = thread_model_runs() - runs_candidate;
+  if (c.screen.stopped) {
+    out.push_back("  candidate " + effect_label(e) + " " + screen_words(c));
+  } else if (both) {
+    finish_candidate(p, ref.fit, regime, c, out);
+  }
+  return c;
+}
+
+}  // namespace
+
+std::vector<Candidate> fit_candidates(const FitProblem& p, const Reference& ref, const std::vector<int>& regime,
+                                      const std::set<std::string>& used, const CalibrationProgress& say) {
+  // the forms not yet used and not refining another, in the catalogue's
+  // order. One task per effect fits its forms in that order: a form is
+  // screened unless an earlier form of its effect passed the screen, and
+  // then every form of an effect that one of its forms shows is fitted in
+  // full (the form is chosen between full fits)
+  std::vector<Candidate> cands;
+  std::vector<std::vector<size_t>> effect_forms;   // per effect, its candidates
+  {
+    std::map<std::string, size_t> effect_index;
+    for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e) {
+      const Effect& ef = effect_catalogue()[e];
+      if (used.count(ef.name) || *ef.refines) continue;
+      const auto [it, fresh] = effect_index.emplace(ef.name, effect_forms.size());
+      if (fresh) effect_forms.emplace_back();
+      effect_forms[it->second].push_back(cands.size());
+      cands.emplace_back().effect = e;
+    }
+  }
+  // the longest work first, so that the last task left alone is short: a
+  // frame clock (both starts, each clock), then the effects of more forms
+  auto work = [&](const std::vector<size_t>& forms) {
+    return std::make_pair(both_starts_at_once(cands[forms.front()].effect), forms.size());
+  };
+  std::stable_sort(effect_forms.begin(), effect_forms.end(),
+                   [&](const std::vector<size_t>& a, const std::vector<size_t>& b) { return work(a) > work(b); });
+  std::vector<Lines> lines(cands.size()), again_lines(cands.size());
+  run_paired_each(effect_forms.size(), [&](size_t k) {
+    const std::vector<size_t>& forms = effect_forms[k];
+    bool shown = false;   // a form so far passed the screen
+    for (size_t i : forms) {
+      cands[i] = fit_candidate(p, ref, regime, cands[i].effect, !shown, nullptr, lines[i]);
+      shown = shown || !cands[i].screen.stopped;
+    }
+    for (size_t i : forms)
+      if (shown && cands[i].screen.stopped)
+        cands[i] = fit_candidate(p, ref, regime, cands[i].effect, false, nullptr, again_lines[i]);
+  });
+  say_all(say, lines);
+  say_all(say, again_lines);
+  return cands;
+}
+
+void fit_second_starts(const FitProblem& p, const Fit& ref, const std::vector<int>& regime,
+                       std::vector<Candidate>* cands, const CalibrationProgress& say) {
+  std::map<std::string, double> effect_gain;   // per effect, its forms' best first-start held-out gain
+  double best = -1e300;
+  std::vector<size_t> second;
+  for (size_t i = 0; i < cands->size(); ++i) {
+    const Candidate& c = (*cands)[i];
+    if (both_starts_at_once(c.effect) || c.screen.stopped) continue;
+    const double g = held_out_test(ref.loss, c.fit.loss, c.fit.rho_held, p.split, channels(p), 1, 1).gain;
+    const auto [it, fresh] = effect_gain.emplace(effect_catalogue()[c.effect].name, g);
+    if (!fresh) it->second = std::max(it->second, g);
+    best = std::max(best, g);
+    second.push_back(i);
+  }
+  std::vector<Lines> second_lines(second.size());
+  run_paired_each(second.size(), [&](size_t k) {
+    Candidate& c = (*cands)[second[k]];
+    const int runs_before = thread_model_runs();
+    c.first_gain = effect_gain.at(effect_catalogue()[c.effect].name);
+    c.round_first_gain = best;
+    c.second_start_skipped = !run_second_start(c.first_gain, best);
+    if (!c.second_start_skipped) {
+      Fit f = fit_effect_start(p, ref, c.effect, 1);
+      if (f.train < c.fit.train) c.fit = std::move(f);
+    }
+    c.runs += thread_model_runs() - runs_before;
+    finish_candidate(p, ref, regime, c, second_lines[k]);
+  });
+  say_all(say, second_lines);
+}
+
+void fit_refining_forms(const FitProblem& p, const Reference& ref, const std::vector<int>& regime,
+                        const std::set<std::string>& used, std::vector<Candidate>* cands,
+                        const CalibrationProgress& say) {
+  struct Refining {
+    int effect;
+    bool fitted;
+    Lines lines;
+    Candidate c;
+  };
+  std::vector<Refining> rf;
+  for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e) {
+    const Effect& ef = effect_catalogue()[e];
+    if (used.count(ef.name) || !*ef.refines) continue;
+    rf.push_back({e, shows_effect(p, ref.fit, *cands, ef), {}, {}});
+    if (!rf.back().fitted)
+      rf.back().lines.push_back("  candidate " + effect_label(e) + " not fitted: " + ef.refines +
+                                " shows no effect this round");
+  }
+  std::vector<size_t> fit;
+  for (size_t k = 0; k < rf.size(); ++k)
+    if (rf[k].fitted) fit.push_back(k);
+  run_paired_each(fit.size(), [&](size_t k) {
+    Refining& r = rf[fit[k]];
+    r.c = fit_candidate(p, ref, regime, r.effect, true, &refined_form(*cands, effect_catalogue()[r.effect])->fit,
+                        r.lines);
+  });
+  for (Refining& r : rf) {
+    for (const std::string& l : r.lines) say(l);
+    if (r.fitted) cands->push_back(std::move(r.c));
+  }
+}
+
+Selection select_candidate(const FitProblem& p, const Fit& ref, std::vector<Candidate>* cands,
+                           const CalibrationProgress& say) {
+  Selection sel;
+  sel.reference = ref;
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    test_candidates(p, sel.reference, cands);
+    const auto it = std::find_if(cands->begin(), cands->end(), passes);
+    if (it == cands->end()) break;
+    // a re-fit of the current model alone from where the candidate ended:
+    // if that is better, the candidate's gain was the optimiser's
+    const Candidate& b = *it;
+    const std::vector<double> xs(b.fit.x.begin(), b.fit.x.begin() + param_count(sel.reference.effects));
+    Fit alt = fit_model(p, sel.reference.effects, xs, Samples::training, kMaxEvalBase);
+    alt.held_ci = sel.reference.held_ci;
+    if (alt.train < sel.reference.train * (1 - 1e-6)) {
+      say("  the reference re-fitted from " + effect_label(b.effect) + "'s solution is better (" +
+          fmt_g(sel.reference.train) + " -> " + fmt_g(alt.train) + "): candidates tested again");
+      sel.reference = std::move(alt);
+      sel.reference_refit = true;
+      continue;
+    }
+    sel.variant = VariantChoice{};
+    sel.chosen = static_cast<long>(choose_variant(p, *cands, it - cands->begin(), &sel.variant));
+    break;
+  }
+  if (sel.chosen < 0) {
+    for (Candidate& c : *cands) c.why += ": rejected";
+    return sel;
+  }
+  Candidate& a = (*cands)[sel.chosen];
+  a.accepted = true;
+  a.why += ": accepted";
+  for (Candidate& c : *cands)
+    if (!c.accepted) c.why += passes(c) ? ": passes, but another is better" : ": rejected";
+  const Effect& ae = effect_catalogue()[a.effect];
+  if (*ae.variant && sel.variant.chosen.empty()) sel.variant = {ae.name, ae.variant, "", 0, false, "the only variant fitted"};
+  return sel;
+}
+
+EffectSearch search_effects(const FitProblem& problem, const Fit& base, const std::vector<int>& regime,
+                            SearchState& state, const CalibrationProgress& say) {
+  const int runs_before = thread_model_runs();
   EffectSearch s;
   Fit cur = base;
   std::set<std::string> used;
   for (;;) {
     SearchRound round;
-    // the loss's unit: the white noise left by the current model
-    const int runs_before = p.model_runs;
-    p.noise = white_noise_scale(run_model(p, model_config(p.datasheet, cur.effects, cur.x)).residual, p.split);
-    round.noise = p.noise;
-    Fit ref = evaluate_fit(p, cur.effects, cur.x);
-    ref.held_ci = cur.held_ci;
-    ref = refit_from_starts(p, ref, {cur.x, datasheet_start(cur.x)}, kMaxEvalBase);
-    {  // a frame clock found before the other effects: fitted again with them
-      const double before = ref.train;
-      ref = refit_frame_clock(p, ref);
-      if (ref.train < before) say("  the frame clock fitted again on top of the other effects: training loss " +
-                                  fmt_g(before) + " -> " + fmt_g(ref.train));
-    }
-    const Residual rr = run_model(p, model_config(p.datasheet, ref.effects, ref.x)).residual;
+    // the loss's unit: the white noise left by the current model; the
+    // round's fits take it with the problem
+    const int round_runs = thread_model_runs();
+    state.noise = round.noise = round_noise(problem, cur);
+    const FitProblem p = with_noise(problem, state.noise);
+    const Reference ref = fit_reference(p, cur, say);
     say("round " + std::to_string(s.rounds.size() + 1) + ": reference re-fitted from 2 starts, training loss " +
-        fmt_g(ref.train) + ", held-out NRMSE " + fmt_g(ref.held) + ", whiteness " + fmt_g(ref.white, 3) + " (" +
-        std::to_string(p.model_runs - runs_before) + " model runs)");
-    // The candidates' fits are independent of each other: each stretch below
-    // runs them two at a time (run_paired), each writing its own slot and
-    // its own lines, and the lines are said in the order of the slots.
-    using Lines = std::vector<std::string>;
-    auto say_all = [&](const std::vector<Lines>& lines) {
-      for (const Lines& ls : lines)
-        for (const std::string& l : ls) say(l);
-    };
-    // the rest of a candidate fitted in full: its resolution and its line
-    auto finish = [&](Candidate& c, Lines& out) {
-      c.resolution = effect_resolution(p, c.fit, ref, c.effect, regime);
-      out.push_back("  candidate " + effect_label(c.effect) + " = " + fmt_g(c.fit.x[param_count(ref.effects)]) +
-                    ": training loss " + fmt_g(c.fit.train) + ", held-out NRMSE " + fmt_g(c.fit.held) + " (" +
-                    std::to_string(c.runs) + " model runs" +
-                    (c.second_start_skipped ? ", its first start only" : "") + ")");
-    };
-    // a candidate's fit, screened (screen_for) or not: from both starts and
-    // finished where both_starts_at_once, else from its first start alone
-    // (the datasheet start is decided below)
-    auto fit_candidate = [&](int e, bool screened, const Fit* refined, Lines& out) {
-      const Effect& ef = effect_catalogue()[e];
-      const int runs_candidate = thread_model_runs();
-      Candidate c;
-      c.effect = e;
-      c.signature = regime_signature(rr, regime, ef.regimes);
-      c.screen = screen_for(p, ref, e, refined);
-      GiveUp* screen = screened ? &c.screen : nullptr;
-      const bool both = both_starts_at_once(e);
-      c.fit = both ? fit_with_effect(p, ref, e, screen, refined) : fit_effect_start(p, ref, e, 0, screen, refined);
-      c.runs = thread_model_runs() - runs_candidate;
-      if (c.screen.stopped) {
-        out.push_back("  candidate " + effect_label(e) + " " + screen_words(c));
-      } else if (both) {
-        finish(c, out);
-      }
-      return c;
-    };
-    // the forms not yet used and not refining another, in the catalogue's
-    // order. One task per effect fits its forms in that order: a form is
-    // screened unless an earlier form of its effect passed the screen, and
-    // then every form of an effect that one of its forms shows is fitted in
-    // full (the form is chosen between full fits)
-    std::vector<Candidate> cands;
-    std::vector<std::vector<size_t>> effect_forms;   // per effect, its candidates
-    {
-      std::map<std::string, size_t> effect_index;
-      for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e) {
-        const Effect& ef = effect_catalogue()[e];
-        if (used.count(ef.name) || *ef.refines) continue;
-        const auto [it, fresh] = effect_index.emplace(ef.name, effect_forms.size());
-        if (fresh) effect_forms.emplace_back();
-        effect_forms[it->second].push_back(cands.size());
-        cands.emplace_back().effect = e;
-      }
-    }
-    // the longest work first, so that the last task left alone is short: a
-    // frame clock (both starts, each clock), then the effects of more forms
-    auto work = [&](const std::vector<size_t>& forms) {
-      return std::make_pair(both_starts_at_once(cands[forms.front()].effect), forms.size());
-    };
-    std::stable_sort(effect_forms.begin(), effect_forms.end(),
-                     [&](const std::vector<size_t>& a, const std::vector<size_t>& b) { return work(a) > work(b); });
-    std::vector<Lines> lines(cands.size()), again_lines(cands.size());
-    run_paired_each(effect_forms.size(), [&](size_t k) {
-      const std::vector<size_t>& forms = effect_forms[k];
-      bool shown = false;   // a form so far passed the screen
-      for (size_t i : forms) {
-        cands[i] = fit_candidate(cands[i].effect, !shown, nullptr, lines[i]);
-        shown = shown || !cands[i].screen.stopped;
-      }
-      for (size_t i : forms)
-        if (shown && cands[i].screen.stopped) cands[i] = fit_candidate(cands[i].effect, false, nullptr, again_lines[i]);
-    });
-    say_all(lines);
-    say_all(again_lines);
-    // the datasheet starts, where run_second_start says
-    {
-      std::map<std::string, double> effect_gain;   // per effect, its forms' best first-start held-out gain
-      double best = -1e300;
-      std::vector<size_t> second;
-      for (size_t i = 0; i < cands.size(); ++i) {
-        const Candidate& c = cands[i];
-        if (both_starts_at_once(c.effect) || c.screen.stopped) continue;
-        const double g = held_out_test(ref.loss, c.fit.loss, c.fit.rho_held, p.split, channels(p), 1, 1).gain;
-        const auto [it, fresh] = effect_gain.emplace(effect_catalogue()[c.effect].name, g);
-        if (!fresh) it->second = std::max(it->second, g);
-        best = std::max(best, g);
-        second.push_back(i);
-      }
-      std::vector<Lines> second_lines(second.size());
-      run_paired_each(second.size(), [&](size_t k) {
-        Candidate& c = cands[second[k]];
-        const int runs_before = thread_model_runs();
-        c.first_gain = effect_gain.at(effect_catalogue()[c.effect].name);
-        c.round_first_gain = best;
-        c.second_start_skipped = !run_second_start(c.first_gain, best);
-        if (!c.second_start_skipped) {
-          Fit f = fit_effect_start(p, ref, c.effect, 1);
-          if (f.train < c.fit.train) c.fit = std::move(f);
-        }
-        c.runs += thread_model_runs() - runs_before;
-        finish(c, second_lines[k]);
-      });
-      say_all(second_lines);
-    }
-    // then a form that refines another, where that form, as fitted in the end,
-    // shows the effect: started from its solution, screened against it (the
-    // form refined is never itself a refining form, effect_catalogue.h, so
-    // every decision is taken before any of these fits)
-    {
-      struct Refining {
-        int effect;
-        bool fitted;
-        Lines lines;
-        Candidate c;
-      };
-      std::vector<Refining> rf;
-      for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e) {
-        const Effect& ef = effect_catalogue()[e];
-        if (used.count(ef.name) || !*ef.refines) continue;
-        rf.push_back({e, shows_effect(p, ref, cands, ef), {}, {}});
-        if (!rf.back().fitted)
-          rf.back().lines.push_back("  candidate " + effect_label(e) + " not fitted: " + ef.refines +
-                                    " shows no effect this round");
-      }
-      std::vector<size_t> fit;
-      for (size_t k = 0; k < rf.size(); ++k)
-        if (rf[k].fitted) fit.push_back(k);
-      run_paired_each(fit.size(), [&](size_t k) {
-        Refining& r = rf[fit[k]];
-        r.c = fit_candidate(r.effect, true, &refined_form(cands, effect_catalogue()[r.effect])->fit, r.lines);
-      });
-      for (Refining& r : rf) {
-        for (const std::string& l : r.lines) say(l);
-        if (r.fitted) cands.push_back(std::move(r.c));
-      }
-    }
+        fmt_g(ref.fit.train) + ", held-out NRMSE " + fmt_g(ref.fit.held) + ", whiteness " + fmt_g(ref.fit.white, 3) +
+        " (" + std::to_string(thread_model_runs() - round_runs) + " model runs)");
+    std::vector<Candidate> cands = fit_candidates(p, ref, regime, used, say);
+    fit_second_starts(p, ref.fit, regime, &cands, say);
+    // then a form that refines another, where that form, as fitted in the
+    // end, shows the effect (every decision is taken before any of these fits)
+    fit_refining_forms(p, ref, regime, used, &cands, say);
     if (cands.empty()) {
-      round.reference = ref;
+      round.reference = ref.fit;
       s.rounds.push_back(std::move(round));
       break;
     }
-    long chosen = -1;
-    VariantChoice vc;
-    for (int attempt = 0; attempt < 3; ++attempt) {
-      test_candidates(p, ref, &cands);
-      const auto it = std::find_if(cands.begin(), cands.end(), passes);
-      if (it == cands.end()) break;
-      // a re-fit of the current model alone from where the candidate ended:
-      // if that is better, the candidate's gain was the optimiser's
-      const Candidate& b = *it;
-      const std::vector<double> xs(b.fit.x.begin(), b.fit.x.begin() + param_count(ref.effects));
-      Fit alt = fit_model(p, ref.effects, xs, Samples::training, kMaxEvalBase);
-      alt.held_ci = ref.held_ci;
-      if (alt.train < ref.train * (1 - 1e-6)) {
-        say("  the reference re-fitted from " + effect_label(b.effect) + "'s solution is better (" + fmt_g(ref.train) +
-            " -> " + fmt_g(alt.train) + "): candidates tested again");
-        ref = std::move(alt);
-        round.reference_refit = true;
-        continue;
-      }
-      vc = VariantChoice{};
-      chosen = static_cast<long>(choose_variant(p, cands, it - cands.begin(), &vc));
-      break;
-    }
-    round.reference = ref;
-    if (chosen < 0) {
-      for (Candidate& c : cands) c.why += ": rejected";
+    Selection sel = select_candidate(p, ref.fit, &cands, say);
+    round.reference = sel.reference;
+    round.reference_refit = sel.reference_refit;
+    if (sel.chosen < 0) {
       say("no candidate passes both tests: stop");
       round.candidates = std::move(cands);
       s.rounds.push_back(std::move(round));
       break;
     }
-    Candidate& a = cands[chosen];
-    a.accepted = true;
-    a.why += ": accepted";
-    for (Candidate& c : cands)
-      if (!c.accepted) c.why += passes(c) ? ": passes, but another is better" : ": rejected";
+    const Candidate& a = cands[sel.chosen];
     const Effect& ae = effect_catalogue()[a.effect];
-    if (*ae.variant) {
-      if (vc.chosen.empty()) vc = {ae.name, ae.variant, "", 0, false, "the only variant fitted"};
-      s.variants.push_back(vc);
-    }
+    if (*ae.variant) s.variants.push_back(sel.variant);
     used.insert(ae.name);
-    s.before.push_back(ref);
+    s.before.push_back(sel.reference);
     cur = a.fit;
     say("accepted " + effect_label(a.effect) + " (held-out NRMSE " + fmt_g(cur.held) + ", whiteness " +
         fmt_g(cur.white, 3) + ")");
@@ -418,6 +468,7 @@ EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<in
     s.rounds.push_back(std::move(round));
   }
   s.model = s.rounds.back().reference;
+  state.model_runs += thread_model_runs() - runs_before;
   return s;
 }
 

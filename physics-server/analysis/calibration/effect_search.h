@@ -12,6 +12,7 @@
 #pragma once
 
 #include <functional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -104,9 +105,76 @@ double effect_resolution(const FitProblem& p, const Fit& with, const Fit& withou
 // the kResolutionQuantile quantile of the per-sample changes (0 for none)
 double resolved_change(std::vector<double> change);
 
-// the search from the refitted base; regime: classify_regimes of the
-// measurement; p.noise is set each round from the current model's residual
-EffectSearch search_effects(FitProblem& p, const Fit& base, const std::vector<int>& regime,
-                            const CalibrationProgress& say);
+// The search's stages, in the order of a round; each takes the problem as
+// it is (const: the round's loss unit is in it, with_noise) and gives what
+// it found. The model runs they make are counted by the caller
+// (thread_model_runs, paired_runs.h).
+
+// what the search changes as it goes, owned by its caller: the loss's unit
+// (the white noise left by the current model, set each round) and the model
+// runs the search made
+struct SearchState {
+  NoiseScale noise;
+  int model_runs = 0;
+};
+
+// the loss's unit for a round: the white noise of the current model's
+// residual (one model run)
+NoiseScale round_noise(const FitProblem& p, const Fit& cur);
+// the problem with that unit
+FitProblem with_noise(const FitProblem& p, const NoiseScale& noise);
+
+// 1. the reference: the current model re-fitted from two starts (its own
+// values and the datasheet base), its frame clock (if any, not found last)
+// fitted again on top of the others; and its residual on all samples (the
+// candidates' regime signatures)
+struct Reference {
+  Fit fit;
+  Residual residual;
+};
+Reference fit_reference(const FitProblem& p, const Fit& cur, const CalibrationProgress& say);
+
+// 2. the candidates: every form of the effects not in `used` that refines no
+// other, in the catalogue's order, fitted on top of the reference; a form is
+// screened (screen_for) unless an earlier form of its effect passed the
+// screen, and every form of an effect that one of its forms shows is fitted
+// in full. Smooth forms from their first start only (3 adds the second);
+// frame clocks from both and finished (their resolution)
+std::vector<Candidate> fit_candidates(const FitProblem& p, const Reference& ref, const std::vector<int>& regime,
+                                      const std::set<std::string>& used, const CalibrationProgress& say);
+
+// 3. the datasheet starts of the smooth candidates that passed the screen,
+// where run_second_start says; each of those candidates finished (its
+// resolution and its line)
+void fit_second_starts(const FitProblem& p, const Fit& ref, const std::vector<int>& regime,
+                       std::vector<Candidate>* cands, const CalibrationProgress& say);
+
+// 4. the forms that refine another (not in `used`), each fitted, screened
+// against the form it refines and from its solution, where that form as
+// fitted in 2-3 shows the effect (shows_effect); appended to cands
+void fit_refining_forms(const FitProblem& p, const Reference& ref, const std::vector<int>& regime,
+                        const std::set<std::string>& used, std::vector<Candidate>* cands,
+                        const CalibrationProgress& say);
+
+// 5. the selection: both tests of every candidate against the reference
+// (cands sorted best held-out gain first, each with its decision in words);
+// the reference re-fitted from the best passing candidate's own solution,
+// and the candidates tested again against it where that is better (at most
+// twice); of the passing effect's forms, the one to name (choose_variant)
+struct Selection {
+  Fit reference;                 // the reference the candidates were last tested against
+  bool reference_refit = false;  // it improved from a candidate's solution
+  long chosen = -1;              // the accepted candidate (-1: none passes)
+  VariantChoice variant;         // its form's choice (an effect with variants)
+};
+Selection select_candidate(const FitProblem& p, const Fit& ref, std::vector<Candidate>* cands,
+                           const CalibrationProgress& say);
+
+// the search from the refitted base, round by round (1-5) until no
+// candidate passes; regime: classify_regimes of the measurement. state.noise
+// is the last round's loss unit at the end, state.model_runs counts the
+// search's model runs on top of what it was
+EffectSearch search_effects(const FitProblem& p, const Fit& base, const std::vector<int>& regime,
+                            SearchState& state, const CalibrationProgress& say);
 
 }  // namespace chainsim

@@ -44,7 +44,6 @@ std::vector<ChangeDelay> estimate_delays(const FitProblem& p, const BenchConfig&
     spg[j] = m.sp[k];
   }
   const std::vector<BenchSample> sim = paired_simulate(b, tg, spg, SIZE_MAX);
-  ++p.model_runs;
   auto at = [&](double t, bool current) {
     const double f = std::clamp((t - t0) / kGrid_s, 0.0, static_cast<double>(ng - 1));
     const size_t j = std::min(static_cast<size_t>(f), ng - 2);

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <tuple>
 
+#include "analysis/calibration/paired_runs.h"
 #include "analysis/calibration/regimes.h"
 #include "analysis/calibration/text_format.h"
 
@@ -25,6 +26,7 @@ namespace chainsim {
 
 ServoCalibration calibrate_servo(const BenchConfig& datasheet, MeasuredRecord measured,
                                  const CalibrationProgress& say) {
+  const int runs_before = thread_model_runs();
   ServoCalibration c;
   c.problem = make_fit_problem(datasheet, std::move(measured));
   const FitProblem& p = c.problem;
@@ -41,7 +43,11 @@ ServoCalibration calibrate_servo(const BenchConfig& datasheet, MeasuredRecord me
   c.problem.noise = white_noise_scale(r_data, p.split);
   const Fit first = fit_model(p, {}, std::vector<double>(kNumBase, 1.0), Samples::training, kMaxEvalBase);
 
-  c.search = search_effects(c.problem, first, c.regime, say);
+  SearchState state;
+  state.noise = p.noise;
+  c.search = search_effects(p, first, c.regime, state, say);
+  // the final fit, its intervals and the report in the search's last unit
+  c.problem.noise = state.noise;
   c.base = c.search.rounds.front().reference;
   const Fit& cur = c.search.model;
   c.verdict = cur.white <= kWhiteMax ? (cur.effects.empty() ? "no_missing_effect" : "explained") : "unexplained";
@@ -64,7 +70,8 @@ ServoCalibration calibrate_servo(const BenchConfig& datasheet, MeasuredRecord me
   for (size_t k = 0; k < n; ++k)
     c.ode_check_max_angle_diff_deg =
         std::max(c.ode_check_max_angle_diff_deg, std::fabs(ode[k].angle_deg - fast.sim[k].angle_deg));
-  say("verdict " + c.verdict + "; " + std::to_string(p.model_runs) + " model runs");
+  c.model_runs = thread_model_runs() - runs_before;
+  say("verdict " + c.verdict + "; " + std::to_string(c.model_runs) + " model runs");
   return c;
 }
 

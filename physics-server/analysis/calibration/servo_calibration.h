@@ -27,7 +27,7 @@ namespace chainsim {
 constexpr size_t kMinMeasuredRows = 4 * kCvBlocks;
 
 struct ServoCalibration {
-  FitProblem problem;
+  FitProblem problem;            // its noise: the search's last loss unit (SearchState)
   std::vector<int> regime;       // classify_regimes of the measurement
   double nrmse_datasheet = 0;    // the datasheet model's held-out NRMSE
   Fit base;                      // the refitted base (no effects): the first round's reference
@@ -39,6 +39,7 @@ struct ServoCalibration {
   std::vector<ModelRun> without; // per accepted effect: the model before it (search.before) on all samples
   double gap_before = 0, gap_after = 0;  // held-out gaps of base and search.model, one white level
   double ode_check_max_angle_diff_deg = 0;     // final model: ODE stand vs the fast solver
+  int model_runs = 0;            // model runs of the whole calibration
 };
 
 // the whole calibration; say gets progress lines

@@ -28,7 +28,6 @@ FitProblem make_fit_problem(const BenchConfig& datasheet, MeasuredRecord m) {
 ModelRun run_model(const FitProblem& p, const BenchConfig& b, size_t rows) {
   ModelRun run;
   run.sim = paired_simulate(b, p.m.t, p.m.sp, rows);
-  ++p.model_runs;
   Residual& r = run.residual;
   const size_t n = run.sim.size();
   r.has_current = p.m.has_current;

@@ -30,7 +30,6 @@ struct FitProblem {
   BlockSplit split;
   NoiseScale noise;        // white noise of the normalised residual: the loss's unit
   size_t training_rows = 0;   // samples up to the last training one (the training loss needs no more)
-  mutable int model_runs = 0;   // model evaluations of the fits so far
 };
 
 // the problem for a measurement: the datasheet's step capped at 100 us (the
@@ -44,7 +43,8 @@ struct ModelRun {
   Residual residual;
 };
 // (the first `rows` samples only, when fewer: the same values as the whole
-// run); inside run_paired's tasks stepped together with the other task's run
+// run); inside run_paired's tasks stepped together with the other task's run;
+// counted in thread_model_runs (paired_runs.h)
 ModelRun run_model(const FitProblem& p, const BenchConfig& b, size_t rows = SIZE_MAX);
 
 struct Fit {

@@ -7,6 +7,7 @@
 // of CPU):
 //   build/bin/calibration_study [--seeds 10] [--first 100] [--cases REGEX] [--jobs 1] [--plain] [--keep DIR] [--check]
 //   [--chainsim PATH]   (a copy of chainsim to study, e.g. while the tree is rebuilt; default: the one built with it)
+//   [--reports DIR]     each record's report.json kept as DIR/<case>-<seed>.json, to compare two builds record by record
 //   [--generator c]     the held-out study on generator C (synth_c.h), seeds 900-909 unless --first says otherwise:
 //                       run once per change of the method and reported, never tuned on (docs/calibration.md)
 #include <atomic>
@@ -107,6 +108,7 @@ int main(int argc, char** argv) {
   char generator = 'a';   // a: generators A and B (synth_cases.h); c: generator C (synth_c.h)
   bool plain = false, check = false;   // check: exit 1 unless every run comes out right
   std::string pattern = ".*", keep;   // keep: a folder where one job's files stay (one job)
+  std::string reports;   // a folder where every record's report.json is copied
   std::string exe = CHAINSIM_EXE;
   for (int i = 1; i < argc; ++i) {
     const bool more = i + 1 < argc;
@@ -118,6 +120,7 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--check")) check = true;
     else if (!std::strcmp(argv[i], "--keep") && more) keep = argv[++i], jobs = 1;
     else if (!std::strcmp(argv[i], "--chainsim") && more) exe = argv[++i];
+    else if (!std::strcmp(argv[i], "--reports") && more) reports = argv[++i];
     else if (!std::strcmp(argv[i], "--generator") && more && (!std::strcmp(argv[i + 1], "ab") || !std::strcmp(argv[i + 1], "c")))
       generator = argv[++i][0];
     else {
@@ -126,7 +129,7 @@ int main(int argc, char** argv) {
       if (!help) std::fprintf(stderr, "calibration_study: not understood: %s\n", argv[i]);
       std::fprintf(help ? stdout : stderr,
                    "usage: calibration_study [--seeds 10] [--first 100] [--cases REGEX] [--jobs 1] [--plain] "
-                   "[--keep DIR] [--check] [--chainsim PATH] [--generator ab|c]\n");
+                   "[--keep DIR] [--check] [--chainsim PATH] [--reports DIR] [--generator ab|c]\n");
       return help ? 0 : 2;
     }
   }
@@ -158,6 +161,7 @@ int main(int argc, char** argv) {
         runs.push_back(r);
       }
   if (!keep.empty()) std::filesystem::create_directories(keep);  // the files of the last run stay there
+  if (!reports.empty()) std::filesystem::create_directories(reports);
   std::atomic<size_t> next{0};
   std::mutex mu;
   auto worker = [&] {
@@ -174,6 +178,10 @@ int main(int argc, char** argv) {
         r.size = synth::weakest_effect_size(ab_cases[r.c], r.seed, r.cond);
         r.o = synth::calibrate_case(ab_cases[r.c], r.seed, r.cond, dir, exe);
       }
+      if (!reports.empty() && std::filesystem::exists(dir + "/out/report.json"))
+        std::filesystem::copy_file(dir + "/out/report.json",
+                                   reports + "/" + cases[r.c].name + "-" + std::to_string(r.seed) + ".json",
+                                   std::filesystem::copy_options::overwrite_existing);
       std::string found = r.o.report.is_object() ? r.o.report["verdict"].get<std::string>() : "error";
       for (const auto& n : r.o.names) found += " " + n + (r.o.variants.count(n) ? "(" + r.o.variants[n] + ")" : "");
       std::lock_guard<std::mutex> lock(mu);

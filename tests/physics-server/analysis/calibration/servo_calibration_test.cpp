@@ -55,7 +55,7 @@ TEST(ServoCalibration, FindsAHiddenDeadbandAndShrinksTheGap) {
   truth.servo.deadband_deg = 3.0;
   const ServoCalibration c = calibrate_servo(datasheet(), bench_record(truth, 7), [](const std::string&) {});
   std::printf("deadband: verdict %s, gap %.4f -> %.4f, whiteness %.3f -> %.3f, %d model runs\n", c.verdict.c_str(),
-              c.gap_before, c.gap_after, c.base.white, c.search.model.white, c.problem.model_runs);
+              c.gap_before, c.gap_after, c.base.white, c.search.model.white, c.model_runs);
   EXPECT_EQ(c.verdict, "explained");
   ASSERT_EQ(effect_names(c.final_fit), std::vector<std::string>{"deadband"});
   EXPECT_NEAR(c.final_fit.x[kNumBase], 3.0, 0.3);
@@ -99,7 +99,7 @@ TEST(ServoCalibration, ACandidateFarBehindItsRoundIsNotFittedFromTheDatasheetSta
   const ServoCalibration c = calibrate_servo(datasheet(), bench_record(truth, 3), [](const std::string&) {});
   const int skipped = check_datasheet_starts(c);
   std::printf("coulomb + current limit: verdict %s, %d datasheet starts not run, %d model runs\n", c.verdict.c_str(),
-              skipped, c.problem.model_runs);
+              skipped, c.model_runs);
   std::vector<std::string> names = effect_names(c.final_fit);
   std::sort(names.begin(), names.end());
   EXPECT_EQ(names, (std::vector<std::string>{"coulomb_friction", "current_limit"}));
@@ -124,7 +124,7 @@ TEST(ServoCalibration, FittingTwoAtATimeChangesNothingButTheTime) {
     set_paired_runs(paired == 1);
     const ServoCalibration c = calibrate_servo(datasheet(), m, [&](const std::string& l) { log[paired] += l + "\n"; });
     report[paired] = calibration_report_json(c).dump(1);
-    runs[paired] = c.problem.model_runs;
+    runs[paired] = c.model_runs;
     if (paired == 1) {
       std::vector<std::string> names = effect_names(c.final_fit);
       std::sort(names.begin(), names.end());
@@ -156,7 +156,7 @@ TEST(ServoCalibration, NoEffectIsAddedWhenNoneIsMissingAndTheReportSaysSo) {
   EXPECT_EQ(j["verdict"], "no_missing_effect");
   EXPECT_TRUE(j["effects"].empty());
   EXPECT_NEAR(j["base"]["Kp"]["factor"].get<double>(), 0.97, 0.02);
-  EXPECT_EQ(j["model_runs"].get<int>(), c.problem.model_runs);
+  EXPECT_EQ(j["model_runs"].get<int>(), c.model_runs);
   std::ifstream mf(dir + "/report.md");
   std::stringstream md;
   md << mf.rdbuf();
