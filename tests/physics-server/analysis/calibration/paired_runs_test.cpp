@@ -1,13 +1,12 @@
-// Two fits at once on one core (paired_runs.h): each task gets, run for run,
-// the bytes it would get alone; only one task's code runs at a time; a
-// task's exception reaches the caller; nested tasks pair only in the last
-// task left; each thread counts its own model runs.
+// Two fits at once on one core (paired_runs.h): a batch gives each run the
+// bytes it would get alone, and so does a task, run for run; the tasks run
+// on the caller's thread, one at a time; a task's exception reaches the
+// caller; nested tasks pair only in the last task left; each task counts its
+// own model runs.
 #include "analysis/calibration/paired_runs.h"
 
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <chrono>
 #include <functional>
 #include <set>
 #include <stdexcept>
@@ -75,26 +74,56 @@ TEST(PairedRuns, EachTaskGetsTheRunsItWouldGetAlone) {
   }
 }
 
-TEST(PairedRuns, OneTaskRunsAtATimeOnThreadsOfTheirOwn) {
+// simulate these runs: each as simulate_bench gives it alone, those on the
+// same set-points stepped together, a group's error its own
+TEST(PairedRuns, ABatchGivesEachRunItsOwnBytes) {
   const Runs r;
-  std::atomic<int> inside{0}, most{0};
+  const std::vector<double> t2(r.t.begin(), r.t.begin() + 800), sp2(r.sp.begin(), r.sp.begin() + 800);
+  const std::vector<double> none;
+  const std::vector<RunRequest> batch = {{&r.b[0], &r.t, &r.sp, 1200}, {&r.b[1], &t2, &sp2, 800},
+                                         {&r.b[2], &r.t, &r.sp, 300},  {&r.b[3], &none, &none, 10},
+                                         {&r.b[4], &r.t, &r.sp, 1200}};
+  const PairedRunStats before = paired_run_stats();
+  const std::vector<BatchResult> got = simulate_batch(batch);
+  ASSERT_EQ(got.size(), batch.size());
+  for (size_t i : {0, 2, 4}) {
+    EXPECT_FALSE(got[i].error);
+    expect_same(got[i].samples, r.alone(i, batch[i].rows), "run " + std::to_string(i));
+  }
+  EXPECT_FALSE(got[1].error);
+  expect_same(got[1].samples, simulate_bench(r.b[1], t2, sp2, BenchSolver::closed_form, 800), "run 1");
+  EXPECT_TRUE(got[3].error);
+  EXPECT_THROW(std::rethrow_exception(got[3].error), std::invalid_argument);
+  // three groups: the three runs on the whole record, the shorter one, the empty one
+  EXPECT_EQ(paired_run_stats().groups - before.groups, 3);
+  EXPECT_EQ(paired_run_stats().runs_together - before.runs_together, 3);
+}
+
+// the tasks run on the caller's thread, one at a time, and their runs are
+// stepped two at a time
+TEST(PairedRuns, OneTaskRunsAtATimeOnTheCallersThread) {
+  const Runs r;
+  int inside = 0, most = 0;
   std::set<std::thread::id> threads;
   std::vector<std::function<void()>> tasks;
   for (size_t i = 0; i < 4; ++i)
     tasks.push_back([&, i] {
       for (size_t j = 0; j < 3 + i; ++j) {
         const int now = ++inside;
-        most = std::max(most.load(), now);
+        most = std::max(most, now);
         threads.insert(std::this_thread::get_id());
-        std::this_thread::sleep_for(std::chrono::microseconds(200));   // time for another to come in
         --inside;
         paired_simulate(r.b[i], r.t, r.sp, 300);
       }
     });
+  const PairedRunStats before = paired_run_stats();
   run_paired(tasks);
-  EXPECT_EQ(most.load(), 1);
-  EXPECT_EQ(threads.size(), 2u);
-  EXPECT_EQ(threads.count(std::this_thread::get_id()), 0u);
+  EXPECT_EQ(most, 1);
+  EXPECT_EQ(threads, std::set<std::thread::id>{std::this_thread::get_id()});
+  // 18 runs: 3 + 4 + 5 + 6, the last task's final ones alone
+  const PairedRunStats after = paired_run_stats();
+  EXPECT_GE(after.runs_together - before.runs_together, 12);
+  EXPECT_EQ(after.groups - before.groups, 18 - (after.runs_together - before.runs_together) / 2);
 }
 
 TEST(PairedRuns, ATasksExceptionReachesTheCallerAndNoFurtherTaskStarts) {
@@ -129,52 +158,53 @@ TEST(PairedRuns, ATasksExceptionReachesTheCallerAndNoFurtherTaskStarts) {
 
 TEST(PairedRuns, NestedTasksPairOnceTheOtherTaskHasEnded) {
   const Runs r;
-  // nested tasks: their threads, and their runs against the bench alone
-  auto nested = [&](std::set<std::thread::id>* ids) {
+  // nested tasks: when each begins and ends (k, -1 - k), and their runs
+  // against the bench alone
+  auto nested = [&](std::vector<int>* events) {
     std::vector<std::vector<BenchSample>> got(3);
     run_paired_each(3, [&](size_t k) {
-      ids->insert(std::this_thread::get_id());
+      events->push_back(static_cast<int>(k));
       got[k] = paired_simulate(r.b[k + 1], r.t, r.sp, 400 + 100 * k);
+      events->push_back(-1 - static_cast<int>(k));
     });
     for (size_t k = 0; k < 3; ++k) expect_same(got[k], r.alone(k + 1, 400 + 100 * k), "nested " + std::to_string(k));
   };
-  std::thread::id first_thread, second_thread;
-  std::set<std::thread::id> early, late;
+  std::vector<int> early, late;
   run_paired({[&] {
-                first_thread = std::this_thread::get_id();
                 nested(&early);   // the other task still runs: one after the other, here
                 paired_simulate(r.b[0], r.t, r.sp, 300);
               },
               [&] {
-                second_thread = std::this_thread::get_id();
                 // more runs than the first task's four: it has ended by the last
                 for (int j = 0; j < 6; ++j) paired_simulate(r.b[5], r.t, r.sp, 300);
                 nested(&late);   // the last task left: a pair of its own
               }});
-  EXPECT_EQ(early, std::set<std::thread::id>{first_thread});
-  EXPECT_EQ(late.size(), 2u);
-  EXPECT_EQ(late.count(second_thread), 0u);
+  EXPECT_EQ(early, (std::vector<int>{0, -1, 1, -2, 2, -3}));
+  ASSERT_EQ(late.size(), 6u);
+  EXPECT_EQ(late[0], 0);
+  EXPECT_EQ(late[1], 1);   // begun before the first ended
 
   // nested tasks begun while the other task runs, which then ends: the
-  // first here, the rest as a pair of their own
-  std::thread::id here;
-  std::vector<std::thread::id> where(5);
+  // first one after the other, the rest as a pair of their own
+  std::vector<int> events;
   std::vector<std::vector<BenchSample>> got(5);
   run_paired({[&] { paired_simulate(r.b[0], r.t, r.sp, 300); },
               [&] {
-                here = std::this_thread::get_id();
                 run_paired_each(5, [&](size_t k) {
-                  where[k] = std::this_thread::get_id();
+                  events.push_back(static_cast<int>(k));
                   got[k] = paired_simulate(r.b[k], r.t, r.sp, 200 + 50 * k);
+                  events.push_back(-1 - static_cast<int>(k));
                 });
               }});
-  EXPECT_EQ(where[0], here);
-  EXPECT_NE(where[4], here);
-  EXPECT_EQ(std::set<std::thread::id>(where.begin(), where.end()).size(), 3u);
+  ASSERT_EQ(events.size(), 10u);
+  EXPECT_EQ(events[0], 0);
+  EXPECT_EQ(events[1], -1);
+  EXPECT_EQ(events[2], 1);
+  EXPECT_EQ(events[3], 2);   // paired
   for (size_t k = 0; k < 5; ++k) expect_same(got[k], r.alone(k, 200 + 50 * k), "begun paired " + std::to_string(k));
 }
 
-// a task's runs are its own, its nested tasks' included (on threads of their
+// a task's runs are its own, its nested tasks' included (on workers of their
 // own when it is the last task left); the caller's count gains them all
 TEST(PairedRuns, ATaskCountsItsOwnModelRunsAndItsNestedTasks) {
   const BenchConfig ds = test_datasheet();
