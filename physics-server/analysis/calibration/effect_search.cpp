@@ -255,7 +255,7 @@ void finish_candidate(const FitProblem& p, const Fit& ref, const std::vector<int
 Candidate fit_candidate(const FitProblem& p, const Reference& ref, const std::vector<int>& regime, int e,
                         bool screened, const Fit* refined, Lines& out) {
   const Effect& ef = effect_catalogue()[e];
-  const int runs_candidate = thread_model_runs();
+  const int runs_candidate = task_model_runs();
   Candidate c;
   c.effect = e;
   c.signature = regime_signature(ref.residual, regime, ef.regimes);
@@ -263,7 +263,7 @@ Candidate fit_candidate(const FitProblem& p, const Reference& ref, const std::ve
   GiveUp* screen = screened ? &c.screen : nullptr;
   const bool both = both_starts_at_once(e);
   c.fit = both ? fit_with_effect(p, ref.fit, e, screen, refined) : fit_effect_start(p, ref.fit, e, 0, screen, refined);
-  c.runs = thread_model_runs() - runs_candidate;
+  c.runs = task_model_runs() - runs_candidate;
   if (c.screen.stopped) {
     out.push_back("  candidate " + effect_label(e) + " " + screen_words(c));
   } else if (both) {
@@ -335,7 +335,7 @@ void fit_second_starts(const FitProblem& p, const Fit& ref, const std::vector<in
   std::vector<Lines> second_lines(second.size());
   run_paired_each(second.size(), [&](size_t k) {
     Candidate& c = (*cands)[second[k]];
-    const int runs_before = thread_model_runs();
+    const int runs_before = task_model_runs();
     c.first_gain = effect_gain.at(effect_catalogue()[c.effect].name);
     c.round_first_gain = best;
     c.second_start_skipped = !run_second_start(c.first_gain, best);
@@ -343,7 +343,7 @@ void fit_second_starts(const FitProblem& p, const Fit& ref, const std::vector<in
       Fit f = fit_effect_start(p, ref, c.effect, 1);
       if (f.train < c.fit.train) c.fit = std::move(f);
     }
-    c.runs += thread_model_runs() - runs_before;
+    c.runs += task_model_runs() - runs_before;
     finish_candidate(p, ref, regime, c, second_lines[k]);
   });
   say_all(say, second_lines);
@@ -422,7 +422,7 @@ Selection select_candidate(const FitProblem& p, const Fit& ref, std::vector<Cand
 
 EffectSearch search_effects(const FitProblem& problem, const Fit& base, const std::vector<int>& regime,
                             SearchState& state, const CalibrationProgress& say) {
-  const int runs_before = thread_model_runs();
+  const int runs_before = task_model_runs();
   EffectSearch s;
   Fit cur = base;
   std::set<std::string> used;
@@ -430,13 +430,13 @@ EffectSearch search_effects(const FitProblem& problem, const Fit& base, const st
     SearchRound round;
     // the loss's unit: the white noise left by the current model; the
     // round's fits take it with the problem
-    const int round_runs = thread_model_runs();
+    const int round_runs = task_model_runs();
     state.noise = round.noise = round_noise(problem, cur);
     const FitProblem p = with_noise(problem, state.noise);
     const Reference ref = fit_reference(p, cur, say);
     say("round " + std::to_string(s.rounds.size() + 1) + ": reference re-fitted from 2 starts, training loss " +
         fmt_g(ref.fit.train) + ", held-out NRMSE " + fmt_g(ref.fit.held) + ", whiteness " + fmt_g(ref.fit.white, 3) +
-        " (" + std::to_string(thread_model_runs() - round_runs) + " model runs)");
+        " (" + std::to_string(task_model_runs() - round_runs) + " model runs)");
     std::vector<Candidate> cands = fit_candidates(p, ref, regime, used, say);
     fit_second_starts(p, ref.fit, regime, &cands, say);
     // then a form that refines another, where that form, as fitted in the
@@ -468,7 +468,7 @@ EffectSearch search_effects(const FitProblem& problem, const Fit& base, const st
     s.rounds.push_back(std::move(round));
   }
   s.model = s.rounds.back().reference;
-  state.model_runs += thread_model_runs() - runs_before;
+  state.model_runs += task_model_runs() - runs_before;
   return s;
 }
 

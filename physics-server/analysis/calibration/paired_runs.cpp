@@ -187,7 +187,7 @@ void run_paired_each(size_t n, const std::function<void(size_t)>& each) {
   run_paired(tasks);
 }
 
-int thread_model_runs() { return t_strand->runs; }
+int task_model_runs() { return t_strand->runs; }
 
 PairedRunStats paired_run_stats() { return t_stats; }
 

@@ -70,7 +70,7 @@ std::vector<BenchSample> paired_simulate(const BenchConfig& b, const std::vector
 // nested tasks' included), or the caller's outside run_paired, which gains
 // its tasks' runs when run_paired returns; the runs of a stretch of work are
 // the difference
-int thread_model_runs();
+int task_model_runs();
 
 // on this thread so far: the simulations made (a batch's group of runs
 // stepped together counts once) and the runs that were stepped together with

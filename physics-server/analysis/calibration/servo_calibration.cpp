@@ -26,7 +26,7 @@ namespace chainsim {
 
 ServoCalibration calibrate_servo(const BenchConfig& datasheet, MeasuredRecord measured,
                                  const CalibrationProgress& say) {
-  const int runs_before = thread_model_runs();
+  const int runs_before = task_model_runs();
   ServoCalibration c;
   c.problem = make_fit_problem(datasheet, std::move(measured));
   const FitProblem& p = c.problem;
@@ -70,7 +70,7 @@ ServoCalibration calibrate_servo(const BenchConfig& datasheet, MeasuredRecord me
   for (size_t k = 0; k < n; ++k)
     c.ode_check_max_angle_diff_deg =
         std::max(c.ode_check_max_angle_diff_deg, std::fabs(ode[k].angle_deg - fast.sim[k].angle_deg));
-  c.model_runs = thread_model_runs() - runs_before;
+  c.model_runs = task_model_runs() - runs_before;
   say("verdict " + c.verdict + "; " + std::to_string(c.model_runs) + " model runs");
   return c;
 }

@@ -44,7 +44,7 @@ struct ModelRun {
 };
 // (the first `rows` samples only, when fewer: the same values as the whole
 // run); inside run_paired's tasks stepped together with the other task's run;
-// counted in thread_model_runs (paired_runs.h)
+// counted in task_model_runs (paired_runs.h)
 ModelRun run_model(const FitProblem& p, const BenchConfig& b, size_t rows = SIZE_MAX);
 
 struct Fit {

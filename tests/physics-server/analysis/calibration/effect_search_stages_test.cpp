@@ -71,15 +71,15 @@ TEST(SearchStages, TheReferenceIsRefittedFromTwoStarts) {
   const Record r = record(3.0);
   const FitProblem p = with_noise(r.p, round_noise(r.p, r.base));
   const Fit cur = evaluate_fit(p, r.base.effects, r.base.x);
-  const int before = thread_model_runs();
+  const int before = task_model_runs();
   const Reference ref = fit_reference(p, r.base, kQuiet);
   EXPECT_LE(ref.fit.train, cur.train);
   EXPECT_EQ(ref.residual.size(), p.m.size());
   EXPECT_TRUE(ref.fit.effects.empty());
   // two starts of at most kMaxEvalBase runs each, their final evaluations,
   // the current model's evaluation and the residual
-  EXPECT_GT(thread_model_runs() - before, 2);
-  EXPECT_LE(thread_model_runs() - before, 2 * (kMaxEvalBase + 1) + 2);
+  EXPECT_GT(task_model_runs() - before, 2);
+  EXPECT_LE(task_model_runs() - before, 2 * (kMaxEvalBase + 1) + 2);
 }
 
 // 2-5 on the deadband record, with only the deadband and the supply sag
@@ -170,10 +170,10 @@ TEST(SearchStages, TheSearchKeepsItsStateInTheCallers) {
   const Record r = record(3.0);
   SearchState st;
   st.model_runs = 5;
-  const int before = thread_model_runs();
+  const int before = task_model_runs();
   const FitProblem p = r.p;
   const EffectSearch s = search_effects(p, r.base, r.regime, st, kQuiet);
-  EXPECT_EQ(st.model_runs, 5 + thread_model_runs() - before);
+  EXPECT_EQ(st.model_runs, 5 + task_model_runs() - before);
   ASSERT_FALSE(s.rounds.empty());
   EXPECT_EQ(st.noise.angle, s.rounds.back().noise.angle);
   EXPECT_EQ(st.noise.current, s.rounds.back().noise.current);

@@ -233,16 +233,16 @@ TEST(FrameClock, TheScreenStopsEachClockThatDoesNotGain) {
     const FitProblem p = problem_of(framed(0.02, 0.007), 3);
     const Fit ref = fit_model(p, {}, base, Samples::training, kMaxEvalBase);
     GiveUp g = screen_for(p, ref, pwm);
-    const int r0 = thread_model_runs();
+    const int r0 = task_model_runs();
     const Fit screened = fit_with_effect(p, ref, pwm, &g);
-    const int r1 = thread_model_runs();
+    const int r1 = task_model_runs();
     const Fit plain = fit_with_effect(p, ref, pwm);
     std::printf("20 ms frames: clock %.4f ms at %.3f ms, loss %.4g -> %.4g; %d model runs screened, %d without\n",
                 screened.x[kNumBase], screened.x[kNumBase + 1], ref.train, screened.train, r1 - r0,
-                thread_model_runs() - r1);
+                task_model_runs() - r1);
     EXPECT_FALSE(g.stopped);
     EXPECT_EQ(screened.x, plain.x);
-    EXPECT_EQ(r1 - r0, thread_model_runs() - r1);
+    EXPECT_EQ(r1 - r0, task_model_runs() - r1);
     EXPECT_NEAR(screened.x[kNumBase], 20.0, 0.05);
   }
   {
@@ -252,20 +252,20 @@ TEST(FrameClock, TheScreenStopsEachClockThatDoesNotGain) {
     const FitProblem p = problem_of(model_config(test_datasheet(), {coulomb}, x), 1);
     const Fit ref = fit_model(p, {coulomb}, x, Samples::training, kMaxEvalBase);
     GiveUp g = screen_for(p, ref, pwm);
-    const int r0 = thread_model_runs();
+    const int r0 = task_model_runs();
     const Fit screened = fit_with_effect(p, ref, pwm, &g);
-    const int r1 = thread_model_runs();
+    const int r1 = task_model_runs();
     const Fit plain = fit_with_effect(p, ref, pwm);
     std::printf("no frames: %s, %d model runs screened (%d each clock's fit), %d without; loss %.4g, screened "
                 "%.4g, without %.4g\n",
-                g.stopped ? "stopped" : "not stopped", r1 - r0, g.after, thread_model_runs() - r1, ref.train,
+                g.stopped ? "stopped" : "not stopped", r1 - r0, g.after, task_model_runs() - r1, ref.train,
                 screened.train, plain.train);
     ASSERT_TRUE(plain.valid) << "no clock found: the case does not test the screen";
     EXPECT_GT(plain.train, ref.train);
     EXPECT_TRUE(g.stopped);
     EXPECT_GT(screened.train, g.loss);
     EXPECT_EQ(screened.evals, g.after);   // its one clock's fit, stopped there
-    EXPECT_LT(r1 - r0, thread_model_runs() - r1);
+    EXPECT_LT(r1 - r0, task_model_runs() - r1);
   }
 }
 

@@ -210,21 +210,21 @@ TEST(PairedRuns, ATaskCountsItsOwnModelRunsAndItsNestedTasks) {
   const BenchConfig ds = test_datasheet();
   const FitProblem p = make_fit_problem(ds, bench_record(ds, 5));
   std::vector<int> own(2, -1);
-  const int here_before = thread_model_runs();
+  const int here_before = task_model_runs();
   run_paired_each(2, [&](size_t i) {
-    const int before = thread_model_runs();
+    const int before = task_model_runs();
     for (size_t j = 0; j < 2 + 3 * i; ++j) run_model(p, p.datasheet, 500);
     // nested: one after the other while the other task runs, else a pair
     run_paired_each(2, [&](size_t k) {
       for (size_t j = 0; j <= k; ++j) run_model(p, p.datasheet, 300);
     });
-    own[i] = thread_model_runs() - before;
+    own[i] = task_model_runs() - before;
   });
   EXPECT_EQ(own[0], 2 + 3);
   EXPECT_EQ(own[1], 5 + 3);
-  EXPECT_EQ(thread_model_runs(), here_before + 13);
+  EXPECT_EQ(task_model_runs(), here_before + 13);
   run_model(p, p.datasheet, 10);
-  EXPECT_EQ(thread_model_runs(), here_before + 14);
+  EXPECT_EQ(task_model_runs(), here_before + 14);
 }
 
 }  // namespace
