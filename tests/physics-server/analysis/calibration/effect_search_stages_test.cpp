@@ -84,7 +84,7 @@ TEST(SearchStages, TheReferenceIsRefittedFromTwoStarts) {
 
 // 2-5 on the deadband record, with only the deadband and the supply sag
 // left to find: the deadband passes the screen and is fitted in full, the
-// supply sag's forms stop at the screen and their refining forms are not
+// supply sag's forms show no effect, so their refining forms are not
 // fitted, and the deadband is chosen
 TEST(SearchStages, ADeadbandIsFittedAndChosen) {
   const Record r = record(3.0);
