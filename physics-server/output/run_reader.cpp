@@ -25,14 +25,15 @@ void chop_cr(std::string& line) {
   if (!line.empty() && line.back() == '\r') line.pop_back();
 }
 
-// [begin, end) of each comma-separated cell of line
-std::vector<std::pair<size_t, size_t>> cell_spans(const std::string& line) {
-  std::vector<std::pair<size_t, size_t>> out;
+// [begin, end) of each comma-separated cell of line, into *out (reused from
+// row to row: no allocation per row once it has grown)
+void cell_spans(const std::string& line, std::vector<std::pair<size_t, size_t>>* out) {
+  out->clear();
   size_t b = 0;
   for (;;) {
     const size_t e = line.find(',', b);
-    out.emplace_back(b, e == std::string::npos ? line.size() : e);
-    if (e == std::string::npos) return out;
+    out->emplace_back(b, e == std::string::npos ? line.size() : e);
+    if (e == std::string::npos) return;
     b = e + 1;
   }
 }
@@ -94,7 +95,9 @@ void RunReader::load_trace() {
   if (!std::getline(*in, line)) throw RunReadError(p + ": empty (no header)");
   chop_cr(line);
   std::vector<int> slot;  // per column: its index into values_, or -1 when not kept
-  for (const auto& [b, e] : cell_spans(line)) {
+  std::vector<std::pair<size_t, size_t>> spans;
+  cell_spans(line, &spans);
+  for (const auto& [b, e] : spans) {
     columns_.push_back(line.substr(b, e - b));
     const std::string& name = columns_.back();
     if (!options_.keep_column || options_.keep_column(name)) {
@@ -111,7 +114,7 @@ void RunReader::load_trace() {
     poll_stop(n);
     chop_cr(line);
     if (line.empty()) continue;
-    const auto spans = cell_spans(line);
+    cell_spans(line, &spans);
     if (spans.size() != columns_.size()) {
       // a run stopped while writing leaves its last row torn; anything else is damage
       if (in->peek() == std::char_traits<char>::eof()) break;
