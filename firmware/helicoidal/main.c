@@ -2,9 +2,10 @@
  * by a screw drive. Servo 0 = the screw drive: its set-point is the drive
  * command -1..1, which setspangle carries as a servo pulse for the drive's
  * speed controller: -9000..9000 cdeg (1.0 .. 2.0 ms) = full reverse .. full
- * forward, the per mille command x 9. (It was the per mille / 10, a pulse
- * 5.6 us either side of 1.5 ms: on the board the 0.2 us pulse steps gave
- * 97.2 % of full speed, and a real controller's dead band would stop it.)
+ * forward, the per mille command x 9. The command spans the whole pulse
+ * because a narrow one would not survive the board: per mille / 10 is a
+ * pulse 5.6 us either side of 1.5 ms, which the 0.2 us pulse steps round
+ * (97.2 % of full speed) and a real controller's dead band would ignore.
  *
  * Gait 9 (helicoidal drive): SET_GAIT carries the command in per mille
  * (CC_GAIT_OFF_DRIVE); from START until STOP (or SET_GAIT gait 0) the screw

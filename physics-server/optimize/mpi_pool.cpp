@@ -239,8 +239,8 @@ bool MpiPool::poll(double wait_s, std::vector<std::pair<uint64_t, EvalResult>>* 
     // hand out work
     for (auto& r : I.ranks) {
       // only to a rank that said hello: one that dies holding work is then
-      // known by its pid (a rank killed before its hello left it was once
-      // found only by the silence timeout)
+      // known by its pid (a rank killed before its hello could be found
+      // only by the silence timeout)
       while (r.live && r.greeted && !I.queue.empty() && static_cast<int>(r.holding.size()) < r.capacity) {
         const uint64_t id = I.queue.front();
         I.queue.pop_front();

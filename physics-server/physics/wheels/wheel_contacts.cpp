@@ -106,8 +106,8 @@ void WheelContacts::add_module(int module, const std::vector<WheelSetDef>& sets,
 //  * a face that has been past an open end touches nothing until it is
 //    back in the bore: come back into the pipe's length beyond the bore's
 //    radius, it is outside the pipe (the pipe's end face, which is not
-//    modelled, would stop it there), not suddenly deep in the wall. Both
-//    made a support sliding out of a vertical pipe diverge;
+//    modelled, would stop it there), not suddenly deep in the wall.
+//    Without these two, a support sliding out of a vertical pipe diverges;
 //  * the origin in the wall (an arm's hinge beyond the bore while its
 //    module lies on the wall: arms have no collision shape): no cast from
 //    there; the face, if it is in the wall too, presses from the wall point
