@@ -1,3 +1,9 @@
+#!/usr/bin/env python3
+"""Checks every relative link of README.md, docs/*.md and docs/notes/*.md:
+the file it names exists and, for a Markdown file, so does the #anchor
+(GitHub's heading anchors, and <a name=...>). Links inside code spans and
+fenced blocks are skipped. Usage: check-doc-links.py SOURCE_DIR; prints each
+broken link as file:line and exits 1 if there is one."""
 import re, os, sys, glob, unicodedata
 root=sys.argv[1]
 files=[os.path.join(root,'README.md')]+sorted(glob.glob(os.path.join(root,'docs/*.md')))+sorted(glob.glob(os.path.join(root,'docs/notes/*.md')))
