@@ -133,7 +133,7 @@ int remove_stale_old_socket_dirs(const std::string& tmp_dir, double min_age_s) {
     const std::string tail = name + "/" + kSocketName;
     bool in_use = false;
     for (const auto& p : *bound)
-      in_use |= p.size() >= tail.size() && p.compare(p.size() - tail.size(), tail.size(), tail) == 0;
+      in_use |= p.ends_with(tail);
     if (in_use) continue;
     fs::remove_all(de.path(), ec);
     if (!ec) ++removed;

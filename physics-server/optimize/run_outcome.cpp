@@ -8,22 +8,6 @@ namespace chainsim {
 
 namespace {
 
-// index of "m<k>.<body>.x" for the first (or last) body of module k
-int body_x_column(const std::vector<std::string>& cols, int k, bool last) {
-  const std::string pre = "m" + std::to_string(k) + ".";
-  int found = -1;
-  for (size_t i = 0; i < cols.size(); ++i) {
-    const std::string& c = cols[i];
-    if (c.rfind(pre, 0) == 0 && c.size() > 2 && c.compare(c.size() - 2, 2, ".x") == 0 &&
-        i + 2 < cols.size() && cols[i + 1] == c.substr(0, c.size() - 1) + "y") {
-      found = static_cast<int>(i);
-      if (!last) break;
-    }
-  }
-  return found;
-}
-
-
 // the outcome from the run's files (the trace read with outcome_column)
 RunOutcome outcome_of(RunReader& run) {
   RunOutcome r;
@@ -54,23 +38,23 @@ RunOutcome outcome_of(RunReader& run) {
     throw RunReadError(summary_file + ": " + e.what());
   }
 
-  const std::vector<std::string>& cols = run.trace_columns();
-  const int hx = body_x_column(cols, 0, false);
-  const int tx = body_x_column(cols, r.modules - 1, true);
-  if (hx < 0 || tx < 0)
+  // the head's first body and the tail's last
+  const std::vector<std::string>& head = run.body_columns(0);
+  const std::vector<std::string>& tail = run.body_columns(r.modules - 1);
+  if (head.empty() || tail.empty())
     throw RunReadError(run.dir() + "/trace.csv: no body position columns for modules 0 and " +
                        std::to_string(r.modules - 1));
-  const auto track = [&](int x) {
-    const std::vector<double>* c[3];
-    for (int i = 0; i < 3; ++i) c[i] = run.trace_column(cols[static_cast<size_t>(x + i)]);
+  const auto track = [&](const std::string& body) {
+    const std::vector<double>* c[3] = {run.trace_column(body + ".x"), run.trace_column(body + ".y"),
+                                       run.trace_column(body + ".z")};
     std::vector<Eigen::Vector3d> out;
     out.reserve(c[0]->size());
     for (size_t k = 0; k < c[0]->size(); ++k) out.emplace_back((*c[0])[k], (*c[1])[k], (*c[2])[k]);
     return out;
   };
   r.t_s = run.trace_time();
-  r.head = track(hx);
-  r.tail = track(tx);
+  r.head = track(head.front());
+  r.tail = track(tail.back());
   return r;
 }
 

@@ -154,6 +154,33 @@ const std::vector<double>& RunReader::trace_time() {
   return *t;
 }
 
+const std::vector<std::string>& RunReader::body_columns(int module) {
+  if (!bodies_) {
+    // one place that knows how a body's position is named in the trace;
+    // a sensor's or wheel's columns (x_counts, n_N, ...) never end in .x, .y, .z
+    const std::vector<std::string>& c = trace_columns();
+    bodies_.emplace();
+    for (size_t i = 0; i + 2 < c.size(); ++i) {
+      const std::string& x = c[i];
+      size_t d = 1;
+      while (d < x.size() && x[d] >= '0' && x[d] <= '9') ++d;
+      if (x.size() < 2 || x[0] != 'm' || d == 1 || d > 9 || d + 3 >= x.size() || x[d] != '.' || !x.ends_with(".x"))
+        continue;
+      const std::string body = x.substr(0, x.size() - 2);
+      if (c[i + 1] != body + ".y" || c[i + 2] != body + ".z") continue;
+      (*bodies_)[std::stoi(x.substr(1, d - 1))].push_back(body);
+    }
+  }
+  static const std::vector<std::string> kNone;
+  const auto it = bodies_->find(module);
+  return it == bodies_->end() ? kNone : it->second;
+}
+
+int RunReader::body_column_modules() {
+  body_columns(0);
+  return bodies_->empty() ? 0 : bodies_->rbegin()->first + 1;
+}
+
 const std::vector<BusEvent>& RunReader::bus() {
   if (bus_) return *bus_;
   const std::string p = dir_ + "/bus.log";

@@ -80,6 +80,14 @@ class RunReader {
   const std::vector<double>* trace_column(const std::string& name);
   // column t_s; throws RunReadError when there is none
   const std::vector<double>& trace_time();
+  // the bodies of module `module` in trace.csv, in the file's order: the
+  // prefixes "mK.<body>" whose .x, .y and .z columns stand one after the
+  // other (docs/outputs.md); empty when the trace has none for it. The
+  // first is the module's first body (the head's, for module 0), the last
+  // its last (the tail's, for the chain's last module)
+  const std::vector<std::string>& body_columns(int module);
+  // one more than the highest module with body columns (0: none)
+  int body_column_modules();
 
   // bus.log's events
   const std::vector<BusEvent>& bus();
@@ -102,6 +110,7 @@ class RunReader {
   std::vector<std::string> columns_;
   std::vector<std::vector<double>> values_;  // by kept column
   std::map<std::string, size_t> kept_;        // column name -> index into values_
+  std::optional<std::map<int, std::vector<std::string>>> bodies_;  // body_columns, by module
   std::optional<std::vector<BusEvent>> bus_;
   std::map<int, std::vector<LogLine>> logs_;
 };

@@ -39,7 +39,7 @@ void testcase(std::ostringstream& x, const TestCaseResult& r) {
   if (r.failure_t_s >= 0) out += "failure_time_s: " + seconds(r.failure_t_s) + "\n";
   for (const std::string& a : r.artefacts) {
     out += "artefact: " + a + "\n";
-    if (a.size() > 4 && a.compare(a.size() - 4, 4, ".png") == 0) out += "[[ATTACHMENT|" + a + "]]\n";
+    if (a.size() > 4 && a.ends_with(".png")) out += "[[ATTACHMENT|" + a + "]]\n";
   }
   for (const CheckOutcome& c : r.checks)
     out += std::string(c.result.pass ? "pass" : "FAIL") + "  " + c.expectation + ": " + c.result.measured + "\n";

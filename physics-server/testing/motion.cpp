@@ -13,23 +13,15 @@ constexpr double kStartWindowS = 0.2;
 constexpr double kEndWindowS = 1.0;
 constexpr double kPathWindowS = 0.5;
 
-// the body prefixes "mK.<body>" of each module, in trace order
+// the body prefixes "mK.<body>" of each module (RunReader::body_columns)
 std::vector<std::vector<std::string>> bodies_by_module(RunReader& run) {
-  std::map<int, std::vector<std::string>> by;
-  for (const std::string& c : run.trace_columns()) {
-    if (c.size() < 5 || c[0] != 'm' || c.compare(c.size() - 2, 2, ".x") != 0) continue;
-    const size_t dot = c.find('.');
-    char* end = nullptr;
-    const long k = std::strtol(c.c_str() + 1, &end, 10);
-    if (end != c.c_str() + dot || dot == 1) continue;
-    by[static_cast<int>(k)].push_back(c.substr(0, c.size() - 2));
-  }
+  const int n = run.body_column_modules();
+  if (n == 0) throw MotionError("trace.csv has no body columns (mK.<body>.x)");
   std::vector<std::vector<std::string>> out;
-  for (auto& [k, v] : by) {
-    if (k != static_cast<int>(out.size())) throw MotionError("trace.csv: the body columns skip module m" + std::to_string(out.size()));
-    out.push_back(v);
+  for (int k = 0; k < n; ++k) {
+    if (run.body_columns(k).empty()) throw MotionError("trace.csv: the body columns skip module m" + std::to_string(k));
+    out.push_back(run.body_columns(k));
   }
-  if (out.empty()) throw MotionError("trace.csv has no body columns (mK.<body>.x)");
   return out;
 }
 
@@ -133,7 +125,7 @@ const std::vector<std::string>& motion_metric_names() {
 
 double motion_metric(RunReader& run, const std::string& name) {
   static const std::string kTwist = ".twist_deg";
-  if (name.size() > kTwist.size() && name.compare(name.size() - kTwist.size(), kTwist.size(), kTwist) == 0) {
+  if (name.size() > kTwist.size() && name.ends_with(kTwist)) {
     const std::string body = name.substr(0, name.size() - kTwist.size());
     if (!run.trace_column(body + ".qw")) {
       std::string known;

@@ -45,19 +45,15 @@ void walk(const std::vector<Item>& a, const std::vector<Item>& b, double cut, co
   ec->tally.push_back(tally);
 }
 
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
 // the servo set-point columns of module m: (column, tolerance)
 std::vector<std::pair<std::string, double>> setpoint_columns(RunReader& r, int m, const CompareTolerances& tol) {
   std::vector<std::pair<std::string, double>> out;
   const std::string prefix = "m" + std::to_string(m) + ".s";
   for (const std::string& c : r.trace_columns()) {
     if (c.rfind(prefix, 0) != 0) continue;
-    if (ends_with(c, ".setpoint_deg")) out.emplace_back(c, tol.setpoint_deg);
-    else if (ends_with(c, ".setpoint_mm")) out.emplace_back(c, tol.setpoint_mm);
-    else if (ends_with(c, ".command")) out.emplace_back(c, tol.command);
+    if (c.ends_with(".setpoint_deg")) out.emplace_back(c, tol.setpoint_deg);
+    else if (c.ends_with(".setpoint_mm")) out.emplace_back(c, tol.setpoint_mm);
+    else if (c.ends_with(".command")) out.emplace_back(c, tol.command);
   }
   return out;
 }
@@ -84,7 +80,7 @@ void compare_setpoint(RunReader& a, RunReader& b, const std::string& col, double
   for (size_t j = 0; j < n && ta[j] < cut; ++j) {
     if (std::fabs(ta[j] - tb[j]) > 1e-9) break;  // traces at different rates: rows no longer line up
     if (!matched(*va, *vb, j) || !matched(*vb, *va, j)) {
-      const int digits = ends_with(col, ".command") ? 4 : 3;
+      const int digits = col.ends_with(".command") ? 4 : 3;
       ec->divergences.push_back({ec->endpoint, ec->who, channel, ta[j], tb[j], fixed_text((*va)[j], digits),
                                  fixed_text((*vb)[j], digits)});
       tally.diverged = true;
@@ -239,12 +235,7 @@ CompareReport compare_runs(RunReader& a, RunReader& b, const std::string& label_
   // drift: module 0's first body, and every rotary servo's measured angle
   const auto& ta = a.trace_time();
   const auto& tb = b.trace_time();
-  std::string head;
-  for (const std::string& c : a.trace_columns())
-    if (c.rfind("m0.", 0) == 0 && ends_with(c, ".x")) {
-      head = c.substr(0, c.size() - 2);
-      break;
-    }
+  const std::string head = a.body_columns(0).empty() ? "" : a.body_columns(0).front();
   size_t rows = std::min(ta.size(), tb.size());
   while (rows > 0 && std::fabs(ta[rows - 1] - tb[rows - 1]) > 1e-9) --rows;
   if (!head.empty() && rows > 0) {
@@ -264,7 +255,7 @@ CompareReport compare_runs(RunReader& a, RunReader& b, const std::string& label_
   double sum = 0;
   size_t count = 0;
   for (const std::string& c : a.trace_columns()) {
-    if (!ends_with(c, ".angle_deg")) continue;
+    if (!c.ends_with(".angle_deg")) continue;
     const auto* va = a.trace_column(c);
     const auto* vb = b.trace_column(c);
     if (!va || !vb) continue;

@@ -338,7 +338,7 @@ std::vector<std::string> find_test_files(const std::vector<std::string>& paths) 
         if (ec) throw TestFileError(p + ": cannot read this folder: " + ec.message());
         if (it == end) break;
         const std::string f = it->path().string();
-        if (f.size() <= 10 || f.compare(f.size() - 10, 10, ".test.yaml") != 0) continue;
+        if (f.size() <= 10 || !f.ends_with(".test.yaml")) continue;
         std::error_code fe;
         if (it->is_regular_file(fe)) {
           found.push_back(f);

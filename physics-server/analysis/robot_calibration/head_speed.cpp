@@ -8,14 +8,6 @@
 #include "output/run_reader.h"
 
 namespace chainsim {
-namespace {
-
-
-bool ends_with(const std::string& s, const std::string& tail) {
-  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-}
-
-}  // namespace
 
 std::optional<Axis> pipe_axis(const Scene& scene) {
   const EnvironmentConfig& env = scene.world.environment;
@@ -30,20 +22,17 @@ std::optional<Axis> pipe_axis(const Scene& scene) {
 
 namespace {
 
-// the head's first body: the first position column after the time
+// what the head's speed reads: the time and module 0's columns
 bool head_column(const std::string& name) { return name == "t_s" || name.rfind("m0.", 0) == 0; }
 
 double head_speed(RunReader& run, double t0_s, const std::optional<Axis>& axis) {
   const std::string file = run.dir() + "/trace.csv";
-  const std::vector<std::string>& names = run.trace_columns();
-  const std::string first = names.size() > 1 ? names[1] : "";
-  if (first.rfind("m0.", 0) != 0 || !ends_with(first, ".x"))
-    throw std::runtime_error(file + ": no head position columns (m0.<body>.x, .y, .z)");
-  const std::string body = first.substr(0, first.size() - 1);
+  const std::vector<std::string>& bodies = run.body_columns(0);
+  if (bodies.empty()) throw std::runtime_error(file + ": no head position columns (m0.<body>.x, .y, .z)");
+  const std::string body = bodies.front() + ".";  // the head's first body
   const std::vector<double>& t = run.trace_time();
   const std::vector<double>*px = run.trace_column(body + "x"), *py = run.trace_column(body + "y"),
                            *pz = run.trace_column(body + "z");
-  if (!py || !pz) throw std::runtime_error(file + ": no head position columns " + body + "y, " + body + "z");
   double ta = NAN, tb = NAN, pa[3] = {0, 0, 0}, pb[3] = {0, 0, 0};
   for (size_t r = 0; r < t.size(); ++r) {
     if (t[r] + 1e-9 < t0_s) continue;

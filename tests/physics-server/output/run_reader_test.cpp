@@ -47,6 +47,27 @@ TEST(RunReader, KeepsOnlyTheColumnsAskedFor) {
   EXPECT_EQ(*r.trace_column("v"), (std::vector<double>{1, 2}));
 }
 
+TEST(RunReader, FindsEachModulesBodiesByTheirPositionColumns) {
+  // module 0: two bodies, then a servo, a sensor whose channels end in
+  // _counts and a column that ends in .x without .y, .z after it; module 1:
+  // none; module 12: one, after a wheel's columns
+  const std::string header =
+      "t_s,m0.front.x,m0.front.y,m0.front.z,m0.front.qw,m0.back.x,m0.back.y,m0.back.z,m0.s0.angle_deg,"
+      "m0.acc.x_counts,m0.acc.y_counts,m0.acc.z_counts,m0.odd.x,m0.odd.z,m12.w.n_N,m12.hull.x,m12.hull.y,m12.hull.z,"
+      "mx.a.x,mx.a.y,mx.a.z,m3..x,m3..y,m3..z";
+  std::string row = "0";
+  for (size_t i = 0; i < header.size(); ++i)
+    if (header[i] == ',') row += ",1";
+  RunReader r = RunReader::from_text("run", kSummary, header + "\n" + row + "\n");
+  EXPECT_EQ(r.body_columns(0), (std::vector<std::string>{"m0.front", "m0.back"}));
+  EXPECT_TRUE(r.body_columns(1).empty());
+  EXPECT_TRUE(r.body_columns(3).empty());   // no body name
+  EXPECT_TRUE(r.body_columns(-1).empty());
+  EXPECT_EQ(r.body_columns(12), (std::vector<std::string>{"m12.hull"}));
+  EXPECT_EQ(r.body_column_modules(), 13);
+  EXPECT_EQ(RunReader::from_text("run", kSummary, "t_s,v\n0,1\n").body_column_modules(), 0);
+}
+
 TEST(RunReader, AcceptsCrlfAndBlankLines) {
   RunReader r = RunReader::from_text("run", kSummary, "t_s,v\r\n0,1\r\n\r\n1,2\r\n");
   EXPECT_EQ(*r.trace_column("v"), (std::vector<double>{1, 2}));
