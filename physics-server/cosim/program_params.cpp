@@ -144,6 +144,7 @@ const ProgramParams& ProgramParamsCache::get(const std::string& path, const std:
 
 void check_scene_programs(const Scene& scene, const std::string& firmware_dir) {
   const int n = static_cast<int>(scene.modules.size());
+  std::optional<ChainModel> chain;  // compiled at the first module on the PIC: its definition is checked against the board
   for (int i = 0; i <= n; ++i) {
     const SceneModule& e = i < n ? scene.modules[i] : scene.central;
     if (e.target == Target::Pic) {
@@ -156,7 +157,8 @@ void check_scene_programs(const Scene& scene, const std::string& firmware_dir) {
                          " is missing: chainsim was built without libgpsim (install gpsim-dev and libglib2.0-dev, "
                          "then build again)");
       if (i < n) {
-        const auto misfits = pic_board_misfits(find_module_def(scene.world.module_types, e.type));
+        if (!chain) chain = compile_chain(scene);
+        const auto misfits = pic_board_misfits(chain->modules[static_cast<size_t>(i)]);
         if (!misfits.empty())
           throw SceneError(at + ": " + scene_endpoint_name(scene, i) + " runs on the PIC, and its module type does "
                            "not fit the board: " + misfits.front() +

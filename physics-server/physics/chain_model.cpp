@@ -11,6 +11,12 @@ std::vector<std::string> ChainModel::types() const {
   return out;
 }
 
+const ModuleDef* ChainModel::first_of_type(const std::string& type) const {
+  for (const ModuleDef& d : modules)
+    if (d.type == type) return &d;
+  return nullptr;
+}
+
 ChainModel compile_chain(const WorldConfig& config, const std::vector<std::string>& chain) {
   ChainModel c;
   c.modules.reserve(chain.size());

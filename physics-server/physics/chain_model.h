@@ -27,6 +27,9 @@ struct ChainModel {
 
   int size() const { return static_cast<int>(modules.size()); }
   std::vector<std::string> types() const;
+  // the definition of the chain's first module of that type; nullptr when
+  // the chain has none
+  const ModuleDef* first_of_type(const std::string& type) const;
 };
 
 // chain: module type names, head first; each looked up in config.module_types,

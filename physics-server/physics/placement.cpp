@@ -8,13 +8,6 @@
 
 namespace chainsim {
 
-double chain_length_m(const std::vector<std::string>& chain,
-                      const std::vector<ModuleDef>& module_types) {
-  WorldConfig cfg;
-  cfg.module_types = module_types;
-  return compile_chain(cfg, chain).length_m;
-}
-
 void place_chain_at_pipe_entry(WorldConfig* cfg, ChainModel* chain, double inset_m) {
   if (cfg->environment.type != EnvironmentType::Pipe)
     throw std::invalid_argument("placement at the pipe entry needs environment type 'pipe'");
@@ -35,12 +28,6 @@ void place_chain_at_pipe_entry(WorldConfig* cfg, ChainModel* chain, double inset
   cfg->head_orientation = Eigen::Quaterniond(r);
   cfg->head_position = e.point + (inset_m + length) * e.tangent;
   lay_chain(chain, *cfg);
-}
-
-void place_chain_at_pipe_entry(WorldConfig* cfg, const std::vector<std::string>& chain,
-                               double inset_m) {
-  ChainModel c = compile_chain(*cfg, chain);
-  place_chain_at_pipe_entry(cfg, &c, inset_m);
 }
 
 }  // namespace chainsim

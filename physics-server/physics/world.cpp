@@ -384,9 +384,6 @@ World::World(const WorldConfig& config, const ChainModel& chain) {
   impl_->build(config, chain);  // on a throw, ~Impl frees what was created
 }
 
-World::World(const WorldConfig& config, const std::vector<std::string>& chain)
-    : World(config, compile_chain(config, chain)) {}
-
 World::~World() = default;
 
 int64_t World::degenerate_lcp_steps() const { return impl_->degenerate_lcp_steps; }

@@ -39,10 +39,6 @@ class World {
   // frames its head pose lays); throws WorldSetupError naming a body that
   // starts more than 1 mm inside the environment
   World(const WorldConfig& config, const ChainModel& chain);
-  // the same with chain compiled here from module type names, head first
-  // (tests, tools); also throws std::invalid_argument naming an unknown type
-  // or a bad definition
-  World(const WorldConfig& config, const std::vector<std::string>& chain);
   ~World();
   World(const World&) = delete;
   World& operator=(const World&) = delete;

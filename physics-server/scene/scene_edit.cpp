@@ -75,7 +75,8 @@ void place_scene_chain(Scene* s) {
   if (!p.at_pipe_entry) return;
   w.heading_rad = 0;
   try {
-    place_chain_at_pipe_entry(&w, s->chain_types(), p.inset_m);
+    ChainModel chain = compile_chain(*s);
+    place_chain_at_pipe_entry(&w, &chain, p.inset_m);
   } catch (const std::invalid_argument& e) {
     throw SceneError(s->source + ": 'placement.at: pipe_entry': " + e.what());
   }

@@ -210,7 +210,9 @@ void load_scene_placement_at(const std::string& file, const YAML::Node& placemen
   given->at_pipe_entry = true;
   given->inset_m = inset;
   try {
-    place_chain_at_pipe_entry(world, chain, inset);
+    // compiled here for its length (the run compiles the finished scene's chain again)
+    ChainModel model = compile_chain(*world, chain);
+    place_chain_at_pipe_entry(world, &model, inset);
   } catch (const std::invalid_argument& e) {
     y.fail(at, std::string("'placement.at: pipe_entry': ") + e.what());
   }

@@ -28,10 +28,6 @@ std::string read_text(const std::string& path) {
   return s.str();
 }
 
-bool in_chain(const Scene& s, const std::string& type) {
-  return std::any_of(s.modules.begin(), s.modules.end(), [&](const SceneModule& m) { return m.type == type; });
-}
-
 // the text of a module type's definition: the scene's own file, or the built-in
 std::string module_text(const YAML::Node& root, const std::string& dir, const std::string& type) {
   if (root["module_types"] && root["module_types"][type]) {
@@ -71,11 +67,12 @@ SceneVariants::SceneVariants(const std::string& scene_template, const std::vecto
     dirs_.push_back(std::filesystem::absolute(path).parent_path().string());
   }
   const Scene& s0 = scenes_.at(0);
+  chain0_ = compile_chain(s0);
   const YAML::Node root0 = YAML::Load(texts_[0]);
   nominal_[robot_knob("wall_friction")] = s0.world.ground.mu;
-  if (in_chain(s0, "helicoidal")) {
+  if (const ModuleDef* helicoidal = chain0_.first_of_type("helicoidal")) {
     type_text_["helicoidal"] = module_text(root0, dirs_[0], "helicoidal");
-    const ModuleDef h = find_module_def(s0.world.module_types, "helicoidal");
+    const ModuleDef& h = *helicoidal;
     for (const ActuatorDef& a : h.actuators)
       if (a.type == ActuatorType::ScrewDrive || a.type == ActuatorType::DcMotor) {
         nominal_[robot_knob("drive_stall")] = a.fmax_n;
@@ -88,19 +85,18 @@ SceneVariants::SceneVariants(const std::string& scene_template, const std::vecto
       nominal_[robot_knob("wheel_friction")] = h.wheels[0].mu;
     }
   }
-  if (in_chain(s0, "support")) {
+  if (const ModuleDef* support = chain0_.first_of_type("support")) {
     type_text_["support"] = module_text(root0, dirs_[0], "support");
-    for (const ActuatorDef& a : find_module_def(s0.world.module_types, "support").actuators)
+    for (const ActuatorDef& a : support->actuators)
       if (a.type == ActuatorType::Servo && a.follows < 0) {
         nominal_[robot_knob("arm_grip_torque")] = servo_kt(s0, a);
         break;
       }
-    const ModuleDef d = find_module_def(s0.world.module_types, "support");
-    if (!d.pads.empty()) nominal_[robot_knob("pad_friction")] = d.pads[0].mu;
+    if (!support->pads.empty()) nominal_[robot_knob("pad_friction")] = support->pads[0].mu;
   }
-  if (in_chain(s0, "extension")) {
+  if (const ModuleDef* extension = chain0_.first_of_type("extension")) {
     type_text_["extension"] = module_text(root0, dirs_[0], "extension");
-    for (const ActuatorDef& a : find_module_def(s0.world.module_types, "extension").actuators)
+    for (const ActuatorDef& a : extension->actuators)
       if (a.type == ActuatorType::LinearServo) {
         nominal_[robot_knob("extension_force")] = a.fmax_n;
         break;
@@ -155,7 +151,7 @@ std::string SceneVariants::scene_text(size_t i, const KnobSetting& st, const std
     root["module_types"]["helicoidal"] = file;
   }
   if ((fg != 1.0 || fpad != 1.0) && type_text_.count("support")) {
-    const ModuleDef def = find_module_def(scenes_[0].world.module_types, "support");
+    const ModuleDef& def = *chain0_.first_of_type("support");  // there is one: type_text_ has it
     YAML::Node d = YAML::Load(type_text_.at("support"));
     if (d["pads"])
       for (auto p : d["pads"])

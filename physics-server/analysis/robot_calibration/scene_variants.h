@@ -33,6 +33,7 @@ class SceneVariants {
  private:
   std::vector<std::string> texts_, dirs_;
   std::vector<Scene> scenes_;
+  ChainModel chain0_;   // the first row's chain, compiled: the nominal values are its modules'
   std::map<std::string, std::string> type_text_;   // edited module types: their file's text (first row)
   std::map<int, double> nominal_;
   std::vector<int> usable_;

@@ -32,6 +32,7 @@
 #include "physics/placement.h"
 #include "model/units.h"
 #include "physics/world.h"
+#include "world_of.h"
 
 using namespace chainsim;
 
@@ -63,7 +64,7 @@ WorldConfig scene(const Pipe& p, double slope_deg, const std::vector<std::string
   c.environment.pipe.collider = p.collider;
   c.environment.pipe.mesh_segments = p.around;
   c.ground.mu = 0.3;
-  place_chain_at_pipe_entry(&c, chain, slope_deg > 0 ? 1.6 - chain_length_m(chain) : 0.5);
+  place_types_at_pipe_entry(&c, chain, slope_deg > 0 ? 1.6 - compile_chain(WorldConfig{}, chain).length_m : 0.5);
   return c;
 }
 
@@ -94,7 +95,7 @@ double collider_depth(const PipeLayout& l, const Pipe& p, const Eigen::Vector3d&
 Figures slide(const Pipe& p, double seconds) {
   const std::vector<std::string> chain(4, "passive");
   WorldConfig c = scene(p, 30, chain, 0.03);
-  World w(c, chain);
+  World w = world_of(c, chain);
   const PipeLayout l = layout_pipe(c.environment.pipe);
   const std::vector<ModuleDef> defs = chain_defs(c, chain);
   const Eigen::Vector3d start = w.chain_com();
@@ -143,8 +144,8 @@ Figures elbow(const Pipe& p, double seconds, double* exit_time_s) {
   c.environment.pipe.mesh_segments = p.around;
   const std::vector<std::string> chain = {"passive"};  // a docked chain is rigid: longer ones jam in the bend
   c.ground.mu = 0.3;
-  place_chain_at_pipe_entry(&c, chain, 0.01);
-  World w(c, chain);
+  place_types_at_pipe_entry(&c, chain, 0.01);
+  World w = world_of(c, chain);
   const PipeLayout l = layout_pipe(c.environment.pipe);
   const std::vector<ModuleDef> defs = chain_defs(c, chain);
   Figures f;
@@ -176,7 +177,7 @@ Figures elbow(const Pipe& p, double seconds, double* exit_time_s) {
 Figures rest(const Pipe& p, const std::string& type, double diameter, double seconds) {
   const std::vector<std::string> chain(4, type);
   WorldConfig c = scene(p, 0, chain, diameter);
-  World w(c, chain);  // rotation modules: servos powered, holding the chain straight
+  World w = world_of(c, chain);  // rotation modules: servos powered, holding the chain straight
   const PipeLayout l = layout_pipe(c.environment.pipe);
   const std::vector<ModuleDef> defs = chain_defs(c, chain);
   for (int k = 0; k < 1000; ++k) w.step();  // settle 0.5 s

@@ -14,6 +14,7 @@
 #include "environment/pipe_mesh.h"
 #include "environment/pipe_path.h"
 #include "physics/world.h"
+#include "world_of.h"
 
 namespace chainsim {
 namespace {
@@ -150,13 +151,13 @@ TEST(MeshLoader, MeshEnvironmentCarriesAModule) {
   c.environment.mesh.file = floor;
   c.environment.mesh.position_m = Eigen::Vector3d(0, 0, 0.1);
   c.head_position = Eigen::Vector3d(0, 0, 0.125);
-  World w(c, {"passive"});
+  World w = world_of(c, {"passive"});
   for (int k = 0; k < 1000; ++k) w.step();
   EXPECT_NEAR(w.body_state(0, 0).position.z(), 0.112, 0.001);  // resting on the mesh at z = 0.1
 
   c.environment.mesh.file = temp_path("nope.obj");
   try {
-    World bad(c, {"passive"});
+    World bad = world_of(c, {"passive"});
     FAIL() << "no error";
   } catch (const MeshError& e) {
     EXPECT_NE(std::string(e.what()).find("nope.obj"), std::string::npos);

@@ -20,6 +20,7 @@
 #include "physics/placement.h"
 #include "model/units.h"
 #include "physics/world.h"
+#include "world_of.h"
 
 namespace chainsim {
 namespace {
@@ -339,7 +340,7 @@ TEST(PipeWorld, AnalyticPipeHoldsAModuleAtAnySlope) {
       r << l.entry.tangent, l.entry.up.cross(l.entry.tangent), l.entry.up;
       c.head_orientation = Eigen::Quaterniond(r);
       c.ground.mu = 0.3;
-      World w(c, chain);
+      World w = world_of(c, chain);
       const Eigen::Vector3d com0 = w.chain_com();
       for (int s = 0; s < w.servo_count(0); ++s) w.set_servo_enabled(0, s, false);
       const std::vector<ModuleDef> defs = chain_defs(c, chain);
@@ -388,8 +389,8 @@ TEST(PipeWorld, MeshPipeAndAnalyticPipeMoveABodyAlike) {
                                  mesh ? PipeCollider::Mesh : PipeCollider::Analytic);
       c.module_types = {one_body_module("ball", Shape::Sphere, 0.011, 0, Eigen::Vector3d::Zero(), 0.02)};
       c.ground.mu = k.mu;
-      place_chain_at_pipe_entry(&c, chain, 0.1);
-      World w(c, chain);
+      place_types_at_pipe_entry(&c, chain, 0.1);
+      World w = world_of(c, chain);
       track[mesh].push_back(w.body_state(0, 0).position);
       for (int i = 0; i < 800; ++i) {  // 0.4 s
         w.step();
@@ -425,8 +426,8 @@ TEST(PipeWorld, BodiesSlideThroughAnElbow) {
     WorldConfig c = pipe_world(p);
     c.module_types = types;
     c.ground.mu = 0.2;
-    place_chain_at_pipe_entry(&c, chain, 0.01);
-    World w(c, chain);
+    place_types_at_pipe_entry(&c, chain, 0.01);
+    World w = world_of(c, chain);
     const PipeLayout l = layout_pipe(c.environment.pipe);
     const std::vector<ModuleDef> defs = chain_defs(c, chain);
     double worst = -1;
@@ -458,8 +459,8 @@ TEST(PipeWorld, SphereSlidesPastATeeOpening) {
   WorldConfig c = pipe_world(p);
   c.module_types = {one_body_module("ball", Shape::Sphere, 0.011, 0, Eigen::Vector3d::Zero(), 0.02)};
   c.ground.mu = 0.2;
-  place_chain_at_pipe_entry(&c, chain, 0.02);
-  World w(c, chain);
+  place_types_at_pipe_entry(&c, chain, 0.02);
+  World w = world_of(c, chain);
   const PipeLayout l = layout_pipe(c.environment.pipe);
   const std::vector<ModuleDef> defs = chain_defs(c, chain);
   double worst = -1;
@@ -487,8 +488,8 @@ TEST(PipeWorld, DeterministicWithPipes) {
       WorldConfig c = pipe_world(p, collider);
       c.ground.mu = 0.2;
       c.seed = 7;
-      place_chain_at_pipe_entry(&c, chain, 0.01);
-      World w(c, chain);
+      place_types_at_pipe_entry(&c, chain, 0.01);
+      World w = world_of(c, chain);
       std::string out;
       char buf[64];
       for (int k = 0; k < 2000; ++k) {
@@ -516,8 +517,8 @@ TEST(PipeWorld, DeterministicWithPipes) {
 TEST(PipeWorld, PlacementAtTheEntryLaysTheChainOnTheAxisHeadFirst) {
   const std::vector<std::string> chain = {"passive", "passive", "passive"};
   WorldConfig c = pipe_world(pipe_of({straight(0.5, 30)}));
-  place_chain_at_pipe_entry(&c, chain, 0.01);
-  World w(c, chain);
+  place_types_at_pipe_entry(&c, chain, 0.01);
+  World w = world_of(c, chain);
   const PipeLayout l = layout_pipe(c.environment.pipe);
   for (int m = 0; m < 3; ++m) {
     const Eigen::Vector3d x = w.body_state(m, 0).position - l.entry.point;
@@ -528,7 +529,7 @@ TEST(PipeWorld, PlacementAtTheEntryLaysTheChainOnTheAxisHeadFirst) {
   // too long for the first straight
   const std::vector<std::string> chain_d(3, "passive");
   WorldConfig d = pipe_world(pipe_of({straight(0.1), elbow(0.05, 90, 0)}));
-  EXPECT_THROW(place_chain_at_pipe_entry(&d, chain_d, 0.0), std::invalid_argument);
+  EXPECT_THROW(place_types_at_pipe_entry(&d, chain_d, 0.0), std::invalid_argument);
 }
 
 // the contacts table: a pipe with a pair (pipe, module) of mu 0 lets a module
@@ -539,8 +540,8 @@ TEST(PipeWorld, ContactPairTableSetsThePipesFriction) {
     const std::vector<std::string> chain = {"passive"};
     WorldConfig c = pipe_world(pipe_of({straight(1.0, -10)}));
     if (frictionless) c.environment.contacts.push_back({"pipe", "module", Material{0.0, 0, 0.2, 1e-5}});
-    place_chain_at_pipe_entry(&c, chain, 0.1);
-    World w(c, chain);
+    place_types_at_pipe_entry(&c, chain, 0.1);
+    World w = world_of(c, chain);
     const double x0 = w.chain_com().x();
     run(w, 0.5);
     slid[frictionless] = w.chain_com().x() - x0;

@@ -12,6 +12,7 @@
 #include "environment/terrain.h"
 #include "model/units.h"
 #include "physics/world.h"
+#include "world_of.h"
 
 namespace chainsim {
 namespace {
@@ -69,7 +70,7 @@ TEST(Terrain, CrawlingSnakeStaysBetweenTheWalls) {
   c.heading_rad = 25 * kRadPerDeg;
   c.head_position = Eigen::Vector3d(0.1, 0.075, 0.04);
   const std::vector<std::string> chain(8, "rotation");
-  World w(c, chain);
+  World w = world_of(c, chain);
   for (int m = 0; m < 8; ++m) w.set_servo_setpoint(m, 1, (m == 0 ? 25 : (m % 2 ? -50 : 50)) * kRadPerDeg);
   const std::vector<ModuleDef> defs = chain_defs(c, chain);
   double max_y = 0, min_gap = 1, max_abs_y = 0;  // max_y, max_abs_y: the bodies' outer surfaces

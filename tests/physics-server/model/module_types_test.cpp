@@ -15,6 +15,7 @@
 #include "scene/scene.h"
 #include "output/scene_json.h"
 #include "physics/world.h"
+#include "world_of.h"
 
 namespace chainsim {
 namespace {
@@ -29,7 +30,7 @@ TEST(ShippedModules, BodiesHaveTheDefinedMassAndInertia) {
     const ModuleDef d = builtin_module_def(type);
     WorldConfig c;
     c.gravity_m_s2 = 0;
-    World w(c, {type});
+    World w = world_of(c, {type});
     ASSERT_EQ(w.body_count(0), static_cast<int>(d.bodies.size())) << type;
     double total = 0;
     for (int b = 0; b < w.body_count(0); ++b) {
@@ -62,7 +63,7 @@ TEST(ShippedModules, ServosAndSensorsPerType) {
                        {"passive", 0, 0, 0}};
   for (const Want& x : want) {
     WorldConfig c;
-    World w(c, {x.type});
+    World w = world_of(c, {x.type});
     ModuleSample s;
     w.sample(0, &s);
     EXPECT_EQ(s.n_servos, x.servos) << x.type;
@@ -73,7 +74,7 @@ TEST(ShippedModules, ServosAndSensorsPerType) {
   WorldConfig c;
   c.gravity_m_s2 = 0;
   c.head_position = Eigen::Vector3d(0, 0, 0.5);
-  World w(c, {"support"});
+  World w = world_of(c, {"support"});
   w.pin_body(0, 0);
   w.set_servo_setpoint(0, 0, 1.2);
   for (int k = 0; k < 1000; ++k) w.step();
@@ -91,7 +92,7 @@ TEST(ShippedModules, EachComesToRestOnTheFloor) {
   for (const std::string& type : kShipped) {
     WorldConfig c;
     c.head_position = Eigen::Vector3d(0, 0, 0.014);
-    World w(c, {type});
+    World w = world_of(c, {type});
     for (int k = 0; k < 2000; ++k) w.step();  // 1 s
     double vmax = 0, zmin = 1;
     for (int b = 0; b < w.body_count(0); ++b) {
@@ -110,7 +111,7 @@ TEST(ShippedModules, EachComesToRestOnTheFloor) {
 TEST(ShippedModules, MixedChainHangingFromItsHeadHolds) {
   WorldConfig c;
   c.head_position = Eigen::Vector3d(0, 0, 0.6);
-  World w(c, {"touch", "rotation", "support", "extension", "helicoidal", "traveller", "passive",
+  World w = world_of(c, {"touch", "rotation", "support", "extension", "helicoidal", "traveller", "passive",
               "rotation"});
   w.pin_body(0, 0);
   double worst = 0;
@@ -174,7 +175,7 @@ TEST(SceneModuleTypes, UserTypeFromASceneFileWorksEndToEnd) {
   const Scene s = load_scene_file(scene);
   ASSERT_EQ(s.world.module_types.size(), 1u);
   EXPECT_EQ(s.chain_types(), (std::vector<std::string>{"rotation", "bead"}));
-  World w(s.world, s.chain_types());
+  World w = world_of(s.world, s.chain_types());
   ASSERT_EQ(w.module_count(), 2);
   EXPECT_EQ(w.module_type(1), "bead");
   EXPECT_NEAR(w.body_state(1, 0).mass_kg, 0.02, 1e-15);
@@ -196,7 +197,7 @@ TEST(SceneModuleTypes, SceneTypeReplacesABuiltInOne) {
   dir.write("heavy.yaml", heavy);
   const Scene s =
       load_scene_file(dir.write("s.yaml", "module_types: {passive: heavy.yaml}\nchain: RP\n"));
-  World w(s.world, s.chain_types());
+  World w = world_of(s.world, s.chain_types());
   EXPECT_EQ(w.module_type(1), "passive");
   EXPECT_NEAR(w.body_state(1, 0).mass_kg, 0.02, 1e-15);
 }

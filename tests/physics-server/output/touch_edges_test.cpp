@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "output/touch_edges.h"
+#include "world_of.h"
 
 namespace chainsim {
 namespace {
@@ -14,7 +15,7 @@ namespace {
 TEST(TouchEdges, OneLinePerChangeOfTheTouchInput) {
   WorldConfig c;
   c.head_position = Eigen::Vector3d(0, 0, 0.0126);
-  World w(c, {"passive", "touch"});
+  World w = world_of(c, {"passive", "touch"});
   w.pin_body(0, 0);  // held straight behind a pinned module, the cover stays off the floor
   TouchEdges edges(w.module_count(), sensor_columns(compile_chain(c, {"passive", "touch"})));
   std::vector<std::string> lines, events;
@@ -33,7 +34,7 @@ TEST(TouchEdges, OneLinePerChangeOfTheTouchInput) {
   EXPECT_TRUE(events.empty());
   w.set_module_powered(1, true);
 
-  World lone(c, {"touch"});  // alone it tips forward onto its cover (sensors_test.cpp)
+  World lone = world_of(c, {"touch"});  // alone it tips forward onto its cover (sensors_test.cpp)
   TouchEdges lone_edges(1, sensor_columns(compile_chain(c, {"touch"})));
   for (int k = 0; k < 1000; ++k) {
     lone.step();

@@ -9,6 +9,7 @@
 
 #include "model/units.h"
 #include "output/trace_writer.h"
+#include "world_of.h"
 
 namespace chainsim {
 namespace {
@@ -30,7 +31,7 @@ std::string body_columns(const std::string& prefix) {
 TEST(TraceWriter, HeaderNamesEveryColumnInItsUnit) {
   WorldConfig c;
   c.head_position = Eigen::Vector3d(0, 0, 0.5);
-  World w(c, {"rotation", "passive", "extension", "helicoidal"});
+  World w = world_of(c, {"rotation", "passive", "extension", "helicoidal"});
   const TraceWriter t(w, 10000);
   const std::string want =
       "t_s" + body_columns("m0.front") + body_columns("m0.body") + body_columns("m0.back") +
@@ -53,7 +54,7 @@ TEST(TraceWriter, RowReadsBackAsTheWorldsStateInTheColumnsUnits) {
   WorldConfig c;
   c.head_position = Eigen::Vector3d(0, 0, 0.5);
   c.gravity_m_s2 = 0;
-  World w(c, {"rotation", "extension", "helicoidal"});
+  World w = world_of(c, {"rotation", "extension", "helicoidal"});
   w.pin_body(0, 0);
   w.set_servo_setpoint(0, 0, 30 * kRadPerDeg);
   w.set_servo_setpoint(1, 0, 0.006);
@@ -99,7 +100,7 @@ TEST(TraceWriter, SensorColumnsAreNamedAfterTheModuleTypesSensors) {
   WorldConfig c;
   c.head_position = Eigen::Vector3d(0, 0, 0.5);
   const std::vector<std::string> chain{"touch", "rotation", "traveller"};
-  World w(c, chain);
+  World w = world_of(c, chain);
   const TraceWriter t(w, 10000, sensor_columns(compile_chain(c, chain)));
   const std::string& h = t.header();
   for (const char* col : {",m0.touch.0.in,m0.touch.1.in,m0.touch.2.in,m0.accel.x_counts,m0.accel.y_counts,m0.accel.z_counts,m1.",
@@ -118,7 +119,7 @@ TEST(TraceWriter, SensorColumnsAreNamedAfterTheModuleTypesSensors) {
 TEST(TraceWriter, SensorColumnsReadWhatTheFirmwareReads) {
   WorldConfig c;
   const std::vector<std::string> chain{"touch"};
-  World w(c, chain);  // alone it tips forward onto its cover (sensors_test.cpp)
+  World w = world_of(c, chain);  // alone it tips forward onto its cover (sensors_test.cpp)
   for (int k = 0; k < 2000; ++k) w.step();
   TraceWriter t(w, 500, sensor_columns(compile_chain(c, chain)));
   std::string row;
@@ -154,7 +155,7 @@ TEST(TraceWriter, SensorColumnsReadWhatTheFirmwareReads) {
 // a row at t = 0 and then every interval, never more often than the step
 TEST(TraceWriter, RowsComeEveryIntervalOfSimulatedTime) {
   WorldConfig c;
-  World w(c, {"passive"});
+  World w = world_of(c, {"passive"});
   EXPECT_EQ(TraceWriter::interval_for(w, 100.0), 10000);
   EXPECT_EQ(TraceWriter::interval_for(w, 1e6), 500);  // not below the 500 us step
   TraceWriter t(w, 1500);

@@ -11,6 +11,7 @@
 #include "model/module_def.h"
 #include "model/units.h"
 #include "physics/world.h"
+#include "world_of.h"
 
 namespace chainsim {
 namespace {
@@ -34,7 +35,7 @@ TEST(ModuleLibrary, UnknownTypeListsKnownTypes) {
     EXPECT_NE(msg.find("rotation"), std::string::npos) << msg;
     EXPECT_NE(msg.find("passive"), std::string::npos) << msg;
   }
-  EXPECT_THROW(World w(WorldConfig{}, {"rotation", "wormhole"}), std::invalid_argument);
+  EXPECT_THROW(world_of(WorldConfig{}, {"rotation", "wormhole"}), std::invalid_argument);
 }
 
 TEST(ModuleLibrary, RotationModuleIsTheDescribedOne) {
@@ -90,7 +91,7 @@ TEST(ModuleLibrary, AnalyticInertias) {
 
 // the bodies ODE simulates have the masses and inertias of the definition
 TEST(ModuleLibrary, WorldBodiesHaveTheDefinedMassAndInertia) {
-  World w(WorldConfig{}, {"rotation", "passive", "rotation"});
+  World w = world_of(WorldConfig{}, {"rotation", "passive", "rotation"});
   ASSERT_EQ(w.module_count(), 3);
   for (int m = 0; m < w.module_count(); ++m) {
     const ModuleDef d = builtin_module_def(w.module_type(m));
@@ -119,7 +120,7 @@ TEST(ModuleLibrary, ChainAssembledHeadFirstAlongHeading) {
   c.head_position = Eigen::Vector3d(0.1, -0.2, 0.5);
   c.heading_rad = 0.7;
   c.gravity_m_s2 = 0;
-  World w(c, {"rotation", "rotation", "passive", "rotation"});
+  World w = world_of(c, {"rotation", "rotation", "passive", "rotation"});
   EXPECT_LT(w.max_docking_error_m(), 1e-12);
   const ModuleDef rot = builtin_module_def("rotation");
   // front connector of the head: its centre is half its thickness behind the face

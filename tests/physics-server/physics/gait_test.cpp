@@ -32,6 +32,7 @@
 
 #include "model/units.h"
 #include "physics/world.h"
+#include "world_of.h"
 
 namespace chainsim {
 namespace {
@@ -56,7 +57,7 @@ Outcome crawl(const Gait& g, double heading, double mu, uint64_t seed, double se
   c.heading_rad = heading;
   c.ground.mu = mu;
   c.seed = seed;
-  World w(c, std::vector<std::string>(8, "rotation"));
+  World w = world_of(c, std::vector<std::string>(8, "rotation"));
   for (int m = 0; m < 8; ++m)
     w.set_servo_setpoint(
         m, 1, (m == 0 ? 0.5 : (m % 2 ? -1.0 : 1.0)) * g.yaw_zigzag_deg * kRadPerDeg);

@@ -16,6 +16,7 @@
 #include "model/module_def.h"
 #include "physics/module_builder.h"
 #include "physics/world.h"
+#include "world_of.h"
 
 namespace chainsim {
 namespace {
@@ -132,10 +133,10 @@ TEST(RigidGroups, AHingeBetweenRigidlyJoinedPartsIsRefusedNamingIt) {
 TEST(StartClear, ABodyStartingInsideTheEnvironmentIsRefusedNamingIt) {
   WorldConfig c;
   c.head_position = Eigen::Vector3d(0, 0, 0.0126);  // on the floor: accepted
-  EXPECT_NO_THROW(World(c, {"rotation", "rotation"}));
+  EXPECT_NO_THROW(world_of(c, {"rotation", "rotation"}));
   c.head_position.z() = 0.008;  // the rings (12.5 mm) 4.5 mm into the floor
   try {
-    World w(c, {"rotation", "rotation"});
+    World w = world_of(c, {"rotation", "rotation"});
     FAIL() << "no exception";
   } catch (const WorldSetupError& e) {
     const std::string m = e.what();
@@ -146,7 +147,7 @@ TEST(StartClear, ABodyStartingInsideTheEnvironmentIsRefusedNamingIt) {
 TEST(RigidGroups, PartsOfAChainReportTheirOwnPosesMassesAndVelocities) {
   WorldConfig c;
   c.gravity_m_s2 = 0;
-  World w(c, {"rotation", "rotation", "rotation"});
+  World w = world_of(c, {"rotation", "rotation", "rotation"});
   const std::vector<ModuleDef> defs(3, builtin_module_def("rotation"));
   Eigen::Isometry3d face = Eigen::Isometry3d::Identity();
   face.translation() = c.head_position;

@@ -12,6 +12,7 @@
 #include "bench_args.h"
 #include "model/units.h"
 #include "physics/world.h"
+#include "world_of.h"
 
 using namespace chainsim;
 
@@ -32,7 +33,7 @@ int main(int argc, char** argv) {
     WorldConfig c;
     c.head_position = Eigen::Vector3d(0, 0, 0.0126);
     c.solver_iterations = iterations;
-    World w(c, std::vector<std::string>(n, "rotation"));
+    World w = world_of(c, std::vector<std::string>(n, "rotation"));
     for (int m = 0; m < n; ++m)
       w.set_servo_setpoint(m, 1, (m == 0 ? 25 : (m % 2 ? -50 : 50)) * deg);
     auto drive = [&](int k) {

@@ -30,6 +30,7 @@
 #include "model/module_file.h"
 #include "physics/placement.h"
 #include "physics/world.h"
+#include "world_of.h"
 
 using namespace chainsim;
 
@@ -103,7 +104,7 @@ WorldConfig scene(const Case& k, WorldConfig::Solver solver) {
     c.environment.pipe.segments.push_back(out);
   }
   c.ground.mu = k.chain.find('S') != std::string::npos ? 0.6 : 0.05;  // as the scenes
-  place_chain_at_pipe_entry(&c, chain_of(k), 0.01);
+  place_types_at_pipe_entry(&c, chain_of(k), 0.01);
   return c;
 }
 
@@ -130,7 +131,7 @@ int main(int argc, char** argv) {
               "contacts", "moved mm");
   for (const Case& k : cases)
     for (WorldConfig::Solver solver : {WorldConfig::Solver::QuickStep, WorldConfig::Solver::Exact}) {
-      World w(scene(k, solver), chain_of(k));
+      World w = world_of(scene(k, solver), chain_of(k));
       int n_h = 0, bodies = 0;
       for (int m = 0; m < w.module_count(); ++m) {
         bodies += w.body_count(m);

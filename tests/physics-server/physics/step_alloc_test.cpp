@@ -12,6 +12,7 @@
 #include "physics/world.h"
 
 #include "alloc_counter.h"
+#include "world_of.h"
 
 namespace chainsim {
 namespace {
@@ -23,7 +24,7 @@ TEST(World, StepDoesNotAllocate) {
   const double deg = kRadPerDeg;
   WorldConfig c;
   c.head_position = Eigen::Vector3d(0, 0, 0.0126);
-  World w(c, std::vector<std::string>(8, "rotation"));
+  World w = world_of(c, std::vector<std::string>(8, "rotation"));
   for (int m = 0; m < 8; ++m) w.set_servo_setpoint(m, 1, (m == 0 ? 25 : (m % 2 ? -50 : 50)) * deg);
   w.step();  // ODE sets up its stepping context here
   long total = 0;
@@ -73,12 +74,12 @@ TEST(World, StepDoesNotAllocateInPipesAndOnTerrain) {
       c.environment.pipe.segments = {a, b, d};
       c.environment.pipe.inner_diameter_m = 0.04;
       c.environment.pipe.collider = env == 0 ? PipeCollider::Analytic : PipeCollider::Mesh;
-      place_chain_at_pipe_entry(&c, std::vector<std::string>(3, "rotation"), 0.04);
+      place_types_at_pipe_entry(&c, std::vector<std::string>(3, "rotation"), 0.04);
     } else {
       c.environment.type = EnvironmentType::Terrain;
       c.head_position = Eigen::Vector3d(0.1, 0, 0.054);  // clear of the crests (0.04 m)
     }
-    World w(c, std::vector<std::string>(3, "rotation"));
+    World w = world_of(c, std::vector<std::string>(3, "rotation"));
     long total = 0;
     for (int k = 0; k < 6000; ++k) {  // 3 s
       if (k % 20 == 0) {
@@ -112,8 +113,8 @@ TEST(World, ExactStepDoesNotAllocate) {
   up.slope_deg = 90;
   c.environment.pipe.segments = {up};
   const std::vector<std::string> chain = {"support", "extension", "support"};
-  place_chain_at_pipe_entry(&c, chain, 0.05);
-  World w(c, chain);
+  place_types_at_pipe_entry(&c, chain, 0.05);
+  World w = world_of(c, chain);
   long total = 0;
   for (int k = 0; k < 6000; ++k) {  // 3 s: the two supports grip in turn, the extension works
     const int phase = (k / 500) % 2;
@@ -139,7 +140,7 @@ TEST(ShippedModules, StepAndSampleDoNotAllocate) {
 #else
   WorldConfig c;
   c.head_position = Eigen::Vector3d(0, 0, 0.0126);
-  World w(c, {"touch", "rotation", "support", "extension", "helicoidal", "traveller", "traveller",
+  World w = world_of(c, {"touch", "rotation", "support", "extension", "helicoidal", "traveller", "traveller",
               "passive", "rotation"});
   w.step();  // ODE sets up its stepping context here
   long total = 0;

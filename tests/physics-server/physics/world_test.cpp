@@ -12,6 +12,7 @@
 
 #include "model/units.h"
 #include "physics/world.h"
+#include "world_of.h"
 
 namespace chainsim {
 namespace {
@@ -36,7 +37,7 @@ std::vector<std::string> rotations(int n) { return std::vector<std::string>(n, "
 // cantilever. The docking joints stretch < 1 mm throughout.
 TEST(World, DockedChainHangingFromAFixedPointHolds) {
   for (bool limp : {true, false}) {
-    World w(config_at(0.6), rotations(8));
+    World w = world_of(config_at(0.6), rotations(8));
     w.pin_body(0, 0);
     for (int m = 0; m < 8; ++m)
       for (int s = 0; s < 2; ++s) w.set_servo_enabled(m, s, !limp);
@@ -74,7 +75,7 @@ StepRecord servo_step(int64_t dt_us) {
   WorldConfig c = config_at(0.3);
   c.gravity_m_s2 = 0;  // unloaded
   c.dt_us = dt_us;
-  World w(c, rotations(1));
+  World w = world_of(c, rotations(1));
   w.pin_body(0, 0);
   w.set_servo_setpoint(0, 0, -60 * kRadPerDeg);
   run(w, 0.5);
@@ -163,7 +164,7 @@ TEST(World, ServoHoldsAConstantExternalTorqueLoad) {
     WorldConfig c = config_at(0.3);
     c.gravity_m_s2 = 0;
     c.solver_iterations = iterations;
-    World w(c, rotations(1));
+    World w = world_of(c, rotations(1));
     w.pin_body(0, 0);
     w.set_servo_setpoint(0, 0, 20 * kRadPerDeg);
     const double tau = 0.02;  // N m, a third of the stall torque (0.058 N m)
@@ -205,7 +206,7 @@ TEST(World, ServoHoldsAConstantExternalTorqueLoad) {
 }
 
 TEST(World, ServoHolds45DegreesAgainstGravity) {
-  World w(config_at(0.3), rotations(1));
+  World w = world_of(config_at(0.3), rotations(1));
   w.pin_body(0, 0);  // front connector fixed, the rest is a cantilever
   w.set_servo_setpoint(0, 0, 45 * kRadPerDeg);
   run(w, 1.0);
@@ -225,7 +226,7 @@ TEST(World, ServoHolds45DegreesAgainstGravity) {
 }
 
 TEST(World, UnpoweredModuleIsLimpAndReadsZero) {
-  World w(config_at(0.3), rotations(1));
+  World w = world_of(config_at(0.3), rotations(1));
   w.pin_body(0, 0);
   w.set_servo_setpoint(0, 0, 20 * kRadPerDeg);
   run(w, 0.5);
@@ -255,7 +256,7 @@ TEST(World, UnpoweredModuleIsLimpAndReadsZero) {
 }
 
 TEST(World, DisabledServoIsLimp) {
-  World w(config_at(0.3), rotations(1));
+  World w = world_of(config_at(0.3), rotations(1));
   w.pin_body(0, 0);
   w.set_servo_enabled(0, 0, false);
   run(w, 1.0);
@@ -267,7 +268,7 @@ TEST(World, DisabledServoIsLimp) {
 }
 
 TEST(World, SetpointsAreClampedToTheServoRange) {
-  World w(config_at(0.3), rotations(1));
+  World w = world_of(config_at(0.3), rotations(1));
   w.set_servo_setpoint(0, 0, 3.0);
   EXPECT_NEAR(w.servo_setpoint(0, 0), kPi / 2, 1e-12);
   w.set_servo_setpoint(0, 1, -3.0);
@@ -296,7 +297,7 @@ void append_state(const World& w, std::string* out) {
 std::string gait_trace(uint64_t seed, double seconds) {
   WorldConfig c = config_at(0.0126);
   c.seed = seed;
-  World w(c, rotations(8));
+  World w = world_of(c, rotations(8));
   std::string out;
   const int n = static_cast<int>(seconds / 5e-4);
   for (int k = 0; k < n; ++k) {
@@ -326,7 +327,7 @@ TEST(World, InterleavedWorldsDoNotDisturbEachOther) {
   const std::string alone = gait_trace(3, 0.5);
   WorldConfig c = config_at(0.0126);
   c.seed = 3;
-  World a(c, rotations(8)), b(c, rotations(8));
+  World a = world_of(c, rotations(8)), b = world_of(c, rotations(8));
   std::string ta, tb;
   for (int k = 0; k < 1000; ++k) {
     for (World* w : {&a, &b}) {

@@ -13,6 +13,7 @@
 #include "physics/actuators/actuator.h"
 #include "physics/actuators/force_motor.h"
 #include "physics/world.h"
+#include "world_of.h"
 
 namespace chainsim {
 namespace {
@@ -69,7 +70,7 @@ TEST(WireUnits, ValuesRoundToNearestAndClampToTheInt32Range) {
 TEST(WireUnits, WireSetPointsAreClampedToTheActuatorsRange) {
   WorldConfig c;
   c.head_position = Eigen::Vector3d(0, 0, 0.5);
-  World w(c, {"rotation", "extension", "helicoidal"});
+  World w = world_of(c, {"rotation", "extension", "helicoidal"});
   ASSERT_EQ(w.servo_kind(1, 0), ServoKind::Linear);
   ASSERT_EQ(w.servo_kind(2, 0), ServoKind::DcMotor);  // the helicoidal module's head motor
   w.set_servo_setpoint_wire(0, 0, 120000);  // beyond the +90 degree stop

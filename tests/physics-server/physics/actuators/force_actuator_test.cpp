@@ -15,6 +15,7 @@
 #include "model/module_def.h"
 #include "model/units.h"
 #include "physics/world.h"
+#include "world_of.h"
 
 namespace chainsim {
 namespace {
@@ -111,7 +112,7 @@ void run(World& w, double seconds, double* energy_j = nullptr) {
 
 TEST(LinearServo, ReachesItsReferenceAndHolds) {
   // 1 N, 2 mm band, 20 mm/s no-load speed (a micro linear servo)
-  World w(config_for(slide_def(-Eigen::Vector3d::UnitX(), 0.005, 1.0, 0.002, 0.02), 0.0),
+  World w = world_of(config_for(slide_def(-Eigen::Vector3d::UnitX(), 0.005, 1.0, 0.002, 0.02), 0.0),
           {"slide_test"});
   w.pin_body(0, 0);
   ASSERT_EQ(w.servo_count(0), 1);
@@ -154,7 +155,7 @@ TEST(LinearServo, ReachesItsReferenceAndHolds) {
 // the paper's law exactly (no speed term): an undamped spring in continuous
 // time; the implicit proportional term keeps it stable and it settles
 TEST(LinearServo, PurePaperLawIsStable) {
-  World w(config_for(slide_def(-Eigen::Vector3d::UnitX(), 0.005, 1.0, 0.002, 0.0), 0.0),
+  World w = world_of(config_for(slide_def(-Eigen::Vector3d::UnitX(), 0.005, 1.0, 0.002, 0.0), 0.0),
           {"slide_test"});
   w.pin_body(0, 0);
   w.set_servo_setpoint(0, 0, 0.008);
@@ -175,7 +176,7 @@ TEST(LinearServo, PurePaperLawIsStable) {
 // saturates at fmax and the slide stays on its lower stop)
 TEST(LinearServo, HoldsALoadWithDroopAndSaturatesOnAnOverload) {
   for (double mass : {0.05, 0.2}) {
-    World w(config_for(slide_def(Eigen::Vector3d::UnitZ(), mass, 1.0, 0.002, 0.02), kG),
+    World w = world_of(config_for(slide_def(Eigen::Vector3d::UnitZ(), mass, 1.0, 0.002, 0.02), kG),
             {"slide_test"});
     w.pin_body(0, 0);
     w.set_servo_setpoint(0, 0, 0.010);
@@ -206,7 +207,7 @@ TEST(ScrewDrive, PushesABodyAlongItsAxisUpToTheNoLoadSpeed) {
   // heading rotates the chain: the drive axis turns with the body
   WorldConfig c = config_for(screw_def(Eigen::Vector3d::UnitX(), 0.02, 0.5, 0.03), 0.0);
   c.heading_rad = 0.6;
-  World w(c, {"screw_test"});
+  World w = world_of(c, {"screw_test"});
   EXPECT_EQ(w.servo_kind(0, 0), ServoKind::Screw);
   w.set_servo_setpoint(0, 0, 1.0);
   w.step();
@@ -240,7 +241,7 @@ TEST(ScrewDrive, PushesABodyAlongItsAxisUpToTheNoLoadSpeed) {
 TEST(ScrewDrive, ClimbsAtTheSpeedItsForceAllowsAndSaturatesBeyond) {
   for (double fmax : {0.5, 0.1}) {
     const double m = 0.02;
-    World w(config_for(screw_def(Eigen::Vector3d::UnitZ(), m, fmax, 0.03), kG, 5.0), {"screw_test"});
+    World w = world_of(config_for(screw_def(Eigen::Vector3d::UnitZ(), m, fmax, 0.03), kG, 5.0), {"screw_test"});
     w.set_servo_setpoint(0, 0, 1.0);
     double energy = 0;
     run(w, 0.3, &energy);
@@ -264,7 +265,7 @@ TEST(ScrewDrive, ClimbsAtTheSpeedItsForceAllowsAndSaturatesBeyond) {
 }
 
 TEST(ScrewDrive, WithoutSpeedTermItIsAConstantForce) {
-  World w(config_for(screw_def(Eigen::Vector3d::UnitX(), 0.02, 0.2, 0.0), 0.0), {"screw_test"});
+  World w = world_of(config_for(screw_def(Eigen::Vector3d::UnitX(), 0.02, 0.2, 0.0), 0.0), {"screw_test"});
   w.set_servo_setpoint(0, 0, 0.5);
   run(w, 0.1);
   // F = 0.1 N on 20 g for 0.1 s: 0.5 m/s
@@ -274,7 +275,7 @@ TEST(ScrewDrive, WithoutSpeedTermItIsAConstantForce) {
 
 TEST(ScrewDrive, DisabledOrUnpoweredPushesNothingAndDrawsNothing) {
   for (bool unpowered : {false, true}) {
-    World w(config_for(screw_def(Eigen::Vector3d::UnitX(), 0.02, 0.5, 0.03), 0.0), {"screw_test"});
+    World w = world_of(config_for(screw_def(Eigen::Vector3d::UnitX(), 0.02, 0.5, 0.03), 0.0), {"screw_test"});
     w.set_servo_setpoint(0, 0, 1.0);
     if (unpowered)
       w.set_module_powered(0, false);
@@ -295,7 +296,7 @@ TEST(Power, MovingServoUsesEnergyAndUnpoweredNone) {
   c.gravity_m_s2 = 0;
   c.head_position = Eigen::Vector3d(0, 0, 0.3);
   for (bool powered : {true, false}) {
-    World w(c, {"rotation"});
+    World w = world_of(c, {"rotation"});
     w.pin_body(0, 0);
     w.set_module_powered(0, powered);
     double energy = 0;
@@ -317,7 +318,7 @@ TEST(Power, MovingServoUsesEnergyAndUnpoweredNone) {
 
 TEST(LinearServo, MovingUsesEnergyAndUnpoweredNone) {
   for (bool powered : {true, false}) {
-    World w(config_for(slide_def(-Eigen::Vector3d::UnitX(), 0.005, 1.0, 0.002, 0.02), 0.0),
+    World w = world_of(config_for(slide_def(-Eigen::Vector3d::UnitX(), 0.005, 1.0, 0.002, 0.02), 0.0),
           {"slide_test"});
     w.pin_body(0, 0);
     w.set_module_powered(0, powered);
@@ -348,7 +349,7 @@ TEST(ForceActuators, SetPointsAndSamplesUseEachKindsWireUnit) {
     WorldConfig c;
     c.gravity_m_s2 = 0;
     c.head_position = Eigen::Vector3d(0, 0, 0.3);
-    World w(c, {"rotation"});
+    World w = world_of(c, {"rotation"});
     w.pin_body(0, 0);
     EXPECT_EQ(w.servo_kind(0, 1), ServoKind::Rotary);
     w.set_servo_setpoint_wire(0, 0, 30000);  // 30 degrees
@@ -359,7 +360,7 @@ TEST(ForceActuators, SetPointsAndSamplesUseEachKindsWireUnit) {
     EXPECT_NEAR(s.servo_position_wire[0], 30000, 200);
   }
   {
-    World w(config_for(slide_def(-Eigen::Vector3d::UnitX(), 0.005, 1.0, 0.002, 0.02), 0.0),
+    World w = world_of(config_for(slide_def(-Eigen::Vector3d::UnitX(), 0.005, 1.0, 0.002, 0.02), 0.0),
             {"slide_test"});
     w.pin_body(0, 0);
     EXPECT_EQ(w.servo_kind(0, 0), ServoKind::Linear);
@@ -371,7 +372,7 @@ TEST(ForceActuators, SetPointsAndSamplesUseEachKindsWireUnit) {
     EXPECT_NEAR(s.servo_position_wire[0], 7100, 1);
   }
   {
-    World w(config_for(screw_def(Eigen::Vector3d::UnitX(), 0.02, 0.5, 0.03), 0.0), {"screw_test"});
+    World w = world_of(config_for(screw_def(Eigen::Vector3d::UnitX(), 0.02, 0.5, 0.03), 0.0), {"screw_test"});
     EXPECT_EQ(w.servo_kind(0, 0), ServoKind::Screw);
     w.set_servo_setpoint_wire(0, 0, -22500);  // a quarter reverse (full: 90 degrees of servo pulse)
     EXPECT_NEAR(w.servo_setpoint(0, 0), -0.25, 1e-15);

@@ -11,6 +11,7 @@
 #include "model/units.h"
 #include "physics/sensors/module_channels.h"
 #include "physics/world.h"
+#include "world_of.h"
 
 namespace chainsim {
 namespace {
@@ -40,7 +41,7 @@ TEST(TouchSensor, ReportsTheFloorOnlyWhenTheHeadTouchesIt) {
   auto touched = [](double pitch_deg, uint16_t* seen) {
     WorldConfig c;
     c.head_position = Eigen::Vector3d(0, 0, 0.0126);
-    World w(c, {"touch", "rotation", "rotation", "rotation"});
+    World w = world_of(c, {"touch", "rotation", "rotation", "rotation"});
     w.set_servo_setpoint(1, 0, pitch_deg * kRadPerDeg);
     run(w, 0.5);
     int n = 0;
@@ -66,13 +67,13 @@ TEST(TouchSensor, ReportsTheFloorOnlyWhenTheHeadTouchesIt) {
 TEST(TouchSensor, LoneModuleTipsOntoItsCoverAndReadsNothingInTheAir) {
   WorldConfig c;
   c.head_position = Eigen::Vector3d(0, 0, 0.0126);
-  World on_floor(c, {"touch"});
+  World on_floor = world_of(c, {"touch"});
   run(on_floor, 0.5);  // centre of mass ahead of the ring: it tips forward onto the cover
   EXPECT_EQ(sample(on_floor, 0).digital_in, 6u);  // switches 1 and 2: the floor is below
   on_floor.set_module_powered(0, false);
   EXPECT_EQ(sample(on_floor, 0).digital_in, 0u);  // unpowered reads nothing
   c.head_position.z() = 0.2;
-  World lifted(c, {"touch"});
+  World lifted = world_of(c, {"touch"});
   lifted.pin_body(0, 1);
   for (int k = 0; k < 1000; ++k) {
     lifted.step();
@@ -99,7 +100,7 @@ TEST(TouchSensor, TheSwitchesOnTheSideOfTheContactClose) {
     WorldConfig c;
     c.head_position = Eigen::Vector3d(0, 0, 0.0126);
     c.roll_rad = roll * kRadPerDeg;
-    World w(c, {"touch"});
+    World w = world_of(c, {"touch"});
     run(w, 0.5);
     const uint16_t in = sample(w, 0).digital_in;
     // where the floor is in the module frame: world down seen from the module
@@ -125,15 +126,15 @@ TEST(TouchSensor, TheSwitchesOnTheSideOfTheContactClose) {
   {  // upright: below is 180 degrees, switches 1 and 2; upside down: switch 0
     WorldConfig c;
     c.head_position = Eigen::Vector3d(0, 0, 0.0126);
-    World up(c, {"touch"});
+    World up = world_of(c, {"touch"});
     run(up, 0.5);
     EXPECT_EQ(sample(up, 0).digital_in, 0b110u);
     c.roll_rad = M_PI;
-    World down(c, {"touch"});
+    World down = world_of(c, {"touch"});
     run(down, 0.5);
     EXPECT_EQ(sample(down, 0).digital_in, 0b001u);
     c.roll_rad = M_PI / 2;   // rolled a quarter turn: is its left or its right below?
-    World side(c, {"touch"});
+    World side = world_of(c, {"touch"});
     run(side, 0.5);
     const Eigen::Vector3d below = touch_module_orientation(side).conjugate() * Eigen::Vector3d(0, 0, -1);
     EXPECT_EQ(sample(side, 0).digital_in, below.y() > 0 ? 0b010u : 0b100u);   // 120 (left) or 240 (right)
@@ -142,7 +143,7 @@ TEST(TouchSensor, TheSwitchesOnTheSideOfTheContactClose) {
     WorldConfig c;
     c.head_position = Eigen::Vector3d(0, 0, 0.0005);
     c.head_orientation = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitY()));   // x down
-    World w(c, {"touch"});
+    World w = world_of(c, {"touch"});
     uint16_t first = 0;
     for (int k = 0; k < 400 && first == 0; ++k) {
       w.step();
@@ -160,7 +161,7 @@ Eigen::Vector3d held_reading(const Eigen::Quaterniond& orientation) {
   WorldConfig c;
   c.head_position = Eigen::Vector3d(0, 0, 0.3);
   c.head_orientation = orientation;
-  World w(c, {"touch"});
+  World w = world_of(c, {"touch"});
   w.pin_body(0, 1);
   run(w, 0.1);
   const ModuleSample s = sample(w, 0);
@@ -223,7 +224,7 @@ TEST(Accelerometer, ReadsGravityInThreeOrientations) {
 TEST(Accelerometer, MeasuresSpecificForce) {
   WorldConfig c;
   c.head_position = Eigen::Vector3d(0, 0, 0.0126);
-  World flat(c, {"touch", "rotation"});
+  World flat = world_of(c, {"touch", "rotation"});
   run(flat, 0.5);
   ModuleSample s = sample(flat, 0);
   EXPECT_NEAR(s.adc[0], 512, 2);
@@ -231,13 +232,13 @@ TEST(Accelerometer, MeasuresSpecificForce) {
   EXPECT_NEAR(s.adc[2], kUp, 2);
 
   c.head_position.z() = 0.5;
-  World falling(c, {"touch"});
+  World falling = world_of(c, {"touch"});
   run(falling, 0.1);  // falls 5 cm, still in the air
   s = sample(falling, 0);
   for (int a = 0; a < 3; ++a) EXPECT_NEAR(s.adc[a], 512, 2) << "axis " << a;
 
   c.gravity_m_s2 = 0;
-  World pushed(c, {"touch"});
+  World pushed = world_of(c, {"touch"});
   for (int k = 0; k < 200; ++k) {  // 0.1 s; the module is 10 g, so 0.0981 N is 1 g
     pushed.add_body_force(0, 1, Eigen::Vector3d(0.010 * 9.80665, 0, 0));
     pushed.step();
@@ -254,7 +255,7 @@ TEST(Accelerometer, NoiseIsSeededAndDeterministic) {
     WorldConfig c;
     c.seed = seed;
     c.head_position = Eigen::Vector3d(0, 0, 0.3);
-    World w(c, {"touch"});
+    World w = world_of(c, {"touch"});
     w.pin_body(0, 1);
     run(w, 0.05);
     std::vector<int> out;
@@ -279,7 +280,7 @@ TEST(Accelerometer, NoiseIsSeededAndDeterministic) {
 TEST(Accelerometer, UnpoweredReadsZero) {
   WorldConfig c;
   c.head_position = Eigen::Vector3d(0, 0, 0.0126);
-  World w(c, {"support"});
+  World w = world_of(c, {"support"});
   run(w, 0.5);
   ModuleSample s = sample(w, 0);
   EXPECT_EQ(s.n_adc, 4);  // motor current on ADC 0, accelerometer on 1..3
@@ -306,7 +307,7 @@ TEST(Traveller, EncodersCountTheDistanceWhileTheWheelsTouch) {
     WorldConfig c;
     c.head_position = Eigen::Vector3d(0, 0, 0.0092);  // wheels 0.15 mm above the floor
     c.heading_rad = heading_deg * kRadPerDeg;
-    World w(c, {"traveller", "traveller"});
+    World w = world_of(c, {"traveller", "traveller"});
     run(w, 0.3);  // settle on the four lower wheels
     const ModuleSample a0 = sample(w, 0), b0 = sample(w, 1);
     ASSERT_EQ(a0.n_counters, 3);
@@ -344,7 +345,7 @@ TEST(Traveller, WheelFrictionIsProportionalToSpeed) {
   WorldConfig c;
   c.gravity_m_s2 = 0;
   c.head_position = Eigen::Vector3d(0, 0, 0.3);
-  World w(c, {"traveller"});
+  World w = world_of(c, {"traveller"});
   w.pin_body(0, 0);
   const Eigen::Vector3d axle(0, -1, 0);  // the top wheel's (traveller.yaml)
   auto spin = [&](double seconds) {

@@ -11,6 +11,7 @@
 #include "model/units.h"
 #include "physics/placement.h"
 #include "physics/world.h"
+#include "world_of.h"
 
 namespace chainsim {
 namespace {
@@ -28,7 +29,7 @@ WorldConfig pipe_scene(const ModuleDef& h, double diameter, double slope_deg, do
   s.slope_deg = slope_deg;
   c.environment.pipe.segments = {s};
   c.ground.mu = 0.3;
-  place_chain_at_pipe_entry(&c, {h.type}, 0.1);
+  place_types_at_pipe_entry(&c, {h.type}, 0.1);
   return c;
 }
 
@@ -58,7 +59,7 @@ TEST(WheelDrive, ModuleFileDeclaresAHeadOnAHingeWithWheels) {
   const ModuleDef h = builtin_module_def("helicoidal");
   EXPECT_EQ(h.wheels.size(), 2u);
   EXPECT_EQ(motor(h).type, ActuatorType::DcMotor);
-  World w(pipe_scene(h, 0.04, 0), {h.type});
+  World w = world_of(pipe_scene(h, 0.04, 0), {h.type});
   EXPECT_EQ(w.wheel_count(0), 6);
   EXPECT_EQ(w.servo_count(0), 1);
   EXPECT_EQ(w.servo_kind(0, 0), ServoKind::DcMotor);  // driven -1..1 like a screw drive
@@ -79,7 +80,7 @@ ModuleDef short_arms() {
 
 TEST(WheelDrive, WheelsOffTheWallGiveNoForceAndNoThrust) {
   const ModuleDef h = short_arms();
-  World w(pipe_scene(h, 0.04, 0), {h.type});
+  World w = world_of(pipe_scene(h, 0.04, 0), {h.type});
   run(w, 0.5);
   const double x0 = along(w, 0);
   w.set_servo_setpoint(0, 0, 1.0);
@@ -94,7 +95,7 @@ TEST(WheelDrive, WheelsOffTheWallGiveNoForceAndNoThrust) {
 
 TEST(WheelDrive, ABodyPressedOnTheWallGetsNoThrust) {
   const ModuleDef h = short_arms();
-  World w(pipe_scene(h, 0.04, 0), {h.type});
+  World w = world_of(pipe_scene(h, 0.04, 0), {h.type});
   run(w, 0.5);
   const double x0 = along(w, 0);
   w.set_servo_setpoint(0, 0, 1.0);
@@ -104,7 +105,7 @@ TEST(WheelDrive, ABodyPressedOnTheWallGetsNoThrust) {
   }
   EXPECT_NEAR(along(w, 0) - x0, 0.0, 0.2e-3);
   // the same module with its wheels on the wall does move
-  World on(pipe_scene(builtin_module_def("helicoidal"), 0.04, 0), {"helicoidal"});
+  World on = world_of(pipe_scene(builtin_module_def("helicoidal"), 0.04, 0), {"helicoidal"});
   run(on, 0.5);
   const double y0 = along(on, 0);
   on.set_servo_setpoint(0, 0, 1.0);
@@ -115,7 +116,7 @@ TEST(WheelDrive, ABodyPressedOnTheWallGetsNoThrust) {
 // no gravity, no load: v = w_free r tan(helix) (r = 20 mm, the bore's radius)
 TEST(WheelDrive, FreeSpeedIsTheHelixTimesTheMotorsFreeSpeed) {
   const ModuleDef h = builtin_module_def("helicoidal");
-  World w(pipe_scene(h, 0.04, 0, 0.0), {h.type});
+  World w = world_of(pipe_scene(h, 0.04, 0, 0.0), {h.type});
   w.set_servo_setpoint(0, 0, 1.0);
   run(w, 1.0);
   const double x0 = along(w, 0);
@@ -139,7 +140,7 @@ TEST(WheelDrive, ThrustIsLimitedByMuTimesEachWheelsNormalForce) {
   const WheelSetDef& head = head_wheels(h);
   const double cos_helix = std::cos(head.helix_deg * kPi / 180);
   auto climb = [&](double load_factor, double* grip_out) {
-    World w(pipe_scene(h, 0.04, 90), {h.type});
+    World w = world_of(pipe_scene(h, 0.04, 90), {h.type});
     w.set_servo_setpoint(0, 0, 1.0);
     run(w, 0.3);
     // grip of the head's wheels (their normal forces barely depend on the load)
@@ -220,7 +221,7 @@ TEST(Pads, GripHoldsBelowMuNAndSlipsAbove) {
     WorldConfig c;
     c.module_types = {padded_plate(mu)};
     c.head_position = Eigen::Vector3d(0.02, 0, 0.0029);
-    World w(c, {"padded_plate"});
+    World w = world_of(c, {"padded_plate"});
     run(w, 0.3);
     double n = 0;
     for (int k = 0; k < 4; ++k) {
@@ -266,8 +267,8 @@ double support_slide(double pull_n, double wall_mu, double pad_mu,
   seg.length_m = 0.4;
   c.environment.pipe.segments = {seg};
   c.ground.mu = wall_mu;
-  place_chain_at_pipe_entry(&c, {"support"}, 0.1);
-  World w(c, {"support"});
+  place_types_at_pipe_entry(&c, {"support"}, 0.1);
+  World w = world_of(c, {"support"});
   w.set_servo_setpoint(0, 0, kPi / 2);
   run(w, 1.0);  // the arms open (0.3 s) and the core settles on the wall
   const double x0 = w.body_state(0, 0).position.x();
@@ -302,7 +303,7 @@ World padded_block(const Eigen::Vector3d& at, const Eigen::Vector3d& origin, con
   seg.length_m = 0.4;
   c.environment.pipe.segments = {seg};
   c.head_position = at;
-  return World(c, {"padded_block"});
+  return world_of(c, {"padded_block"});
 }
 
 // a pad whose origin has gone into the wall (an arm's hinge while its module
