@@ -174,13 +174,15 @@ GiveUp screen_for(const FitProblem& p, const Fit& ref, int e, const Fit* refined
   return g;
 }
 
-double effect_resolution(const FitProblem& p, const Fit& with, const Fit& without_effects, int effect,
+double effect_resolution(ModelRuns& runs, const FitProblem& p, const Fit& with, const Fit& without_effects, int effect,
                          const std::vector<int>& regime) {
   if (!with.valid) return 0;
   const std::vector<double> xs(with.x.begin(), with.x.begin() + param_count(without_effects.effects));
   Residual a, b;
-  run_paired({[&] { a = run_model(p, model_config(p.datasheet, with.effects, with.x)).residual; },
-              [&] { b = run_model(p, model_config(p.datasheet, without_effects.effects, xs)).residual; }});
+  run_paired(runs, {[&](ModelRuns& runs) { a = run_model(runs, p, model_config(p.datasheet, with.effects, with.x)).residual; },
+                    [&](ModelRuns& runs) {
+                      b = run_model(runs, p, model_config(p.datasheet, without_effects.effects, xs)).residual;
+                    }});
   // the effect's regimes and the 40 ms after each set-point change, whose
   // label wins over the motion regimes (a short move is all step onset)
   std::vector<std::string> names = effect_catalogue()[effect].regimes;
@@ -202,8 +204,8 @@ double resolved_change(std::vector<double> change) {
   return change[k];
 }
 
-NoiseScale round_noise(const FitProblem& p, const Fit& cur) {
-  return white_noise_scale(run_model(p, model_config(p.datasheet, cur.effects, cur.x)).residual, p.split);
+NoiseScale round_noise(ModelRuns& runs, const FitProblem& p, const Fit& cur) {
+  return white_noise_scale(run_model(runs, p, model_config(p.datasheet, cur.effects, cur.x)).residual, p.split);
 }
 
 FitProblem with_noise(const FitProblem& p, const NoiseScale& noise) {
@@ -212,18 +214,18 @@ FitProblem with_noise(const FitProblem& p, const NoiseScale& noise) {
   return q;
 }
 
-Reference fit_reference(const FitProblem& p, const Fit& cur, const CalibrationProgress& say) {
+Reference fit_reference(ModelRuns& runs, const FitProblem& p, const Fit& cur, const CalibrationProgress& say) {
   Reference r;
-  r.fit = evaluate_fit(p, cur.effects, cur.x);
+  r.fit = evaluate_fit(runs, p, cur.effects, cur.x);
   r.fit.held_ci = cur.held_ci;
-  r.fit = refit_from_starts(p, r.fit, {cur.x, datasheet_start(cur.x)}, kMaxEvalBase);
+  r.fit = refit_from_starts(runs, p, r.fit, {cur.x, datasheet_start(cur.x)}, kMaxEvalBase);
   {  // a frame clock found before the other effects: fitted again with them
     const double before = r.fit.train;
-    r.fit = refit_frame_clock(p, r.fit);
+    r.fit = refit_frame_clock(runs, p, r.fit);
     if (r.fit.train < before) say("  the frame clock fitted again on top of the other effects: training loss " +
                                   fmt_g(before) + " -> " + fmt_g(r.fit.train));
   }
-  r.residual = run_model(p, model_config(p.datasheet, r.fit.effects, r.fit.x)).residual;
+  r.residual = run_model(runs, p, model_config(p.datasheet, r.fit.effects, r.fit.x)).residual;
   return r;
 }
 
@@ -240,9 +242,9 @@ void say_all(const CalibrationProgress& say, const std::vector<Lines>& lines) {
 }
 
 // the rest of a candidate fitted in full: its resolution and its line
-void finish_candidate(const FitProblem& p, const Fit& ref, const std::vector<int>& regime, Candidate& c,
+void finish_candidate(ModelRuns& runs, const FitProblem& p, const Fit& ref, const std::vector<int>& regime, Candidate& c,
                       Lines& out) {
-  c.resolution = effect_resolution(p, c.fit, ref, c.effect, regime);
+  c.resolution = effect_resolution(runs, p, c.fit, ref, c.effect, regime);
   out.push_back("  candidate " + effect_label(c.effect) + " = " + fmt_g(c.fit.x[param_count(ref.effects)]) +
                 ": training loss " + fmt_g(c.fit.train) + ", held-out NRMSE " + fmt_g(c.fit.held) + " (" +
                 std::to_string(c.runs) + " model runs" + (c.second_start_skipped ? ", its first start only" : "") +
@@ -252,29 +254,29 @@ void finish_candidate(const FitProblem& p, const Fit& ref, const std::vector<int
 // a candidate's fit, screened (screen_for) or not: from both starts and
 // finished where both_starts_at_once, else from its first start alone
 // (the datasheet start is decided in fit_second_starts)
-Candidate fit_candidate(const FitProblem& p, const Reference& ref, const std::vector<int>& regime, int e,
+Candidate fit_candidate(ModelRuns& runs, const FitProblem& p, const Reference& ref, const std::vector<int>& regime, int e,
                         bool screened, const Fit* refined, Lines& out) {
   const Effect& ef = effect_catalogue()[e];
-  const int runs_candidate = task_model_runs();
+  const int runs_candidate = runs.count();
   Candidate c;
   c.effect = e;
   c.signature = regime_signature(ref.residual, regime, ef.regimes);
   c.screen = screen_for(p, ref.fit, e, refined);
   GiveUp* screen = screened ? &c.screen : nullptr;
   const bool both = both_starts_at_once(e);
-  c.fit = both ? fit_with_effect(p, ref.fit, e, screen, refined) : fit_effect_start(p, ref.fit, e, 0, screen, refined);
-  c.runs = task_model_runs() - runs_candidate;
+  c.fit = both ? fit_with_effect(runs, p, ref.fit, e, screen, refined) : fit_effect_start(runs, p, ref.fit, e, 0, screen, refined);
+  c.runs = runs.count() - runs_candidate;
   if (c.screen.stopped) {
     out.push_back("  candidate " + effect_label(e) + " " + screen_words(c));
   } else if (both) {
-    finish_candidate(p, ref.fit, regime, c, out);
+    finish_candidate(runs, p, ref.fit, regime, c, out);
   }
   return c;
 }
 
 }  // namespace
 
-std::vector<Candidate> fit_candidates(const FitProblem& p, const Reference& ref, const std::vector<int>& regime,
+std::vector<Candidate> fit_candidates(ModelRuns& runs, const FitProblem& p, const Reference& ref, const std::vector<int>& regime,
                                       const std::set<std::string>& used, const CalibrationProgress& say) {
   // the forms not yet used and not refining another, in the catalogue's
   // order. One task per effect fits its forms in that order: a form is
@@ -302,23 +304,23 @@ std::vector<Candidate> fit_candidates(const FitProblem& p, const Reference& ref,
   std::stable_sort(effect_forms.begin(), effect_forms.end(),
                    [&](const std::vector<size_t>& a, const std::vector<size_t>& b) { return work(a) > work(b); });
   std::vector<Lines> lines(cands.size()), again_lines(cands.size());
-  run_paired_each(effect_forms.size(), [&](size_t k) {
+  run_paired_each(runs, effect_forms.size(), [&](ModelRuns& runs, size_t k) {
     const std::vector<size_t>& forms = effect_forms[k];
     bool shown = false;   // a form so far passed the screen
     for (size_t i : forms) {
-      cands[i] = fit_candidate(p, ref, regime, cands[i].effect, !shown, nullptr, lines[i]);
+      cands[i] = fit_candidate(runs, p, ref, regime, cands[i].effect, !shown, nullptr, lines[i]);
       shown = shown || !cands[i].screen.stopped;
     }
     for (size_t i : forms)
       if (shown && cands[i].screen.stopped)
-        cands[i] = fit_candidate(p, ref, regime, cands[i].effect, false, nullptr, again_lines[i]);
+        cands[i] = fit_candidate(runs, p, ref, regime, cands[i].effect, false, nullptr, again_lines[i]);
   });
   say_all(say, lines);
   say_all(say, again_lines);
   return cands;
 }
 
-void fit_second_starts(const FitProblem& p, const Fit& ref, const std::vector<int>& regime,
+void fit_second_starts(ModelRuns& runs, const FitProblem& p, const Fit& ref, const std::vector<int>& regime,
                        std::vector<Candidate>* cands, const CalibrationProgress& say) {
   std::map<std::string, double> effect_gain;   // per effect, its forms' best first-start held-out gain
   double best = -1e300;
@@ -333,23 +335,23 @@ void fit_second_starts(const FitProblem& p, const Fit& ref, const std::vector<in
     second.push_back(i);
   }
   std::vector<Lines> second_lines(second.size());
-  run_paired_each(second.size(), [&](size_t k) {
+  run_paired_each(runs, second.size(), [&](ModelRuns& runs, size_t k) {
     Candidate& c = (*cands)[second[k]];
-    const int runs_before = task_model_runs();
+    const int runs_before = runs.count();
     c.first_gain = effect_gain.at(effect_catalogue()[c.effect].name);
     c.round_first_gain = best;
     c.second_start_skipped = !run_second_start(c.first_gain, best);
     if (!c.second_start_skipped) {
-      Fit f = fit_effect_start(p, ref, c.effect, 1);
+      Fit f = fit_effect_start(runs, p, ref, c.effect, 1);
       if (f.train < c.fit.train) c.fit = std::move(f);
     }
-    c.runs += task_model_runs() - runs_before;
-    finish_candidate(p, ref, regime, c, second_lines[k]);
+    c.runs += runs.count() - runs_before;
+    finish_candidate(runs, p, ref, regime, c, second_lines[k]);
   });
   say_all(say, second_lines);
 }
 
-void fit_refining_forms(const FitProblem& p, const Reference& ref, const std::vector<int>& regime,
+void fit_refining_forms(ModelRuns& runs, const FitProblem& p, const Reference& ref, const std::vector<int>& regime,
                         const std::set<std::string>& used, std::vector<Candidate>* cands,
                         const CalibrationProgress& say) {
   struct Refining {
@@ -370,9 +372,9 @@ void fit_refining_forms(const FitProblem& p, const Reference& ref, const std::ve
   std::vector<size_t> fit;
   for (size_t k = 0; k < rf.size(); ++k)
     if (rf[k].fitted) fit.push_back(k);
-  run_paired_each(fit.size(), [&](size_t k) {
+  run_paired_each(runs, fit.size(), [&](ModelRuns& runs, size_t k) {
     Refining& r = rf[fit[k]];
-    r.c = fit_candidate(p, ref, regime, r.effect, true, &refined_form(*cands, effect_catalogue()[r.effect])->fit,
+    r.c = fit_candidate(runs, p, ref, regime, r.effect, true, &refined_form(*cands, effect_catalogue()[r.effect])->fit,
                         r.lines);
   });
   for (Refining& r : rf) {
@@ -381,7 +383,7 @@ void fit_refining_forms(const FitProblem& p, const Reference& ref, const std::ve
   }
 }
 
-Selection select_candidate(const FitProblem& p, const Fit& ref, std::vector<Candidate>* cands,
+Selection select_candidate(ModelRuns& runs, const FitProblem& p, const Fit& ref, std::vector<Candidate>* cands,
                            const CalibrationProgress& say) {
   Selection sel;
   sel.reference = ref;
@@ -393,7 +395,7 @@ Selection select_candidate(const FitProblem& p, const Fit& ref, std::vector<Cand
     // if that is better, the candidate's gain was the optimiser's
     const Candidate& b = *it;
     const std::vector<double> xs(b.fit.x.begin(), b.fit.x.begin() + param_count(sel.reference.effects));
-    Fit alt = fit_model(p, sel.reference.effects, xs, Samples::training, kMaxEvalBase);
+    Fit alt = fit_model(runs, p, sel.reference.effects, xs, Samples::training, kMaxEvalBase);
     alt.held_ci = sel.reference.held_ci;
     if (alt.train < sel.reference.train * (1 - 1e-6)) {
       say("  the reference re-fitted from " + effect_label(b.effect) + "'s solution is better (" +
@@ -420,9 +422,9 @@ Selection select_candidate(const FitProblem& p, const Fit& ref, std::vector<Cand
   return sel;
 }
 
-EffectSearch search_effects(const FitProblem& problem, const Fit& base, const std::vector<int>& regime,
+EffectSearch search_effects(ModelRuns& runs, const FitProblem& problem, const Fit& base, const std::vector<int>& regime,
                             SearchState& state, const CalibrationProgress& say) {
-  const int runs_before = task_model_runs();
+  const int runs_before = runs.count();
   EffectSearch s;
   Fit cur = base;
   std::set<std::string> used;
@@ -430,24 +432,24 @@ EffectSearch search_effects(const FitProblem& problem, const Fit& base, const st
     SearchRound round;
     // the loss's unit: the white noise left by the current model; the
     // round's fits take it with the problem
-    const int round_runs = task_model_runs();
-    state.noise = round.noise = round_noise(problem, cur);
+    const int round_runs = runs.count();
+    state.noise = round.noise = round_noise(runs, problem, cur);
     const FitProblem p = with_noise(problem, state.noise);
-    const Reference ref = fit_reference(p, cur, say);
+    const Reference ref = fit_reference(runs, p, cur, say);
     say("round " + std::to_string(s.rounds.size() + 1) + ": reference re-fitted from 2 starts, training loss " +
         fmt_g(ref.fit.train) + ", held-out NRMSE " + fmt_g(ref.fit.held) + ", whiteness " + fmt_g(ref.fit.white, 3) +
-        " (" + std::to_string(task_model_runs() - round_runs) + " model runs)");
-    std::vector<Candidate> cands = fit_candidates(p, ref, regime, used, say);
-    fit_second_starts(p, ref.fit, regime, &cands, say);
+        " (" + std::to_string(runs.count() - round_runs) + " model runs)");
+    std::vector<Candidate> cands = fit_candidates(runs, p, ref, regime, used, say);
+    fit_second_starts(runs, p, ref.fit, regime, &cands, say);
     // then a form that refines another, where that form, as fitted in the
     // end, shows the effect (every decision is taken before any of these fits)
-    fit_refining_forms(p, ref, regime, used, &cands, say);
+    fit_refining_forms(runs, p, ref, regime, used, &cands, say);
     if (cands.empty()) {
       round.reference = ref.fit;
       s.rounds.push_back(std::move(round));
       break;
     }
-    Selection sel = select_candidate(p, ref.fit, &cands, say);
+    Selection sel = select_candidate(runs, p, ref.fit, &cands, say);
     round.reference = sel.reference;
     round.reference_refit = sel.reference_refit;
     if (sel.chosen < 0) {
@@ -468,7 +470,7 @@ EffectSearch search_effects(const FitProblem& problem, const Fit& base, const st
     s.rounds.push_back(std::move(round));
   }
   s.model = s.rounds.back().reference;
-  state.model_runs += task_model_runs() - runs_before;
+  state.model_runs += runs.count() - runs_before;
   return s;
 }
 

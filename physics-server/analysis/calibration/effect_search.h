@@ -100,15 +100,15 @@ bool both_starts_at_once(int effect);
 // fastest) and not on the rest of its regime's samples is resolved there.
 constexpr double kMinResolution = 1.0;
 constexpr double kResolutionQuantile = 0.99;
-double effect_resolution(const FitProblem& p, const Fit& with, const Fit& without_effects, int effect,
+double effect_resolution(ModelRuns& runs, const FitProblem& p, const Fit& with, const Fit& without_effects, int effect,
                          const std::vector<int>& regime);
 // the kResolutionQuantile quantile of the per-sample changes (0 for none)
 double resolved_change(std::vector<double> change);
 
 // The search's stages, in the order of a round; each takes the problem as
 // it is (const: the round's loss unit is in it, with_noise) and gives what
-// it found. The model runs they make are counted by the caller
-// (task_model_runs, paired_runs.h).
+// it found. The model runs they make are asked on the strand `runs` and
+// counted there (ModelRuns::count, paired_runs.h).
 
 // what the search changes as it goes, owned by its caller: the loss's unit
 // (the white noise left by the current model, set each round) and the model
@@ -120,7 +120,7 @@ struct SearchState {
 
 // the loss's unit for a round: the white noise of the current model's
 // residual (one model run)
-NoiseScale round_noise(const FitProblem& p, const Fit& cur);
+NoiseScale round_noise(ModelRuns& runs, const FitProblem& p, const Fit& cur);
 // the problem with that unit: a copy, so that the problem given stays as it
 // was and every fit of the round sees one unit (a record of 20 000 samples
 // copies in well under a millisecond, next to a round's hundreds of model
@@ -135,7 +135,7 @@ struct Reference {
   Fit fit;
   Residual residual;
 };
-Reference fit_reference(const FitProblem& p, const Fit& cur, const CalibrationProgress& say);
+Reference fit_reference(ModelRuns& runs, const FitProblem& p, const Fit& cur, const CalibrationProgress& say);
 
 // 2. the candidates: every form of the effects not in `used` that refines no
 // other, in the catalogue's order, fitted on top of the reference; a form is
@@ -143,19 +143,19 @@ Reference fit_reference(const FitProblem& p, const Fit& cur, const CalibrationPr
 // screen, and every form of an effect that one of its forms shows is fitted
 // in full. Smooth forms from their first start only (3 adds the second);
 // frame clocks from both and finished (their resolution)
-std::vector<Candidate> fit_candidates(const FitProblem& p, const Reference& ref, const std::vector<int>& regime,
+std::vector<Candidate> fit_candidates(ModelRuns& runs, const FitProblem& p, const Reference& ref, const std::vector<int>& regime,
                                       const std::set<std::string>& used, const CalibrationProgress& say);
 
 // 3. the datasheet starts of the smooth candidates that passed the screen,
 // where run_second_start says; each of those candidates finished (its
 // resolution and its line)
-void fit_second_starts(const FitProblem& p, const Fit& ref, const std::vector<int>& regime,
+void fit_second_starts(ModelRuns& runs, const FitProblem& p, const Fit& ref, const std::vector<int>& regime,
                        std::vector<Candidate>* cands, const CalibrationProgress& say);
 
 // 4. the forms that refine another (not in `used`), each fitted, screened
 // against the form it refines and from its solution, where that form as
 // fitted in 2-3 shows the effect (shows_effect); appended to cands
-void fit_refining_forms(const FitProblem& p, const Reference& ref, const std::vector<int>& regime,
+void fit_refining_forms(ModelRuns& runs, const FitProblem& p, const Reference& ref, const std::vector<int>& regime,
                         const std::set<std::string>& used, std::vector<Candidate>* cands,
                         const CalibrationProgress& say);
 
@@ -170,14 +170,14 @@ struct Selection {
   long chosen = -1;              // the accepted candidate (-1: none passes)
   VariantChoice variant;         // its form's choice (an effect with variants)
 };
-Selection select_candidate(const FitProblem& p, const Fit& ref, std::vector<Candidate>* cands,
+Selection select_candidate(ModelRuns& runs, const FitProblem& p, const Fit& ref, std::vector<Candidate>* cands,
                            const CalibrationProgress& say);
 
 // the search from the refitted base, round by round (1-5) until no
 // candidate passes; regime: classify_regimes of the measurement. state.noise
 // is the last round's loss unit at the end, state.model_runs counts the
 // search's model runs on top of what it was
-EffectSearch search_effects(const FitProblem& p, const Fit& base, const std::vector<int>& regime,
+EffectSearch search_effects(ModelRuns& runs, const FitProblem& p, const Fit& base, const std::vector<int>& regime,
                             SearchState& state, const CalibrationProgress& say);
 
 }  // namespace chainsim

@@ -31,7 +31,7 @@ std::vector<SetpointChange> setpoint_changes(const MeasuredRecord& m) {
   return out;
 }
 
-std::vector<ChangeDelay> estimate_delays(const FitProblem& p, const BenchConfig& b, double max_delay_s) {
+std::vector<ChangeDelay> estimate_delays(ModelRuns& runs, const FitProblem& p, const BenchConfig& b, double max_delay_s) {
   const MeasuredRecord& m = p.m;
   const double t0 = m.t.front();
   // the model on a uniform grid (the set-points act from the first step at
@@ -43,7 +43,7 @@ std::vector<ChangeDelay> estimate_delays(const FitProblem& p, const BenchConfig&
     while (k + 1 < m.size() && m.t[k + 1] <= tg[j] + 1e-12) ++k;
     spg[j] = m.sp[k];
   }
-  const std::vector<BenchSample> sim = paired_simulate(b, tg, spg, SIZE_MAX);
+  const std::vector<BenchSample> sim = runs.simulate(b, tg, spg, SIZE_MAX);
   auto at = [&](double t, bool current) {
     const double f = std::clamp((t - t0) / kGrid_s, 0.0, static_cast<double>(ng - 1));
     const size_t j = std::min(static_cast<size_t>(f), ng - 2);
@@ -207,14 +207,14 @@ std::pair<double, double> period_range() {
 
 }  // namespace
 
-FrameClockFit frame_clock_for(const FitProblem& p, const BenchConfig& b) {
+FrameClockFit frame_clock_for(ModelRuns& runs, const FitProblem& p, const BenchConfig& b) {
   const auto [lo, hi] = period_range();
-  return fit_frame_clock(estimate_delays(p, b, hi), p.m.t.front(), lo, hi);
+  return fit_frame_clock(estimate_delays(runs, p, b, hi), p.m.t.front(), lo, hi);
 }
 
-std::vector<FrameClockFit> frame_clocks_for(const FitProblem& p, const BenchConfig& b) {
+std::vector<FrameClockFit> frame_clocks_for(ModelRuns& runs, const FitProblem& p, const BenchConfig& b) {
   const auto [lo, hi] = period_range();
-  const std::vector<ChangeDelay> d = estimate_delays(p, b, hi);
+  const std::vector<ChangeDelay> d = estimate_delays(runs, p, b, hi);
   std::vector<FrameClockFit> out;
   const FrameClockFit all = fit_frame_clock(d, p.m.t.front(), lo, hi);
   if (all.found) out.push_back(all);

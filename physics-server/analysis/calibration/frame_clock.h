@@ -44,7 +44,7 @@ constexpr double kClockMinStepDeg = 8.0;
 
 // per change, the delay in [0, max_delay_s] at which the model b's response
 // (one run on a 100 us grid, shifted) fits the measurement best in noise units
-std::vector<ChangeDelay> estimate_delays(const FitProblem& p, const BenchConfig& b, double max_delay_s);
+std::vector<ChangeDelay> estimate_delays(ModelRuns& runs, const FitProblem& p, const BenchConfig& b, double max_delay_s);
 
 // frames at t0 + phase + n period (0 <= phase < period)
 struct FrameClock {
@@ -72,11 +72,11 @@ FrameClockFit fit_frame_clock(const std::vector<ChangeDelay>& d, double t0, doub
 bool same_frames(const FrameClock& a, const FrameClock& b, double span_s, double tol_s);
 
 // delays against the model b, then the clock (2.5..40 ms) from every change
-FrameClockFit frame_clock_for(const FitProblem& p, const BenchConfig& b);
+FrameClockFit frame_clock_for(ModelRuns& runs, const FitProblem& p, const BenchConfig& b);
 
 // the same delays, the clocks found: from every change, and from the steps
 // of kClockMinStepDeg or more alone where its frames differ from the first
 // clock's by more than the fit's phase window (none, one or two)
-std::vector<FrameClockFit> frame_clocks_for(const FitProblem& p, const BenchConfig& b);
+std::vector<FrameClockFit> frame_clocks_for(ModelRuns& runs, const FitProblem& p, const BenchConfig& b);
 
 }  // namespace chainsim

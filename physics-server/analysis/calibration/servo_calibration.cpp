@@ -26,7 +26,7 @@ namespace chainsim {
 
 ServoCalibration calibrate_servo(const BenchConfig& datasheet, MeasuredRecord measured,
                                  const CalibrationProgress& say) {
-  const int runs_before = task_model_runs();
+  ModelRuns runs;   // the calibration's own strand: its tasks' runs come back to it
   ServoCalibration c;
   c.problem = make_fit_problem(datasheet, std::move(measured));
   const FitProblem& p = c.problem;
@@ -37,40 +37,40 @@ ServoCalibration calibrate_servo(const BenchConfig& datasheet, MeasuredRecord me
       (p.m.has_current ? "angle and current" : "angle only") + "; " + std::to_string(kCvBlocks) +
       " blocks (even: fit, odd: held out)");
 
-  const Residual r_data = run_model(p, p.datasheet).residual;
+  const Residual r_data = run_model(runs, p, p.datasheet).residual;
   c.nrmse_datasheet = nrmse(r_data, p.split, Samples::held_out);
   // the loss's unit until the search re-estimates it from its models
   c.problem.noise = white_noise_scale(r_data, p.split);
-  const Fit first = fit_model(p, {}, std::vector<double>(kNumBase, 1.0), Samples::training, kMaxEvalBase);
+  const Fit first = fit_model(runs, p, {}, std::vector<double>(kNumBase, 1.0), Samples::training, kMaxEvalBase);
 
   SearchState state;
   state.noise = p.noise;
-  c.search = search_effects(p, first, c.regime, state, say);
+  c.search = search_effects(runs, p, first, c.regime, state, say);
   // the final fit, its intervals and the report in the search's last unit
   c.problem.noise = state.noise;
   c.base = c.search.rounds.front().reference;
   const Fit& cur = c.search.model;
   c.verdict = cur.white <= kWhiteMax ? (cur.effects.empty() ? "no_missing_effect" : "explained") : "unexplained";
 
-  c.final_fit = fit_model(p, cur.effects, cur.x, Samples::all, kMaxEvalBase);
+  c.final_fit = fit_model(runs, p, cur.effects, cur.x, Samples::all, kMaxEvalBase);
   c.final_fit.held_ci = cur.held_ci;
-  c.ci = fit_intervals(p, c.final_fit);
-  c.before = run_model(p, model_config(p.datasheet, {}, c.base.x));
-  c.after = run_model(p, model_config(p.datasheet, cur.effects, cur.x));
+  c.ci = fit_intervals(runs, p, c.final_fit);
+  c.before = run_model(runs, p, model_config(p.datasheet, {}, c.base.x));
+  c.after = run_model(runs, p, model_config(p.datasheet, cur.effects, cur.x));
   std::tie(c.gap_before, c.gap_after) =
       structured_errors(c.before.residual, c.after.residual, p.split, Samples::held_out);
   say("datasheet model: held-out NRMSE " + fmt_g(c.nrmse_datasheet) + "; refitted base: " + fmt_g(c.base.held) +
       " (whiteness " + fmt_g(c.base.white, 3) + "); gap " + fmt_g(c.gap_before) + " -> " + fmt_g(c.gap_after) +
       " with the effects");
-  for (const Fit& f : c.search.before) c.without.push_back(run_model(p, model_config(p.datasheet, f.effects, f.x)));
+  for (const Fit& f : c.search.before) c.without.push_back(run_model(runs, p, model_config(p.datasheet, f.effects, f.x)));
   // the bench's own (ODE) stand with the final model, as a check of the fast solver
   const BenchConfig fin = model_config(p.datasheet, c.final_fit.effects, c.final_fit.x);
   const std::vector<BenchSample> ode = simulate_bench(fin, p.m.t, p.m.sp);
-  const ModelRun fast = run_model(p, fin);
+  const ModelRun fast = run_model(runs, p, fin);
   for (size_t k = 0; k < n; ++k)
     c.ode_check_max_angle_diff_deg =
         std::max(c.ode_check_max_angle_diff_deg, std::fabs(ode[k].angle_deg - fast.sim[k].angle_deg));
-  c.model_runs = task_model_runs() - runs_before;
+  c.model_runs = runs.count();
   say("verdict " + c.verdict + "; " + std::to_string(c.model_runs) + " model runs");
   return c;
 }

@@ -25,9 +25,9 @@ FitProblem make_fit_problem(const BenchConfig& datasheet, MeasuredRecord m) {
   return p;
 }
 
-ModelRun run_model(const FitProblem& p, const BenchConfig& b, size_t rows) {
+ModelRun run_model(ModelRuns& runs, const FitProblem& p, const BenchConfig& b, size_t rows) {
   ModelRun run;
-  run.sim = paired_simulate(b, p.m.t, p.m.sp, rows);
+  run.sim = runs.simulate(b, p.m.t, p.m.sp, rows);
   Residual& r = run.residual;
   const size_t n = run.sim.size();
   r.has_current = p.m.has_current;
@@ -43,9 +43,9 @@ ModelRun run_model(const FitProblem& p, const BenchConfig& b, size_t rows) {
 
 namespace {
 
-Residual residual_at(const FitProblem& p, const std::vector<int>& effects, const std::vector<double>& x,
+Residual residual_at(ModelRuns& runs, const FitProblem& p, const std::vector<int>& effects, const std::vector<double>& x,
                      size_t rows = SIZE_MAX) {
-  return run_model(p, model_config(p.datasheet, effects, x), rows).residual;
+  return run_model(runs, p, model_config(p.datasheet, effects, x), rows).residual;
 }
 
 double mean_loss(const std::vector<double>& loss, const BlockSplit& s, Samples set) {
@@ -58,8 +58,8 @@ double mean_loss(const std::vector<double>& loss, const BlockSplit& s, Samples s
 
 // the mean loss on `set`; for the training blocks the model runs only as far
 // as the last training sample (the held-out end block is not needed)
-double set_loss(const FitProblem& p, const std::vector<int>& effects, const std::vector<double>& x, Samples set) {
-  const Residual r = residual_at(p, effects, x, set == Samples::training ? p.training_rows : SIZE_MAX);
+double set_loss(ModelRuns& runs, const FitProblem& p, const std::vector<int>& effects, const std::vector<double>& x, Samples set) {
+  const Residual r = residual_at(runs, p, effects, x, set == Samples::training ? p.training_rows : SIZE_MAX);
   return mean_loss(sample_loss(r, p.noise), p.split, set);
 }
 
@@ -105,12 +105,12 @@ void layout(const std::vector<int>& effects, const std::vector<double>* clock_ne
 
 }  // namespace
 
-Fit evaluate_fit(const FitProblem& p, const std::vector<int>& effects, const std::vector<double>& x, Samples set) {
+Fit evaluate_fit(ModelRuns& runs, const FitProblem& p, const std::vector<int>& effects, const std::vector<double>& x, Samples set) {
   Fit f;
   f.effects = effects;
   f.x = x;
   f.held_ci.assign(x.size(), {0.0, 0.0});
-  const Residual r = residual_at(p, effects, x);
+  const Residual r = residual_at(runs, p, effects, x);
   f.loss = sample_loss(r, p.noise);
   f.train = mean_loss(f.loss, p.split, set);
   f.sse_train = 0;
@@ -123,7 +123,7 @@ Fit evaluate_fit(const FitProblem& p, const std::vector<int>& effects, const std
   return f;
 }
 
-Fit fit_model(const FitProblem& p, const std::vector<int>& effects, std::vector<double> x0, Samples set,
+Fit fit_model(ModelRuns& runs, const FitProblem& p, const std::vector<int>& effects, std::vector<double> x0, Samples set,
               int max_eval, GiveUp* give_up) {
   std::vector<Bound> bounds;
   std::vector<size_t> free;
@@ -131,7 +131,10 @@ Fit fit_model(const FitProblem& p, const std::vector<int>& effects, std::vector<
   const size_t n = free.size();
   std::vector<double> u(n);
   for (size_t i = 0; i < n; ++i) u[i] = bounds[free[i]].to_u(x0[free[i]]);
+  // what the objective needs, through NLopt's data pointer: the strand the
+  // fit's model runs are asked on among them
   struct Ctx {
+    ModelRuns* runs;
     const FitProblem* p;
     const std::vector<int>* effects;
     const std::vector<Bound>* bounds;
@@ -144,7 +147,7 @@ Fit fit_model(const FitProblem& p, const std::vector<int>& effects, std::vector<
     double best = 1e300;
   };
   nlopt::opt opt(nlopt::LN_BOBYQA, static_cast<unsigned>(n));
-  Ctx ctx{&p, &effects, &bounds, &free, x0, set, give_up, &opt};
+  Ctx ctx{&runs, &p, &effects, &bounds, &free, x0, set, give_up, &opt};
   opt.set_lower_bounds(std::vector<double>(n, 0.0));
   opt.set_upper_bounds(std::vector<double>(n, 1.0));
   opt.set_maxeval(max_eval);
@@ -156,7 +159,7 @@ Fit fit_model(const FitProblem& p, const std::vector<int>& effects, std::vector<
         Ctx& c = *static_cast<Ctx*>(data);
         for (unsigned i = 0; i < nn; ++i) c.x[(*c.free)[i]] = (*c.bounds)[(*c.free)[i]].from_u(uu[i]);
         ++c.evals;
-        const double loss = set_loss(*c.p, *c.effects, c.x, c.set);
+        const double loss = set_loss(*c.runs, *c.p, *c.effects, c.x, c.set);
         c.best = std::min(c.best, loss);
         if (c.give_up && c.evals == c.give_up->after && c.best > c.give_up->loss) {
           c.give_up->stopped = true;
@@ -173,7 +176,7 @@ Fit fit_model(const FitProblem& p, const std::vector<int>& effects, std::vector<
   }
   std::vector<double> x = x0;
   for (size_t i = 0; i < n; ++i) x[free[i]] = bounds[free[i]].from_u(u[i]);
-  Fit out = evaluate_fit(p, effects, x, set);
+  Fit out = evaluate_fit(runs, p, effects, x, set);
   out.evals = ctx.evals;
   return out;
 }
@@ -184,11 +187,11 @@ std::vector<double> datasheet_start(const std::vector<double>& x) {
   return s;
 }
 
-Fit refit_from_starts(const FitProblem& p, const Fit& cur, const std::vector<std::vector<double>>& starts,
+Fit refit_from_starts(ModelRuns& runs, const FitProblem& p, const Fit& cur, const std::vector<std::vector<double>>& starts,
                       int max_eval) {
   std::vector<Fit> fits(starts.size());
-  run_paired_each(starts.size(),
-                  [&](size_t i) { fits[i] = fit_model(p, cur.effects, starts[i], Samples::training, max_eval); });
+  run_paired_each(runs, starts.size(),
+                  [&](ModelRuns& runs, size_t i) { fits[i] = fit_model(runs, p, cur.effects, starts[i], Samples::training, max_eval); });
   Fit best = cur;
   for (Fit& f : fits) {
     f.held_ci = cur.held_ci;
@@ -203,16 +206,16 @@ namespace {
 // +-span_ms in steps of step_ms around its value (the latch moves in whole
 // model steps, so the loss is piecewise constant in the phase: a scan, not
 // the optimiser); x keeps the best
-void scan_phase(const FitProblem& p, const std::vector<int>& eff, std::vector<double>* x, size_t i, double span_ms,
+void scan_phase(ModelRuns& runs, const FitProblem& p, const std::vector<int>& eff, std::vector<double>* x, size_t i, double span_ms,
                 double step_ms) {
   const double c = (*x)[i];
   std::vector<double> phase{c};   // the value now, then the scan's
   for (double d = -span_ms; d <= span_ms + 1e-9; d += step_ms) phase.push_back(std::max(0.0, c + d));
   std::vector<double> loss(phase.size());
-  run_paired_each(phase.size(), [&](size_t k) {
+  run_paired_each(runs, phase.size(), [&](ModelRuns& runs, size_t k) {
     std::vector<double> xt = *x;
     xt[i] = phase[k];
-    loss[k] = set_loss(p, eff, xt, Samples::training);
+    loss[k] = set_loss(runs, p, eff, xt, Samples::training);
   });
   double best = loss[0], best_v = c;
   for (size_t k = 1; k < phase.size(); ++k)
@@ -228,7 +231,7 @@ void scan_phase(const FitProblem& p, const std::vector<int>& eff, std::vector<do
 // base's timing error; the scan finds the right frame edge, farther than the
 // fit's window), the base fitted together with period and phase within
 // their window (layout), the phase scanned again; the better training fit
-Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect, GiveUp* screen) {
+Fit fit_frame_clock_effect(ModelRuns& runs, const FitProblem& p, const Fit& ref, int effect, GiveUp* screen) {
   const Effect& ef = effect_catalogue()[effect];
   std::vector<int> eff = ref.effects;
   eff.push_back(effect);
@@ -247,16 +250,16 @@ Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect, Give
   std::vector<Clock> clocks;
   for (int start = 0; start < 2; ++start) {
     const std::vector<double> base = start == 0 ? ref.x : datasheet_start(ref.x);
-    for (const FrameClockFit& fc : frame_clocks_for(p, model_config(p.datasheet, ref.effects, base)))
+    for (const FrameClockFit& fc : frame_clocks_for(runs, p, model_config(p.datasheet, ref.effects, base)))
       clocks.push_back({base, fc, Fit{}, false});
   }
   // each clock's fit (independent of the others: two at a time)
-  run_paired_each(clocks.size(), [&](size_t c) {
+  run_paired_each(runs, clocks.size(), [&](ModelRuns& runs, size_t c) {
     Clock& ck = clocks[c];
     std::vector<double> x = ck.base;
     x.push_back(ck.fc.clock.period_s * 1e3);
     x.push_back(ck.fc.clock.phase_s * 1e3);
-    scan_phase(p, eff, &x, ip, 1.5, 0.1);
+    scan_phase(runs, p, eff, &x, ip, 1.5, 0.1);
     // the phase and the base's speed trade off (a later frame looks like a
     // slower servo): fitted together, then the phase scanned, until it
     // stays; a clock that stops at the screen is fitted no further
@@ -264,15 +267,15 @@ Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect, Give
     Fit f;
     int evals = 0;   // the fits' model runs (not the scans')
     for (int turn = 0; turn < 3; ++turn) {
-      f = fit_model(p, eff, x, Samples::training, kMaxEvalJoint, screen && turn == 0 ? &g : nullptr);
+      f = fit_model(runs, p, eff, x, Samples::training, kMaxEvalJoint, screen && turn == 0 ? &g : nullptr);
       x = f.x;
       evals += f.evals;
       if (g.stopped) break;
-      scan_phase(p, eff, &x, ip, 0.5, 0.05);
+      scan_phase(runs, p, eff, &x, ip, 0.5, 0.05);
       if (std::fabs(x[ip] - f.x[ip]) < 0.01) break;
     }
     ck.stopped = g.stopped;
-    ck.fit = evaluate_fit(p, eff, x);
+    ck.fit = evaluate_fit(runs, p, eff, x);
     ck.fit.evals = evals;
   });
   for (Clock& ck : clocks) {
@@ -295,7 +298,7 @@ Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect, Give
   if (screen && !clocks.empty() && std::all_of(clocks.begin(), clocks.end(), [](const Clock& c) { return c.stopped; }))
     screen->stopped = true;
   if (best.valid) return best;
-  Fit f = evaluate_fit(p, ref.effects, ref.x);
+  Fit f = evaluate_fit(runs, p, ref.effects, ref.x);
   f.effects = eff;
   for (const EffectParam& q : ef.params) f.x.push_back(q.lo);
   f.held_ci.resize(f.x.size(), {0.0, 0.0});
@@ -312,7 +315,7 @@ Fit fit_frame_clock_effect(const FitProblem& p, const Fit& ref, int effect, Give
 // is multimodal, for the generator's own physics as much as for the model
 // (docs/calibration.md, "Limits"). The effects already accepted keep their
 // values in the datasheet start.
-Fit fit_effect_start(const FitProblem& p, const Fit& ref, int effect, int start, GiveUp* screen, const Fit* refined) {
+Fit fit_effect_start(ModelRuns& runs, const FitProblem& p, const Fit& ref, int effect, int start, GiveUp* screen, const Fit* refined) {
   const Effect& ef = effect_catalogue()[effect];
   std::vector<int> eff = ref.effects;
   eff.push_back(effect);
@@ -327,27 +330,27 @@ Fit fit_effect_start(const FitProblem& p, const Fit& ref, int effect, int start,
     xs.back().insert(xs.back().end(), tail.begin() + static_cast<long>(shared), tail.end());
   }
   std::vector<double> m(xs.size(), 0.0);
-  if (xs.size() > 1) run_paired_each(xs.size(), [&](size_t k) { m[k] = set_loss(p, eff, xs[k], Samples::training); });
+  if (xs.size() > 1) run_paired_each(runs, xs.size(), [&](ModelRuns& runs, size_t k) { m[k] = set_loss(runs, p, eff, xs[k], Samples::training); });
   std::vector<double> x;
   double best_start = 1e300;
   for (size_t k = 0; k < xs.size(); ++k)
     if (m[k] < best_start) best_start = m[k], x = xs[k];
-  Fit f = fit_model(p, eff, x, Samples::training, kMaxEvalJoint, start == 0 ? screen : nullptr);
+  Fit f = fit_model(runs, p, eff, x, Samples::training, kMaxEvalJoint, start == 0 ? screen : nullptr);
   f.held_ci = ref.held_ci;
   f.held_ci.resize(f.x.size(), {0.0, 0.0});
   return f;
 }
 
-Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect, GiveUp* screen, const Fit* refined) {
-  if (effect_catalogue()[effect].fit == EffectFit::frame_clock) return fit_frame_clock_effect(p, ref, effect, screen);
-  Fit best = fit_effect_start(p, ref, effect, 0, screen, refined);
+Fit fit_with_effect(ModelRuns& runs, const FitProblem& p, const Fit& ref, int effect, GiveUp* screen, const Fit* refined) {
+  if (effect_catalogue()[effect].fit == EffectFit::frame_clock) return fit_frame_clock_effect(runs, p, ref, effect, screen);
+  Fit best = fit_effect_start(runs, p, ref, effect, 0, screen, refined);
   if (screen && screen->stopped) return best;
-  Fit f = fit_effect_start(p, ref, effect, 1);
+  Fit f = fit_effect_start(runs, p, ref, effect, 1);
   if (f.train < best.train) return f;
   return best;
 }
 
-Fit refit_frame_clock(const FitProblem& p, const Fit& f) {
+Fit refit_frame_clock(ModelRuns& runs, const FitProblem& p, const Fit& f) {
   size_t j = 0;
   while (j < f.effects.size() && effect_catalogue()[f.effects[j]].fit != EffectFit::frame_clock) ++j;
   // none, or found last: already fitted on top of all the others
@@ -361,7 +364,7 @@ Fit refit_frame_clock(const FitProblem& p, const Fit& f) {
   without.x.erase(without.x.begin() + off, without.x.begin() + off + n);
   if (static_cast<long>(without.held_ci.size()) >= off + n)
     without.held_ci.erase(without.held_ci.begin() + off, without.held_ci.begin() + off + n);
-  Fit again = fit_with_effect(p, without, f.effects[j]);
+  Fit again = fit_with_effect(runs, p, without, f.effects[j]);
   if (!again.valid || !(again.train < f.train)) return f;
   // the same model in f's order (the order of effects does not change it,
   // so again's statistics stand)
@@ -372,11 +375,11 @@ Fit refit_frame_clock(const FitProblem& p, const Fit& f) {
   return again;
 }
 
-std::vector<std::pair<double, double>> fit_intervals(const FitProblem& p, const Fit& f) {
+std::vector<std::pair<double, double>> fit_intervals(ModelRuns& runs, const FitProblem& p, const Fit& f) {
   std::vector<Bound> bounds;
   std::vector<size_t> free;
   layout(f.effects, nullptr, &bounds, &free);
-  const Residual r0 = residual_at(p, f.effects, f.x);
+  const Residual r0 = residual_at(runs, p, f.effects, f.x);
   const size_t m = r0.size();
   const int nch = r0.channels();
   const double wa = 1.0 / p.noise.angle, wi = 1.0 / p.noise.current;
@@ -400,7 +403,7 @@ std::vector<std::pair<double, double>> fit_intervals(const FitProblem& p, const 
     if (i >= kNumBase && xm[i] < std::max(0.0, b.lo)) xm[i] = std::max(0.0, b.lo), xp[i] = xm[i] + 2 * hstep;
   }
   std::vector<Residual> rs(xs.size());
-  run_paired_each(xs.size(), [&](size_t k) { rs[k] = residual_at(p, f.effects, xs[k]); });
+  run_paired_each(runs, xs.size(), [&](ModelRuns& runs, size_t k) { rs[k] = residual_at(runs, p, f.effects, xs[k]); });
   for (size_t c = 0; c < free.size(); ++c) {
     const size_t i = free[c];
     const std::vector<double>&xp = xs[2 * c], &xm = xs[2 * c + 1];

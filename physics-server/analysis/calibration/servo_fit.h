@@ -10,6 +10,7 @@
 
 #include "analysis/calibration/effect_catalogue.h"
 #include "analysis/calibration/measured_record.h"
+#include "analysis/calibration/paired_runs.h"
 #include "analysis/calibration/residual_stats.h"
 #include "analysis/servo_bench/servo_stand.h"
 
@@ -43,9 +44,10 @@ struct ModelRun {
   Residual residual;
 };
 // (the first `rows` samples only, when fewer: the same values as the whole
-// run); inside run_paired's tasks stepped together with the other task's run;
-// counted in task_model_runs (paired_runs.h)
-ModelRun run_model(const FitProblem& p, const BenchConfig& b, size_t rows = SIZE_MAX);
+// run), asked on the strand `runs`: on a task's of run_paired, stepped
+// together with the other task's run; counted in runs.count() (paired_runs.h).
+// Every function below that runs the model takes the strand the same way
+ModelRun run_model(ModelRuns& runs, const FitProblem& p, const BenchConfig& b, size_t rows = SIZE_MAX);
 
 struct Fit {
   std::vector<int> effects;    // catalogue indices
@@ -62,7 +64,7 @@ struct Fit {
 };
 
 // the statistics of x on the problem (one model run)
-Fit evaluate_fit(const FitProblem& p, const std::vector<int>& effects, const std::vector<double>& x,
+Fit evaluate_fit(ModelRuns& runs, const FitProblem& p, const std::vector<int>& effects, const std::vector<double>& x,
                  Samples set = Samples::training);
 
 // when a fit gives up: after `after` model runs, if its best training loss
@@ -78,7 +80,7 @@ struct GiveUp {
 // (kClockPeriodWindow, kClockPhaseWindowMs). With give_up the fit stops
 // there with its best point so far if it gives up, and is otherwise the
 // same fit as without it
-Fit fit_model(const FitProblem& p, const std::vector<int>& effects, std::vector<double> x0, Samples set,
+Fit fit_model(ModelRuns& runs, const FitProblem& p, const std::vector<int>& effects, std::vector<double> x0, Samples set,
               int max_eval, GiveUp* give_up = nullptr);
 
 // x with the base factors at the datasheet's (1) and the effects' values kept
@@ -86,7 +88,7 @@ std::vector<double> datasheet_start(const std::vector<double>& x);
 
 // the model `cur` refitted from each start (x vectors for cur.effects); the
 // best training fit (cur itself if none is better)
-Fit refit_from_starts(const FitProblem& p, const Fit& cur, const std::vector<std::vector<double>>& starts,
+Fit refit_from_starts(ModelRuns& runs, const FitProblem& p, const Fit& cur, const std::vector<std::vector<double>>& starts,
                       int max_eval);
 
 // the fit with one more effect on the training blocks, from two starts: the
@@ -100,12 +102,12 @@ Fit refit_from_starts(const FitProblem& p, const Fit& cur, const std::vector<std
 // refined (the fit of the form this effect refines, on top of ref), the
 // first start is that fit's solution with the extra parameters from the
 // catalogue's starts.
-Fit fit_with_effect(const FitProblem& p, const Fit& ref, int effect, GiveUp* screen = nullptr,
+Fit fit_with_effect(ModelRuns& runs, const FitProblem& p, const Fit& ref, int effect, GiveUp* screen = nullptr,
                     const Fit* refined = nullptr);
 
 // one start of fit_with_effect for an effect of the smooth kind: 0 from the
 // reference's base (or refined's solution), 1 from the datasheet's
-Fit fit_effect_start(const FitProblem& p, const Fit& ref, int effect, int start, GiveUp* screen = nullptr,
+Fit fit_effect_start(ModelRuns& runs, const FitProblem& p, const Fit& ref, int effect, int start, GiveUp* screen = nullptr,
                      const Fit* refined = nullptr);
 
 // a model with a frame clock: the clock fitted again on top of the rest of
@@ -113,10 +115,10 @@ Fit fit_effect_start(const FitProblem& p, const Fit& ref, int effect, int start,
 // effects found, which biased them while they were missing), the base
 // re-fitted with it; f itself when that is not better on the training blocks,
 // or when the clock was the last effect found
-Fit refit_frame_clock(const FitProblem& p, const Fit& f);
+Fit refit_frame_clock(ModelRuns& runs, const FitProblem& p, const Fit& f);
 
 // 95 % intervals of f.x on all data (finite-difference Jacobian of the free
 // parameters; residual_stats.h confidence_intervals); held ones from f.held_ci
-std::vector<std::pair<double, double>> fit_intervals(const FitProblem& p, const Fit& f);
+std::vector<std::pair<double, double>> fit_intervals(ModelRuns& runs, const FitProblem& p, const Fit& f);
 
 }  // namespace chainsim

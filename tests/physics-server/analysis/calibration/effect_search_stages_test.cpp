@@ -37,6 +37,7 @@ struct Record {
 
 // the base a little off the datasheet, `deadband` degrees of deadband (0: none)
 Record record(double deadband) {
+  ModelRuns runs;
   BenchConfig truth = test_datasheet();
   truth.servo.kp *= 1.05;
   truth.servo.r *= 0.96;
@@ -44,16 +45,17 @@ Record record(double deadband) {
   Record r;
   r.p = make_fit_problem(test_datasheet(), bench_record(truth, 7));
   r.regime = classify_regimes(r.p.m, r.p.datasheet.servo.supply_v / r.p.datasheet.servo.r);
-  r.p.noise = white_noise_scale(run_model(r.p, r.p.datasheet).residual, r.p.split);
-  r.base = fit_model(r.p, {}, std::vector<double>(kNumBase, 1.0), Samples::training, kMaxEvalBase);
+  r.p.noise = white_noise_scale(run_model(runs, r.p, r.p.datasheet).residual, r.p.split);
+  r.base = fit_model(runs, r.p, {}, std::vector<double>(kNumBase, 1.0), Samples::training, kMaxEvalBase);
   return r;
 }
 
 // the round's unit is the white noise the current model leaves, in a copy of
 // the problem; the problem given is not changed
 TEST(SearchStages, TheRoundsNoiseGoesIntoACopyOfTheProblem) {
+  ModelRuns runs;
   const Record r = record(3.0);
-  const NoiseScale n = round_noise(r.p, r.base);
+  const NoiseScale n = round_noise(runs, r.p, r.base);
   const FitProblem q = with_noise(r.p, n);
   EXPECT_EQ(q.noise.angle, n.angle);
   EXPECT_EQ(q.noise.current, n.current);
@@ -68,18 +70,19 @@ TEST(SearchStages, TheRoundsNoiseGoesIntoACopyOfTheProblem) {
 // 1: the reference is never worse than the current model, and its residual
 // covers every sample
 TEST(SearchStages, TheReferenceIsRefittedFromTwoStarts) {
+  ModelRuns runs;
   const Record r = record(3.0);
-  const FitProblem p = with_noise(r.p, round_noise(r.p, r.base));
-  const Fit cur = evaluate_fit(p, r.base.effects, r.base.x);
-  const int before = task_model_runs();
-  const Reference ref = fit_reference(p, r.base, kQuiet);
+  const FitProblem p = with_noise(r.p, round_noise(runs, r.p, r.base));
+  const Fit cur = evaluate_fit(runs, p, r.base.effects, r.base.x);
+  const int before = runs.count();
+  const Reference ref = fit_reference(runs, p, r.base, kQuiet);
   EXPECT_LE(ref.fit.train, cur.train);
   EXPECT_EQ(ref.residual.size(), p.m.size());
   EXPECT_TRUE(ref.fit.effects.empty());
   // two starts of at most kMaxEvalBase runs each, their final evaluations,
   // the current model's evaluation and the residual
-  EXPECT_GT(task_model_runs() - before, 2);
-  EXPECT_LE(task_model_runs() - before, 2 * (kMaxEvalBase + 1) + 2);
+  EXPECT_GT(runs.count() - before, 2);
+  EXPECT_LE(runs.count() - before, 2 * (kMaxEvalBase + 1) + 2);
 }
 
 // 2-5 on the deadband record, with only the deadband and the supply sag
@@ -87,14 +90,15 @@ TEST(SearchStages, TheReferenceIsRefittedFromTwoStarts) {
 // supply sag's forms show no effect, so their refining forms are not
 // fitted, and the deadband is chosen
 TEST(SearchStages, ADeadbandIsFittedAndChosen) {
+  ModelRuns runs;
   const Record r = record(3.0);
-  const FitProblem p = with_noise(r.p, round_noise(r.p, r.base));
-  const Reference ref = fit_reference(p, r.base, kQuiet);
+  const FitProblem p = with_noise(r.p, round_noise(runs, r.p, r.base));
+  const Reference ref = fit_reference(runs, p, r.base, kQuiet);
   const std::set<std::string> used = all_but({"deadband", "supply_sag"});
   std::vector<std::string> lines;
   const CalibrationProgress say = [&](const std::string& l) { lines.push_back(l); };
 
-  std::vector<Candidate> cands = fit_candidates(p, ref, r.regime, used, say);
+  std::vector<Candidate> cands = fit_candidates(runs, p, ref, r.regime, used, say);
   // every form that refines no other, in the catalogue's order
   std::vector<int> forms;
   for (int e = 0; e < static_cast<int>(effect_catalogue().size()); ++e)
@@ -112,7 +116,7 @@ TEST(SearchStages, ADeadbandIsFittedAndChosen) {
   EXPECT_EQ(db->resolution, 0.0);   // finished in stage 3 (a smooth form)
 
   const std::vector<Candidate> first = cands;
-  fit_second_starts(p, ref.fit, r.regime, &cands, say);
+  fit_second_starts(runs, p, ref.fit, r.regime, &cands, say);
   for (size_t i = 0; i < cands.size(); ++i) {
     if (cands[i].screen.stopped) {
       EXPECT_EQ(cands[i].runs, first[i].runs);   // not fitted further
@@ -126,7 +130,7 @@ TEST(SearchStages, ADeadbandIsFittedAndChosen) {
 
   const size_t n = cands.size();
   lines.clear();
-  fit_refining_forms(p, ref, r.regime, used, &cands, say);
+  fit_refining_forms(runs, p, ref, r.regime, used, &cands, say);
   int refining = 0;
   for (const Effect& ef : effect_catalogue()) refining += std::string(ef.name) == "supply_sag" && *ef.refines;
   // no supply sag in the record: its simpler forms show none, the refining ones are passed over, each with its line
@@ -134,7 +138,7 @@ TEST(SearchStages, ADeadbandIsFittedAndChosen) {
   EXPECT_EQ(static_cast<int>(lines.size()), refining);
   for (const std::string& l : lines) EXPECT_NE(l.find("shows no effect this round"), std::string::npos) << l;
 
-  const Selection sel = select_candidate(p, ref.fit, &cands, say);
+  const Selection sel = select_candidate(runs, p, ref.fit, &cands, say);
   ASSERT_GE(sel.chosen, 0);
   EXPECT_STREQ(effect_catalogue()[cands[sel.chosen].effect].name, "deadband");
   EXPECT_TRUE(cands[sel.chosen].accepted);
@@ -150,15 +154,16 @@ TEST(SearchStages, ADeadbandIsFittedAndChosen) {
 // 2-5 on a record without a deadband: the deadband's candidate does not pass,
 // nothing is chosen, every candidate is rejected
 TEST(SearchStages, NothingIsChosenWhereNothingIsMissing) {
+  ModelRuns runs;
   const Record r = record(0.0);
-  const FitProblem p = with_noise(r.p, round_noise(r.p, r.base));
-  const Reference ref = fit_reference(p, r.base, kQuiet);
+  const FitProblem p = with_noise(r.p, round_noise(runs, r.p, r.base));
+  const Reference ref = fit_reference(runs, p, r.base, kQuiet);
   const std::set<std::string> used = all_but({"deadband"});
-  std::vector<Candidate> cands = fit_candidates(p, ref, r.regime, used, kQuiet);
-  fit_second_starts(p, ref.fit, r.regime, &cands, kQuiet);
-  fit_refining_forms(p, ref, r.regime, used, &cands, kQuiet);
+  std::vector<Candidate> cands = fit_candidates(runs, p, ref, r.regime, used, kQuiet);
+  fit_second_starts(runs, p, ref.fit, r.regime, &cands, kQuiet);
+  fit_refining_forms(runs, p, ref, r.regime, used, &cands, kQuiet);
   ASSERT_EQ(cands.size(), 1u);
-  const Selection sel = select_candidate(p, ref.fit, &cands, kQuiet);
+  const Selection sel = select_candidate(runs, p, ref.fit, &cands, kQuiet);
   EXPECT_EQ(sel.chosen, -1);
   EXPECT_FALSE(cands[0].accepted);
   EXPECT_NE(cands[0].why.find(": rejected"), std::string::npos) << cands[0].why;
@@ -167,13 +172,14 @@ TEST(SearchStages, NothingIsChosenWhereNothingIsMissing) {
 // the whole search: its model runs go to the caller's state (added to what
 // it held), and the state's noise is the last round's loss unit
 TEST(SearchStages, TheSearchKeepsItsStateInTheCallers) {
+  ModelRuns runs;
   const Record r = record(3.0);
   SearchState st;
   st.model_runs = 5;
-  const int before = task_model_runs();
+  const int before = runs.count();
   const FitProblem p = r.p;
-  const EffectSearch s = search_effects(p, r.base, r.regime, st, kQuiet);
-  EXPECT_EQ(st.model_runs, 5 + task_model_runs() - before);
+  const EffectSearch s = search_effects(runs, p, r.base, r.regime, st, kQuiet);
+  EXPECT_EQ(st.model_runs, 5 + runs.count() - before);
   ASSERT_FALSE(s.rounds.empty());
   EXPECT_EQ(st.noise.angle, s.rounds.back().noise.angle);
   EXPECT_EQ(st.noise.current, s.rounds.back().noise.current);

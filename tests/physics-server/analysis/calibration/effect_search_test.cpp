@@ -43,6 +43,7 @@ TEST(EffectResolution, OneSampleOrASubNoiseChangeIsNot) {
 // reference is the chi-square median, with the reference's inflation; it is
 // checked after twice BOBYQA's interpolation set
 TEST(Screen, StopsAtTheLossOfTheChiSquareMedian) {
+  ModelRuns runs;
   FitProblem p;
   p.m.has_current = true;
   for (int k = 0; k < 800; ++k) p.m.t.push_back(k * 5e-3);

@@ -141,8 +141,9 @@ TEST(FrameClock, LargeStepsAloneWhereSmallStepsAreScrambled) {
 }
 
 TEST(FrameClock, FromABenchRecordWithFramesAtAnArbitraryPhase) {
+  ModelRuns runs;
   FitProblem p = problem_of(framed(0.02, 0.007), 3);
-  const std::vector<ChangeDelay> d = estimate_delays(p, test_datasheet(), 0.04);
+  const std::vector<ChangeDelay> d = estimate_delays(runs, p, test_datasheet(), 0.04);
   ASSERT_EQ(d.size(), 14u);
   int told = 0;
   for (const ChangeDelay& c : d) {
@@ -152,7 +153,7 @@ TEST(FrameClock, FromABenchRecordWithFramesAtAnArbitraryPhase) {
     EXPECT_NEAR(c.delay, truth_delay, 1e-3) << "change at " << c.t;
   }
   EXPECT_GE(told, 10);
-  const FrameClockFit f = frame_clock_for(p, test_datasheet());
+  const FrameClockFit f = frame_clock_for(runs, p, test_datasheet());
   ASSERT_TRUE(f.found);
   std::printf("bench record, 20 ms frames at 7 ms: period %.4f ms [%.4f, %.4f], phase %.3f ms [%.3f, %.3f], %d of %d "
               "changes\n",
@@ -168,10 +169,11 @@ TEST(FrameClock, FromABenchRecordWithFramesAtAnArbitraryPhase) {
 // their sd says so; with the sd from the curvature alone a clock of 15.6 ms
 // matched half of the changes (the truth's is 22.4 ms)
 TEST(FrameClock, FoundThroughADeadbandTheModelLacks) {
+  ModelRuns runs;
   BenchConfig truth = framed(0.0224, 0.016);
   truth.servo.deadband_deg = 3.0;
   FitProblem p = problem_of(truth, 7);
-  const std::vector<ChangeDelay> d = estimate_delays(p, test_datasheet(), 0.04);
+  const std::vector<ChangeDelay> d = estimate_delays(runs, p, test_datasheet(), 0.04);
   int off = 0, off_within_sd = 0;   // changes 0.5 ms or more off the truth; of those, within 2.5 sd
   for (const ChangeDelay& c : d) {
     if (c.sd < 0) continue;
@@ -180,7 +182,7 @@ TEST(FrameClock, FoundThroughADeadbandTheModelLacks) {
     ++off;
     off_within_sd += err < 2.5 * c.sd;
   }
-  const FrameClockFit f = frame_clock_for(p, test_datasheet());
+  const FrameClockFit f = frame_clock_for(runs, p, test_datasheet());
   std::printf("deadband 3 deg, 22.4 ms frames at 16 ms: %d changes 0.5 ms or more off, %d of them within 2.5 sd; "
               "period %.4f ms, phase %.3f ms, %d of %d changes\n",
               off, off_within_sd, f.clock.period_s * 1e3, f.clock.phase_s * 1e3, f.inliers, f.used);
@@ -196,14 +198,15 @@ TEST(FrameClock, FoundThroughADeadbandTheModelLacks) {
 // timing in its delays; once the other effect is in the model the clock is
 // fitted again on top of it (the search does this in each round's reference)
 TEST(FrameClock, FittedAgainOnTopOfTheOtherEffects) {
+  ModelRuns runs;
   BenchConfig truth = framed(0.02, 0.007);
   truth.servo.current_limit_a = 0.2;
   FitProblem p = problem_of(truth, 5);
   const int pwm = effect_variants("pwm_frame_delay").at(0), limit = effect_variants("current_limit").at(0);
   // the clock 0.3 ms long and 2 ms early, found first; the limit found after it
   const std::vector<double> off = {1, 1, 1, 1, 20.3, 5.0, 0.2};
-  const Fit f = evaluate_fit(p, {pwm, limit}, off);
-  const Fit g = refit_frame_clock(p, f);
+  const Fit f = evaluate_fit(runs, p, {pwm, limit}, off);
+  const Fit g = refit_frame_clock(runs, p, f);
   ASSERT_EQ(g.effects, f.effects);
   ASSERT_EQ(g.x.size(), off.size());
   std::printf("clock fitted again: period %.4f ms, phase %.3f ms, limit %.4f A; training loss %.4g -> %.4g\n",
@@ -216,8 +219,8 @@ TEST(FrameClock, FittedAgainOnTopOfTheOtherEffects) {
   EXPECT_LE(g.held_ci[4].first, g.x[4]);
   EXPECT_GE(g.held_ci[4].second, g.x[4]);
   // a clock found last was fitted on top of everything already
-  const Fit h = evaluate_fit(p, {limit, pwm}, {1, 1, 1, 1, 0.2, 20.3, 5.0});
-  EXPECT_EQ(refit_frame_clock(p, h).x, h.x);
+  const Fit h = evaluate_fit(runs, p, {limit, pwm}, {1, 1, 1, 1, 0.2, 20.3, 5.0});
+  EXPECT_EQ(refit_frame_clock(runs, p, h).x, h.x);
 }
 
 // the screen (effect_search.h, screen_for) watches every clock found, each in
@@ -227,22 +230,23 @@ TEST(FrameClock, FittedAgainOnTopOfTheOtherEffects) {
 // (the reference's show none), stops it after the screen's runs, where
 // fitted in full it ends worse than the reference
 TEST(FrameClock, TheScreenStopsEachClockThatDoesNotGain) {
+  ModelRuns runs;
   const int pwm = effect_variants("pwm_frame_delay").at(0);
   const std::vector<double> base = {1.1, 0.9, 1.05, 1.0};
   {
     const FitProblem p = problem_of(framed(0.02, 0.007), 3);
-    const Fit ref = fit_model(p, {}, base, Samples::training, kMaxEvalBase);
+    const Fit ref = fit_model(runs, p, {}, base, Samples::training, kMaxEvalBase);
     GiveUp g = screen_for(p, ref, pwm);
-    const int r0 = task_model_runs();
-    const Fit screened = fit_with_effect(p, ref, pwm, &g);
-    const int r1 = task_model_runs();
-    const Fit plain = fit_with_effect(p, ref, pwm);
+    const int r0 = runs.count();
+    const Fit screened = fit_with_effect(runs, p, ref, pwm, &g);
+    const int r1 = runs.count();
+    const Fit plain = fit_with_effect(runs, p, ref, pwm);
     std::printf("20 ms frames: clock %.4f ms at %.3f ms, loss %.4g -> %.4g; %d model runs screened, %d without\n",
                 screened.x[kNumBase], screened.x[kNumBase + 1], ref.train, screened.train, r1 - r0,
-                task_model_runs() - r1);
+                runs.count() - r1);
     EXPECT_FALSE(g.stopped);
     EXPECT_EQ(screened.x, plain.x);
-    EXPECT_EQ(r1 - r0, task_model_runs() - r1);
+    EXPECT_EQ(r1 - r0, runs.count() - r1);
     EXPECT_NEAR(screened.x[kNumBase], 20.0, 0.05);
   }
   {
@@ -250,22 +254,22 @@ TEST(FrameClock, TheScreenStopsEachClockThatDoesNotGain) {
     std::vector<double> x = base;
     x.push_back(0.007);
     const FitProblem p = problem_of(model_config(test_datasheet(), {coulomb}, x), 1);
-    const Fit ref = fit_model(p, {coulomb}, x, Samples::training, kMaxEvalBase);
+    const Fit ref = fit_model(runs, p, {coulomb}, x, Samples::training, kMaxEvalBase);
     GiveUp g = screen_for(p, ref, pwm);
-    const int r0 = task_model_runs();
-    const Fit screened = fit_with_effect(p, ref, pwm, &g);
-    const int r1 = task_model_runs();
-    const Fit plain = fit_with_effect(p, ref, pwm);
+    const int r0 = runs.count();
+    const Fit screened = fit_with_effect(runs, p, ref, pwm, &g);
+    const int r1 = runs.count();
+    const Fit plain = fit_with_effect(runs, p, ref, pwm);
     std::printf("no frames: %s, %d model runs screened (%d each clock's fit), %d without; loss %.4g, screened "
                 "%.4g, without %.4g\n",
-                g.stopped ? "stopped" : "not stopped", r1 - r0, g.after, task_model_runs() - r1, ref.train,
+                g.stopped ? "stopped" : "not stopped", r1 - r0, g.after, runs.count() - r1, ref.train,
                 screened.train, plain.train);
     ASSERT_TRUE(plain.valid) << "no clock found: the case does not test the screen";
     EXPECT_GT(plain.train, ref.train);
     EXPECT_TRUE(g.stopped);
     EXPECT_GT(screened.train, g.loss);
     EXPECT_EQ(screened.evals, g.after);   // its one clock's fit, stopped there
-    EXPECT_LT(r1 - r0, task_model_runs() - r1);
+    EXPECT_LT(r1 - r0, runs.count() - r1);
   }
 }
 

@@ -60,12 +60,13 @@ TEST(PairedRuns, EachTaskGetsTheRunsItWouldGetAlone) {
       {{5, 900}, {0, 1200}, {2, 1}, {1, 1200}, {3, 1200}, {4, 600}, {5, 1200}},
   };
   std::vector<std::vector<std::vector<BenchSample>>> got(plan.size());
-  std::vector<std::function<void()>> tasks;
+  std::vector<std::function<void(ModelRuns&)>> tasks;
   for (size_t i = 0; i < plan.size(); ++i)
-    tasks.push_back([&, i] {
-      for (const auto& [bench, rows] : plan[i]) got[i].push_back(paired_simulate(r.b[bench], r.t, r.sp, rows));
+    tasks.push_back([&, i](ModelRuns& runs) {
+      for (const auto& [bench, rows] : plan[i]) got[i].push_back(runs.simulate(r.b[bench], r.t, r.sp, rows));
     });
-  run_paired(tasks);
+  ModelRuns runs;
+  run_paired(runs, tasks);
   for (size_t i = 0; i < plan.size(); ++i) {
     ASSERT_EQ(got[i].size(), plan[i].size());
     for (size_t j = 0; j < plan[i].size(); ++j)
@@ -83,8 +84,8 @@ TEST(PairedRuns, ABatchGivesEachRunItsOwnBytes) {
   const std::vector<RunRequest> batch = {{&r.b[0], &r.t, &r.sp, 1200}, {&r.b[1], &t2, &sp2, 800},
                                          {&r.b[2], &r.t, &r.sp, 300},  {&r.b[3], &none, &none, 10},
                                          {&r.b[4], &r.t, &r.sp, 1200}};
-  const PairedRunStats before = paired_run_stats();
-  const std::vector<BatchResult> got = simulate_batch(batch);
+  PairedRunStats stats;
+  const std::vector<BatchResult> got = simulate_batch(batch, &stats);
   ASSERT_EQ(got.size(), batch.size());
   for (size_t i : {0, 2, 4}) {
     EXPECT_FALSE(got[i].error);
@@ -95,8 +96,8 @@ TEST(PairedRuns, ABatchGivesEachRunItsOwnBytes) {
   EXPECT_TRUE(got[3].error);
   EXPECT_THROW(std::rethrow_exception(got[3].error), std::invalid_argument);
   // three groups: the three runs on the whole record, the shorter one, the empty one
-  EXPECT_EQ(paired_run_stats().groups - before.groups, 3);
-  EXPECT_EQ(paired_run_stats().runs_together - before.runs_together, 3);
+  EXPECT_EQ(stats.groups, 3);
+  EXPECT_EQ(stats.runs_together, 3);
 }
 
 // the tasks run on the caller's thread, one at a time, and their runs are
@@ -105,44 +106,46 @@ TEST(PairedRuns, OneTaskRunsAtATimeOnTheCallersThread) {
   const Runs r;
   int inside = 0, most = 0;
   std::set<std::thread::id> threads;
-  std::vector<std::function<void()>> tasks;
+  std::vector<std::function<void(ModelRuns&)>> tasks;
   for (size_t i = 0; i < 4; ++i)
-    tasks.push_back([&, i] {
+    tasks.push_back([&, i](ModelRuns& runs) {
       for (size_t j = 0; j < 3 + i; ++j) {
         const int now = ++inside;
         most = std::max(most, now);
         threads.insert(std::this_thread::get_id());
         --inside;
-        paired_simulate(r.b[i], r.t, r.sp, 300);
+        runs.simulate(r.b[i], r.t, r.sp, 300);
       }
     });
-  const PairedRunStats before = paired_run_stats();
-  run_paired(tasks);
+  ModelRuns runs;
+  run_paired(runs, tasks);
   EXPECT_EQ(most, 1);
   EXPECT_EQ(threads, std::set<std::thread::id>{std::this_thread::get_id()});
   // 18 runs: 3 + 4 + 5 + 6, the last task's final ones alone
-  const PairedRunStats after = paired_run_stats();
-  EXPECT_GE(after.runs_together - before.runs_together, 12);
-  EXPECT_EQ(after.groups - before.groups, 18 - (after.runs_together - before.runs_together) / 2);
+  const PairedRunStats after = runs.stats();
+  EXPECT_GE(after.runs_together, 12);
+  EXPECT_EQ(after.groups, 18 - after.runs_together / 2);
+  EXPECT_EQ(runs.count(), 18);
 }
 
 TEST(PairedRuns, ATasksExceptionReachesTheCallerAndNoFurtherTaskStarts) {
   const Runs r;
   bool third = false;
   int second_runs = 0;
-  std::vector<std::function<void()>> tasks = {
-      [&] {
-        paired_simulate(r.b[0], r.t, r.sp, 200);
-        paired_simulate(r.b[1], r.t, r.sp, 200);
+  std::vector<std::function<void(ModelRuns&)>> tasks = {
+      [&](ModelRuns& runs) {
+        runs.simulate(r.b[0], r.t, r.sp, 200);
+        runs.simulate(r.b[1], r.t, r.sp, 200);
         throw std::runtime_error("task 0 fails");
       },
-      [&] {
-        for (int j = 0; j < 5; ++j) paired_simulate(r.b[2], r.t, r.sp, 200), ++second_runs;
+      [&](ModelRuns& runs) {
+        for (int j = 0; j < 5; ++j) runs.simulate(r.b[2], r.t, r.sp, 200), ++second_runs;
       },
-      [&] { third = true; },
+      [&](ModelRuns&) { third = true; },
   };
+  ModelRuns runs;
   try {
-    run_paired(tasks);
+    run_paired(runs, tasks);
     FAIL() << "no exception";
   } catch (const std::runtime_error& e) {
     EXPECT_STREQ(e.what(), "task 0 fails");
@@ -151,8 +154,8 @@ TEST(PairedRuns, ATasksExceptionReachesTheCallerAndNoFurtherTaskStarts) {
   EXPECT_FALSE(third);
   // a run's own error reaches its task, and the caller
   const std::vector<double> none;
-  EXPECT_THROW(run_paired({[&] { paired_simulate(r.b[0], none, none, 10); },
-                           [&] { paired_simulate(r.b[1], r.t, r.sp, 10); }}),
+  EXPECT_THROW(run_paired(runs, {[&](ModelRuns& runs) { runs.simulate(r.b[0], none, none, 10); },
+                                 [&](ModelRuns& runs) { runs.simulate(r.b[1], r.t, r.sp, 10); }}),
                std::invalid_argument);
 }
 
@@ -160,25 +163,26 @@ TEST(PairedRuns, NestedTasksPairOnceTheOtherTaskHasEnded) {
   const Runs r;
   // nested tasks: when each begins and ends (k, -1 - k), and their runs
   // against the bench alone
-  auto nested = [&](std::vector<int>* events) {
+  auto nested = [&](ModelRuns& runs, std::vector<int>* events) {
     std::vector<std::vector<BenchSample>> got(3);
-    run_paired_each(3, [&](size_t k) {
+    run_paired_each(runs, 3, [&](ModelRuns& runs, size_t k) {
       events->push_back(static_cast<int>(k));
-      got[k] = paired_simulate(r.b[k + 1], r.t, r.sp, 400 + 100 * k);
+      got[k] = runs.simulate(r.b[k + 1], r.t, r.sp, 400 + 100 * k);
       events->push_back(-1 - static_cast<int>(k));
     });
     for (size_t k = 0; k < 3; ++k) expect_same(got[k], r.alone(k + 1, 400 + 100 * k), "nested " + std::to_string(k));
   };
   std::vector<int> early, late;
-  run_paired({[&] {
-                nested(&early);   // the other task still runs: one after the other, here
-                paired_simulate(r.b[0], r.t, r.sp, 300);
-              },
-              [&] {
-                // more runs than the first task's four: it has ended by the last
-                for (int j = 0; j < 6; ++j) paired_simulate(r.b[5], r.t, r.sp, 300);
-                nested(&late);   // the last task left: a pair of its own
-              }});
+  ModelRuns runs;
+  run_paired(runs, {[&](ModelRuns& runs) {
+                      nested(runs, &early);   // the other task still runs: one after the other, here
+                      runs.simulate(r.b[0], r.t, r.sp, 300);
+                    },
+                    [&](ModelRuns& runs) {
+                      // more runs than the first task's four: it has ended by the last
+                      for (int j = 0; j < 6; ++j) runs.simulate(r.b[5], r.t, r.sp, 300);
+                      nested(runs, &late);   // the last task left: a pair of its own
+                    }});
   EXPECT_EQ(early, (std::vector<int>{0, -1, 1, -2, 2, -3}));
   ASSERT_EQ(late.size(), 6u);
   EXPECT_EQ(late[0], 0);
@@ -188,14 +192,14 @@ TEST(PairedRuns, NestedTasksPairOnceTheOtherTaskHasEnded) {
   // first one after the other, the rest as a pair of their own
   std::vector<int> events;
   std::vector<std::vector<BenchSample>> got(5);
-  run_paired({[&] { paired_simulate(r.b[0], r.t, r.sp, 300); },
-              [&] {
-                run_paired_each(5, [&](size_t k) {
-                  events.push_back(static_cast<int>(k));
-                  got[k] = paired_simulate(r.b[k], r.t, r.sp, 200 + 50 * k);
-                  events.push_back(-1 - static_cast<int>(k));
-                });
-              }});
+  run_paired(runs, {[&](ModelRuns& runs) { runs.simulate(r.b[0], r.t, r.sp, 300); },
+                    [&](ModelRuns& runs) {
+                      run_paired_each(runs, 5, [&](ModelRuns& runs, size_t k) {
+                        events.push_back(static_cast<int>(k));
+                        got[k] = runs.simulate(r.b[k], r.t, r.sp, 200 + 50 * k);
+                        events.push_back(-1 - static_cast<int>(k));
+                      });
+                    }});
   ASSERT_EQ(events.size(), 10u);
   EXPECT_EQ(events[0], 0);
   EXPECT_EQ(events[1], -1);
@@ -210,21 +214,21 @@ TEST(PairedRuns, ATaskCountsItsOwnModelRunsAndItsNestedTasks) {
   const BenchConfig ds = test_datasheet();
   const FitProblem p = make_fit_problem(ds, bench_record(ds, 5));
   std::vector<int> own(2, -1);
-  const int here_before = task_model_runs();
-  run_paired_each(2, [&](size_t i) {
-    const int before = task_model_runs();
-    for (size_t j = 0; j < 2 + 3 * i; ++j) run_model(p, p.datasheet, 500);
+  ModelRuns runs;
+  run_paired_each(runs, 2, [&](ModelRuns& runs, size_t i) {
+    const int before = runs.count();
+    for (size_t j = 0; j < 2 + 3 * i; ++j) run_model(runs, p, p.datasheet, 500);
     // nested: one after the other while the other task runs, else a pair
-    run_paired_each(2, [&](size_t k) {
-      for (size_t j = 0; j <= k; ++j) run_model(p, p.datasheet, 300);
+    run_paired_each(runs, 2, [&](ModelRuns& runs, size_t k) {
+      for (size_t j = 0; j <= k; ++j) run_model(runs, p, p.datasheet, 300);
     });
-    own[i] = task_model_runs() - before;
+    own[i] = runs.count() - before;
   });
   EXPECT_EQ(own[0], 2 + 3);
   EXPECT_EQ(own[1], 5 + 3);
-  EXPECT_EQ(task_model_runs(), here_before + 13);
-  run_model(p, p.datasheet, 10);
-  EXPECT_EQ(task_model_runs(), here_before + 14);
+  EXPECT_EQ(runs.count(), 13);
+  run_model(runs, p, p.datasheet, 10);
+  EXPECT_EQ(runs.count(), 14);
 }
 
 }  // namespace

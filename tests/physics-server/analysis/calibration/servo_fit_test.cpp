@@ -16,18 +16,20 @@ namespace chainsim {
 namespace {
 
 FitProblem problem_for(const std::vector<double>& truth) {
+  ModelRuns runs;
   const BenchConfig ds = test_datasheet();
   FitProblem p = make_fit_problem(ds, bench_record(model_config(ds, {}, truth), 7));
   // the loss's unit: the white noise the true model leaves
-  p.noise = white_noise_scale(run_model(p, model_config(ds, {}, truth)).residual, p.split);
+  p.noise = white_noise_scale(run_model(runs, p, model_config(ds, {}, truth)).residual, p.split);
   return p;
 }
 
 TEST(FitModel, FindsTheBaseFactorsOfAModelRecord) {
+  ModelRuns runs;
   const std::vector<double> truth = {1.25, 0.85, 1.15, 1.3};
   const FitProblem p = problem_for(truth);
-  const Fit start = evaluate_fit(p, {}, std::vector<double>(kNumBase, 1.0));
-  const Fit f = fit_model(p, {}, std::vector<double>(kNumBase, 1.0), Samples::training, kMaxEvalBase);
+  const Fit start = evaluate_fit(runs, p, {}, std::vector<double>(kNumBase, 1.0));
+  const Fit f = fit_model(runs, p, {}, std::vector<double>(kNumBase, 1.0), Samples::training, kMaxEvalBase);
   std::printf("loss %.3f -> %.3f in %d model runs; factors", start.train, f.train, f.evals);
   for (double x : f.x) std::printf(" %.4f", x);
   std::printf(" (true 1.25 0.85 1.15 1.3)\n");
@@ -39,16 +41,17 @@ TEST(FitModel, FindsTheBaseFactorsOfAModelRecord) {
 }
 
 TEST(FitModel, KeepsToItsBoundsAndItsBudget) {
+  ModelRuns runs;
   // a gain above the factors' range: the fit ends on the bound, not beyond
   const FitProblem p = problem_for({2.0, 1.0, 1.0, 1.0});
-  const Fit f = fit_model(p, {}, std::vector<double>(kNumBase, 1.0), Samples::training, kMaxEvalBase);
+  const Fit f = fit_model(runs, p, {}, std::vector<double>(kNumBase, 1.0), Samples::training, kMaxEvalBase);
   EXPECT_LE(f.x[0], kBaseFactorHi);
   EXPECT_GT(f.x[0], kBaseFactorHi - 0.05);
   // a budget smaller than one Jacobian and step: no more runs than that, and
   // the loss no higher than at the start
-  const Fit start = evaluate_fit(p, {}, std::vector<double>(kNumBase, 1.0));
+  const Fit start = evaluate_fit(runs, p, {}, std::vector<double>(kNumBase, 1.0));
   for (int budget : {1, 3, 12}) {
-    const Fit g = fit_model(p, {}, std::vector<double>(kNumBase, 1.0), Samples::training, budget);
+    const Fit g = fit_model(runs, p, {}, std::vector<double>(kNumBase, 1.0), Samples::training, budget);
     EXPECT_LE(g.evals, budget);
     EXPECT_LE(g.train, start.train) << budget;
   }
@@ -57,16 +60,18 @@ TEST(FitModel, KeepsToItsBoundsAndItsBudget) {
 // a record with base factors off the datasheet and, when `deadband` > 0, a
 // deadband of that many degrees; the loss's unit from the true model
 FitProblem deadband_problem(double deadband, unsigned seed) {
+  ModelRuns runs;
   const BenchConfig ds = test_datasheet();
   const int db = effect_variants("deadband").front();
   std::vector<double> truth = {1.1, 0.9, 1.05, 1.0};
   truth.push_back(deadband);
   FitProblem p = make_fit_problem(ds, bench_record(model_config(ds, {db}, truth), seed));
-  p.noise = white_noise_scale(run_model(p, model_config(ds, {db}, truth)).residual, p.split);
+  p.noise = white_noise_scale(run_model(runs, p, model_config(ds, {db}, truth)).residual, p.split);
   return p;
 }
 
 TEST(FitModel, GivesUpOnlyWhereItShowsNoGain) {
+  ModelRuns runs;
   const int db = effect_variants("deadband").front();
   const std::vector<double> base = {1.1, 0.9, 1.05, 1.0};
   std::vector<double> x0 = base;
@@ -75,10 +80,10 @@ TEST(FitModel, GivesUpOnlyWhereItShowsNoGain) {
   // reference's loss, so the fit goes on, the same fit as without the screen
   {
     const FitProblem p = deadband_problem(2.0, 11);
-    const Fit ref = evaluate_fit(p, {}, base);
+    const Fit ref = evaluate_fit(runs, p, {}, base);
     GiveUp g{11, 0.99 * ref.train};
-    const Fit screened = fit_model(p, {db}, x0, Samples::training, kMaxEvalJoint, &g);
-    const Fit plain = fit_model(p, {db}, x0, Samples::training, kMaxEvalJoint);
+    const Fit screened = fit_model(runs, p, {db}, x0, Samples::training, kMaxEvalJoint, &g);
+    const Fit plain = fit_model(runs, p, {db}, x0, Samples::training, kMaxEvalJoint);
     std::printf("deadband 2 deg: loss %.3f -> %.3f, %.3f deg in %d model runs\n", ref.train, screened.train,
                 screened.x[kNumBase], screened.evals);
     EXPECT_FALSE(g.stopped);
@@ -90,9 +95,9 @@ TEST(FitModel, GivesUpOnlyWhereItShowsNoGain) {
   // the fit stops there with its best point so far
   {
     const FitProblem p = deadband_problem(0.0, 12);
-    const Fit ref = evaluate_fit(p, {}, base);
+    const Fit ref = evaluate_fit(runs, p, {}, base);
     GiveUp g{11, 0.99 * ref.train};
-    const Fit f = fit_model(p, {db}, x0, Samples::training, kMaxEvalJoint, &g);
+    const Fit f = fit_model(runs, p, {db}, x0, Samples::training, kMaxEvalJoint, &g);
     std::printf("no deadband: stopped %d after %d model runs, loss %.4f -> %.4f, %.4f deg\n", g.stopped, f.evals,
                 ref.train, f.train, f.x[kNumBase]);
     EXPECT_TRUE(g.stopped);
@@ -106,14 +111,15 @@ TEST(FitModel, GivesUpOnlyWhereItShowsNoGain) {
 // extra parameter from the catalogue's starts; a screen that gives up at
 // once leaves it there, and the second start is not run
 TEST(FitModel, ARefiningFormStartsFromTheFormItRefines) {
+  ModelRuns runs;
   const FitProblem p = deadband_problem(0.0, 13);
   const int bridge = effect_variants("supply_sag")[0];
   const int rail = effect_variants("supply_sag")[2];
   ASSERT_STREQ(effect_catalogue()[rail].refines, effect_catalogue()[bridge].variant);
-  const Fit ref = evaluate_fit(p, {}, {1.1, 0.9, 1.05, 1.0});
-  const Fit refined = fit_with_effect(p, ref, bridge);
+  const Fit ref = evaluate_fit(runs, p, {}, {1.1, 0.9, 1.05, 1.0});
+  const Fit refined = fit_with_effect(runs, p, ref, bridge);
   GiveUp g{1, 0.0};
-  const Fit f = fit_with_effect(p, ref, rail, &g, &refined);
+  const Fit f = fit_with_effect(runs, p, ref, rail, &g, &refined);
   EXPECT_TRUE(g.stopped);
   EXPECT_EQ(f.evals, 1);
   ASSERT_EQ(f.x.size(), refined.x.size() + 1);
