@@ -144,7 +144,8 @@ const ProgramParams& ProgramParamsCache::get(const std::string& path, const std:
 
 void check_scene_programs(const Scene& scene, const std::string& firmware_dir) {
   const int n = static_cast<int>(scene.modules.size());
-  std::optional<ChainModel> chain;  // compiled at the first module on the PIC: its definition is checked against the board
+  // compiled at the first module on the PIC: its definition is checked against the board
+  std::optional<ChainModel> chain;
   for (int i = 0; i <= n; ++i) {
     const SceneModule& e = i < n ? scene.modules[i] : scene.central;
     if (e.target == Target::Pic) {

@@ -179,10 +179,11 @@ double effect_resolution(ModelRuns& runs, const FitProblem& p, const Fit& with, 
   if (!with.valid) return 0;
   const std::vector<double> xs(with.x.begin(), with.x.begin() + param_count(without_effects.effects));
   Residual a, b;
-  run_paired(runs, {[&](ModelRuns& runs) { a = run_model(runs, p, model_config(p.datasheet, with.effects, with.x)).residual; },
-                    [&](ModelRuns& runs) {
-                      b = run_model(runs, p, model_config(p.datasheet, without_effects.effects, xs)).residual;
-                    }});
+  run_paired(
+      runs, {[&](ModelRuns& runs) { a = run_model(runs, p, model_config(p.datasheet, with.effects, with.x)).residual; },
+             [&](ModelRuns& runs) {
+               b = run_model(runs, p, model_config(p.datasheet, without_effects.effects, xs)).residual;
+             }});
   // the effect's regimes and the 40 ms after each set-point change, whose
   // label wins over the motion regimes (a short move is all step onset)
   std::vector<std::string> names = effect_catalogue()[effect].regimes;
@@ -242,8 +243,8 @@ void say_all(const CalibrationProgress& say, const std::vector<Lines>& lines) {
 }
 
 // the rest of a candidate fitted in full: its resolution and its line
-void finish_candidate(ModelRuns& runs, const FitProblem& p, const Fit& ref, const std::vector<int>& regime, Candidate& c,
-                      Lines& out) {
+void finish_candidate(ModelRuns& runs, const FitProblem& p, const Fit& ref, const std::vector<int>& regime,
+                      Candidate& c, Lines& out) {
   c.resolution = effect_resolution(runs, p, c.fit, ref, c.effect, regime);
   out.push_back("  candidate " + effect_label(c.effect) + " = " + fmt_g(c.fit.x[param_count(ref.effects)]) +
                 ": training loss " + fmt_g(c.fit.train) + ", held-out NRMSE " + fmt_g(c.fit.held) + " (" +
@@ -254,8 +255,8 @@ void finish_candidate(ModelRuns& runs, const FitProblem& p, const Fit& ref, cons
 // a candidate's fit, screened (screen_for) or not: from both starts and
 // finished where both_starts_at_once, else from its first start alone
 // (the datasheet start is decided in fit_second_starts)
-Candidate fit_candidate(ModelRuns& runs, const FitProblem& p, const Reference& ref, const std::vector<int>& regime, int e,
-                        bool screened, const Fit* refined, Lines& out) {
+Candidate fit_candidate(ModelRuns& runs, const FitProblem& p, const Reference& ref, const std::vector<int>& regime,
+                        int e, bool screened, const Fit* refined, Lines& out) {
   const Effect& ef = effect_catalogue()[e];
   const int runs_candidate = runs.count();
   Candidate c;
@@ -264,7 +265,8 @@ Candidate fit_candidate(ModelRuns& runs, const FitProblem& p, const Reference& r
   c.screen = screen_for(p, ref.fit, e, refined);
   GiveUp* screen = screened ? &c.screen : nullptr;
   const bool both = both_starts_at_once(e);
-  c.fit = both ? fit_with_effect(runs, p, ref.fit, e, screen, refined) : fit_effect_start(runs, p, ref.fit, e, 0, screen, refined);
+  c.fit = both ? fit_with_effect(runs, p, ref.fit, e, screen, refined)
+               : fit_effect_start(runs, p, ref.fit, e, 0, screen, refined);
   c.runs = runs.count() - runs_candidate;
   if (c.screen.stopped) {
     out.push_back("  candidate " + effect_label(e) + " " + screen_words(c));
@@ -276,8 +278,9 @@ Candidate fit_candidate(ModelRuns& runs, const FitProblem& p, const Reference& r
 
 }  // namespace
 
-std::vector<Candidate> fit_candidates(ModelRuns& runs, const FitProblem& p, const Reference& ref, const std::vector<int>& regime,
-                                      const std::set<std::string>& used, const CalibrationProgress& say) {
+std::vector<Candidate> fit_candidates(ModelRuns& runs, const FitProblem& p, const Reference& ref,
+                                      const std::vector<int>& regime, const std::set<std::string>& used,
+                                      const CalibrationProgress& say) {
   // the forms not yet used and not refining another, in the catalogue's
   // order. One task per effect fits its forms in that order: a form is
   // screened unless an earlier form of its effect passed the screen, and

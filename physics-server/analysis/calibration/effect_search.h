@@ -143,8 +143,9 @@ Reference fit_reference(ModelRuns& runs, const FitProblem& p, const Fit& cur, co
 // screen, and every form of an effect that one of its forms shows is fitted
 // in full. Smooth forms from their first start only (3 adds the second);
 // frame clocks from both and finished (their resolution)
-std::vector<Candidate> fit_candidates(ModelRuns& runs, const FitProblem& p, const Reference& ref, const std::vector<int>& regime,
-                                      const std::set<std::string>& used, const CalibrationProgress& say);
+std::vector<Candidate> fit_candidates(ModelRuns& runs, const FitProblem& p, const Reference& ref,
+                                      const std::vector<int>& regime, const std::set<std::string>& used,
+                                      const CalibrationProgress& say);
 
 // 3. the datasheet starts of the smooth candidates that passed the screen,
 // where run_second_start says; each of those candidates finished (its

@@ -31,7 +31,8 @@ std::vector<SetpointChange> setpoint_changes(const MeasuredRecord& m) {
   return out;
 }
 
-std::vector<ChangeDelay> estimate_delays(ModelRuns& runs, const FitProblem& p, const BenchConfig& b, double max_delay_s) {
+std::vector<ChangeDelay> estimate_delays(ModelRuns& runs, const FitProblem& p, const BenchConfig& b,
+                                         double max_delay_s) {
   const MeasuredRecord& m = p.m;
   const double t0 = m.t.front();
   // the model on a uniform grid (the set-points act from the first step at

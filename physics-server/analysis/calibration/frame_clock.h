@@ -44,7 +44,8 @@ constexpr double kClockMinStepDeg = 8.0;
 
 // per change, the delay in [0, max_delay_s] at which the model b's response
 // (one run on a 100 us grid, shifted) fits the measurement best in noise units
-std::vector<ChangeDelay> estimate_delays(ModelRuns& runs, const FitProblem& p, const BenchConfig& b, double max_delay_s);
+std::vector<ChangeDelay> estimate_delays(ModelRuns& runs, const FitProblem& p, const BenchConfig& b,
+                                         double max_delay_s);
 
 // frames at t0 + phase + n period (0 <= phase < period)
 struct FrameClock {

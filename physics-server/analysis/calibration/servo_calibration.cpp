@@ -26,7 +26,7 @@ namespace chainsim {
 
 ServoCalibration calibrate_servo(const BenchConfig& datasheet, MeasuredRecord measured,
                                  const CalibrationProgress& say) {
-  ModelRuns runs;   // the calibration's own strand: its tasks' runs come back to it
+  ModelRuns runs;  // the calibration's own strand: its tasks' runs come back to it
   ServoCalibration c;
   c.problem = make_fit_problem(datasheet, std::move(measured));
   const FitProblem& p = c.problem;
@@ -62,7 +62,8 @@ ServoCalibration calibrate_servo(const BenchConfig& datasheet, MeasuredRecord me
   say("datasheet model: held-out NRMSE " + fmt_g(c.nrmse_datasheet) + "; refitted base: " + fmt_g(c.base.held) +
       " (whiteness " + fmt_g(c.base.white, 3) + "); gap " + fmt_g(c.gap_before) + " -> " + fmt_g(c.gap_after) +
       " with the effects");
-  for (const Fit& f : c.search.before) c.without.push_back(run_model(runs, p, model_config(p.datasheet, f.effects, f.x)));
+  for (const Fit& f : c.search.before)
+    c.without.push_back(run_model(runs, p, model_config(p.datasheet, f.effects, f.x)));
   // the bench's own (ODE) stand with the final model, as a check of the fast solver
   const BenchConfig fin = model_config(p.datasheet, c.final_fit.effects, c.final_fit.x);
   const std::vector<BenchSample> ode = simulate_bench(fin, p.m.t, p.m.sp);

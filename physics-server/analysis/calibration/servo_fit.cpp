@@ -43,8 +43,8 @@ ModelRun run_model(ModelRuns& runs, const FitProblem& p, const BenchConfig& b, s
 
 namespace {
 
-Residual residual_at(ModelRuns& runs, const FitProblem& p, const std::vector<int>& effects, const std::vector<double>& x,
-                     size_t rows = SIZE_MAX) {
+Residual residual_at(ModelRuns& runs, const FitProblem& p, const std::vector<int>& effects,
+                     const std::vector<double>& x, size_t rows = SIZE_MAX) {
   return run_model(runs, p, model_config(p.datasheet, effects, x), rows).residual;
 }
 
@@ -58,7 +58,8 @@ double mean_loss(const std::vector<double>& loss, const BlockSplit& s, Samples s
 
 // the mean loss on `set`; for the training blocks the model runs only as far
 // as the last training sample (the held-out end block is not needed)
-double set_loss(ModelRuns& runs, const FitProblem& p, const std::vector<int>& effects, const std::vector<double>& x, Samples set) {
+double set_loss(ModelRuns& runs, const FitProblem& p, const std::vector<int>& effects, const std::vector<double>& x,
+                Samples set) {
   const Residual r = residual_at(runs, p, effects, x, set == Samples::training ? p.training_rows : SIZE_MAX);
   return mean_loss(sample_loss(r, p.noise), p.split, set);
 }
@@ -105,7 +106,8 @@ void layout(const std::vector<int>& effects, const std::vector<double>* clock_ne
 
 }  // namespace
 
-Fit evaluate_fit(ModelRuns& runs, const FitProblem& p, const std::vector<int>& effects, const std::vector<double>& x, Samples set) {
+Fit evaluate_fit(ModelRuns& runs, const FitProblem& p, const std::vector<int>& effects, const std::vector<double>& x,
+                 Samples set) {
   Fit f;
   f.effects = effects;
   f.x = x;
@@ -123,8 +125,8 @@ Fit evaluate_fit(ModelRuns& runs, const FitProblem& p, const std::vector<int>& e
   return f;
 }
 
-Fit fit_model(ModelRuns& runs, const FitProblem& p, const std::vector<int>& effects, std::vector<double> x0, Samples set,
-              int max_eval, GiveUp* give_up) {
+Fit fit_model(ModelRuns& runs, const FitProblem& p, const std::vector<int>& effects, std::vector<double> x0,
+              Samples set, int max_eval, GiveUp* give_up) {
   std::vector<Bound> bounds;
   std::vector<size_t> free;
   layout(effects, &x0, &bounds, &free);
@@ -187,11 +189,12 @@ std::vector<double> datasheet_start(const std::vector<double>& x) {
   return s;
 }
 
-Fit refit_from_starts(ModelRuns& runs, const FitProblem& p, const Fit& cur, const std::vector<std::vector<double>>& starts,
-                      int max_eval) {
+Fit refit_from_starts(ModelRuns& runs, const FitProblem& p, const Fit& cur,
+                      const std::vector<std::vector<double>>& starts, int max_eval) {
   std::vector<Fit> fits(starts.size());
-  run_paired_each(runs, starts.size(),
-                  [&](ModelRuns& runs, size_t i) { fits[i] = fit_model(runs, p, cur.effects, starts[i], Samples::training, max_eval); });
+  run_paired_each(runs, starts.size(), [&](ModelRuns& runs, size_t i) {
+    fits[i] = fit_model(runs, p, cur.effects, starts[i], Samples::training, max_eval);
+  });
   Fit best = cur;
   for (Fit& f : fits) {
     f.held_ci = cur.held_ci;
@@ -206,8 +209,8 @@ namespace {
 // +-span_ms in steps of step_ms around its value (the latch moves in whole
 // model steps, so the loss is piecewise constant in the phase: a scan, not
 // the optimiser); x keeps the best
-void scan_phase(ModelRuns& runs, const FitProblem& p, const std::vector<int>& eff, std::vector<double>* x, size_t i, double span_ms,
-                double step_ms) {
+void scan_phase(ModelRuns& runs, const FitProblem& p, const std::vector<int>& eff, std::vector<double>* x, size_t i,
+                double span_ms, double step_ms) {
   const double c = (*x)[i];
   std::vector<double> phase{c};   // the value now, then the scan's
   for (double d = -span_ms; d <= span_ms + 1e-9; d += step_ms) phase.push_back(std::max(0.0, c + d));
@@ -315,7 +318,8 @@ Fit fit_frame_clock_effect(ModelRuns& runs, const FitProblem& p, const Fit& ref,
 // is multimodal, for the generator's own physics as much as for the model
 // (docs/calibration.md, "Limits"). The effects already accepted keep their
 // values in the datasheet start.
-Fit fit_effect_start(ModelRuns& runs, const FitProblem& p, const Fit& ref, int effect, int start, GiveUp* screen, const Fit* refined) {
+Fit fit_effect_start(ModelRuns& runs, const FitProblem& p, const Fit& ref, int effect, int start, GiveUp* screen,
+                     const Fit* refined) {
   const Effect& ef = effect_catalogue()[effect];
   std::vector<int> eff = ref.effects;
   eff.push_back(effect);
@@ -330,7 +334,9 @@ Fit fit_effect_start(ModelRuns& runs, const FitProblem& p, const Fit& ref, int e
     xs.back().insert(xs.back().end(), tail.begin() + static_cast<long>(shared), tail.end());
   }
   std::vector<double> m(xs.size(), 0.0);
-  if (xs.size() > 1) run_paired_each(runs, xs.size(), [&](ModelRuns& runs, size_t k) { m[k] = set_loss(runs, p, eff, xs[k], Samples::training); });
+  if (xs.size() > 1)
+    run_paired_each(runs, xs.size(),
+                    [&](ModelRuns& runs, size_t k) { m[k] = set_loss(runs, p, eff, xs[k], Samples::training); });
   std::vector<double> x;
   double best_start = 1e300;
   for (size_t k = 0; k < xs.size(); ++k)
@@ -341,8 +347,10 @@ Fit fit_effect_start(ModelRuns& runs, const FitProblem& p, const Fit& ref, int e
   return f;
 }
 
-Fit fit_with_effect(ModelRuns& runs, const FitProblem& p, const Fit& ref, int effect, GiveUp* screen, const Fit* refined) {
-  if (effect_catalogue()[effect].fit == EffectFit::frame_clock) return fit_frame_clock_effect(runs, p, ref, effect, screen);
+Fit fit_with_effect(ModelRuns& runs, const FitProblem& p, const Fit& ref, int effect, GiveUp* screen,
+                    const Fit* refined) {
+  if (effect_catalogue()[effect].fit == EffectFit::frame_clock)
+    return fit_frame_clock_effect(runs, p, ref, effect, screen);
   Fit best = fit_effect_start(runs, p, ref, effect, 0, screen, refined);
   if (screen && screen->stopped) return best;
   Fit f = fit_effect_start(runs, p, ref, effect, 1);

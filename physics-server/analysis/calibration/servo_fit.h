@@ -80,16 +80,16 @@ struct GiveUp {
 // (kClockPeriodWindow, kClockPhaseWindowMs). With give_up the fit stops
 // there with its best point so far if it gives up, and is otherwise the
 // same fit as without it
-Fit fit_model(ModelRuns& runs, const FitProblem& p, const std::vector<int>& effects, std::vector<double> x0, Samples set,
-              int max_eval, GiveUp* give_up = nullptr);
+Fit fit_model(ModelRuns& runs, const FitProblem& p, const std::vector<int>& effects, std::vector<double> x0,
+              Samples set, int max_eval, GiveUp* give_up = nullptr);
 
 // x with the base factors at the datasheet's (1) and the effects' values kept
 std::vector<double> datasheet_start(const std::vector<double>& x);
 
 // the model `cur` refitted from each start (x vectors for cur.effects); the
 // best training fit (cur itself if none is better)
-Fit refit_from_starts(ModelRuns& runs, const FitProblem& p, const Fit& cur, const std::vector<std::vector<double>>& starts,
-                      int max_eval);
+Fit refit_from_starts(ModelRuns& runs, const FitProblem& p, const Fit& cur,
+                      const std::vector<std::vector<double>>& starts, int max_eval);
 
 // the fit with one more effect on the training blocks, from two starts: the
 // reference's base factors and the datasheet's, each with the effect's
@@ -107,8 +107,8 @@ Fit fit_with_effect(ModelRuns& runs, const FitProblem& p, const Fit& ref, int ef
 
 // one start of fit_with_effect for an effect of the smooth kind: 0 from the
 // reference's base (or refined's solution), 1 from the datasheet's
-Fit fit_effect_start(ModelRuns& runs, const FitProblem& p, const Fit& ref, int effect, int start, GiveUp* screen = nullptr,
-                     const Fit* refined = nullptr);
+Fit fit_effect_start(ModelRuns& runs, const FitProblem& p, const Fit& ref, int effect, int start,
+                     GiveUp* screen = nullptr, const Fit* refined = nullptr);
 
 // a model with a frame clock: the clock fitted again on top of the rest of
 // the model (its delays measured against a model that now holds the other
