@@ -419,6 +419,8 @@ class Parser {
         {"supply_sag_linear_ohm", &ServoParams::supply_sag_linear_ohm, 0},
         {"backlash_stiffness_nm_rad", &ServoParams::backlash_stiffness_nm_rad, 0},
         {"supply_rail_f", &ServoParams::supply_rail_f, 0},
+        {"pwm_pulse_s_per_deg", &ServoParams::pwm_pulse_s_per_deg, 0},
+        {"deadband_comparator_deg", &ServoParams::deadband_comparator_deg, 0},
     };
     Keys keys;
     for (const Field& f : kFields) keys.insert(f.key);

@@ -30,6 +30,16 @@ struct ServoParams {
   double supply_sag_linear_ohm = 0.0;      // supply_sag, linear driver: Rs, ohm (limit Vs - Rs |i|)
   double backlash_stiffness_nm_rad = 0.0;  // backlash, compliant mesh: N m/rad (0 = rigid, plastic closing)
   double supply_rail_f = 0.0;              // supply_sag, rail variant: the rail capacitor, F (0 = none)
+  // pwm_frame_delay, falling-edge variant: the pulse's width per degree of
+  // set-point, s/deg (1.5 ms at 90 deg); the set-point then acts at the
+  // pulse's falling edge (0 = at the frame itself)
+  double pwm_pulse_s_per_deg = 0.0;
+  // deadband, comparator form: total width, degrees; inside no drive, outside
+  // the whole error drives (an analogue servo's window comparator); 0 = off
+  double deadband_comparator_deg = 0.0;
+  // ... and the set-point (deg on the pulse's scale) at the model's set-point
+  // 0 (the servo bench sets its first row's; servo_stand.cpp)
+  double pwm_pulse_origin_deg = 0.0;
   // Current sense chain (our assumption, the paper gives no figures): a 1 ohm
   // shunt, an amplifier of gain 10 and a 10-bit ADC with a 5 V reference:
   // 1023 counts = 0.5 A (0.489 mA per count). The stall current is

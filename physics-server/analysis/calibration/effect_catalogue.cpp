@@ -29,8 +29,14 @@ const std::vector<Effect>& effect_catalogue() {
         {"stiffness_nm_rad", &P::backlash_stiffness_nm_rad, 1.0, 0.05, 1000.0, true}},
        {{1.0, 3.0}, {2.5, 3.0}, {5.0, 3.0}, {2.5, 100.0}},
        {"reversal", "braking"}},
-      {"deadband", "", "the amplifier ignores errors within +-width/2",
+      {"deadband", "dead_zone", "the amplifier ignores errors within +-width/2 (the band subtracted)",
        {{"width_deg", &P::deadband_deg, 1.0, 0.0, 10.0}},
+       {{1.0}, {2.5}, {5.0}},
+       {"hold", "braking"}},
+      // an analogue servo's window comparator gates the amplifier: the same
+      // window, but the whole error drives outside it
+      {"deadband", "comparator", "no drive within +-width/2, the whole error outside (window comparator)",
+       {{"width_deg", &P::deadband_comparator_deg, 1.0, 0.0, 10.0}},
        {{1.0}, {2.5}, {5.0}},
        {"hold", "braking"}},
       {"supply_sag", "pwm_bridge", "PWM bridge: drive = duty x (Vs - Rs |i|)",
@@ -59,11 +65,26 @@ const std::vector<Effect>& effect_catalogue() {
        EffectFit::smooth,
        "linear_driver"},
       // period and phase come from the delays of the set-point changes
-      {"pwm_frame_delay", "", "set-point latched at frames: phase + n x period",
+      {"pwm_frame_delay", "at_frame", "set-point latched at frames: phase + n x period",
        {{"frame_ms", &P::pwm_frame_s, 1e-3, 2.5, 40.0}, {"phase_ms", &P::pwm_frame_phase_s, 1e-3, 0.0, 40.0}},
        {},
        {"step_onset", "reversal"},
        EffectFit::frame_clock},
+      // an RC servo's decoder acts at the pulse's falling edge, and the pulse
+      // is 1.5 ms + k (sp - 90 deg) wide: the delay depends on the set-point
+      // too. k from 1 us/deg to 25 us/deg spans the usual conventions (1-2 ms
+      // over 180 deg: 5.6; 0.5-2.5 ms over 180 deg or 1-2 ms over 90 deg:
+      // 11.1). Refines the form above (from its clock, servo_fit.cpp)
+      {"pwm_frame_delay", "falling_edge",
+       "set-point sent as a pulse 1.5 ms + k (sp - 90 deg) wide at frames phase + n x period, acting at its falling "
+       "edge",
+       {{"frame_ms", &P::pwm_frame_s, 1e-3, 2.5, 40.0},
+        {"phase_ms", &P::pwm_frame_phase_s, 1e-3, 0.0, 40.0},
+        {"pulse_us_per_deg", &P::pwm_pulse_s_per_deg, 1e-6, 1.0, 25.0}},
+       {},
+       {"step_onset", "reversal"},
+       EffectFit::frame_clock,
+       "at_frame"},
       {"current_limit", "", "drive limited to Km w +- R I_lim",
        {{"limit_a", &P::current_limit_a, 1.0, 0.03, 0.6}},
        {{0.1}, {0.2}, {0.3}},

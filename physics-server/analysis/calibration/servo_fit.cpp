@@ -94,7 +94,9 @@ void layout(const std::vector<int>& effects, const std::vector<double>* clock_ne
         bounds->push_back({q.lo, q.hi, q.log_scale});
       } else if (clock_near) {
         const double v = (*clock_near)[bounds->size()];
-        const double half = k == 0 ? kClockPeriodWindow * v : kClockPhaseWindowMs;
+        // period and phase within their window; a pulse width's slope
+        // (falling edge) within its bounds
+        const double half = k == 0 ? kClockPeriodWindow * v : k == 1 ? kClockPhaseWindowMs : q.hi - q.lo;
         free->push_back(bounds->size());
         bounds->push_back({std::max(q.lo, v - half), std::min(q.hi, v + half), false});
       } else {
@@ -309,6 +311,97 @@ Fit fit_frame_clock_effect(ModelRuns& runs, const FitProblem& p, const Fit& ref,
   return f;
 }
 
+// the falling-edge form (pulse width 1.5 ms + k (sp - 90 deg), acting at
+// its falling edge) from the clock of the form it refines (`refined`, fitted
+// on top of ref; fitted here when null): that clock's latch times are the
+// falling edges of the mean set-point's pulse, so the frames start earlier
+// by that pulse's width. Each slope k of a few physical conventions is tried
+// with the phase moved so, and scanned; from the best the base, period,
+// phase and k are fitted together as the clock's fit does
+Fit fit_falling_edge(ModelRuns& runs, const FitProblem& p, const Fit& ref, int effect, GiveUp* screen,
+                     const Fit* refined) {
+  const Effect& ef = effect_catalogue()[effect];
+  Fit plain;
+  if (!refined) {
+    const std::vector<int> forms = effect_variants(ef.name);
+    int at = -1;
+    for (int v : forms)
+      if (std::string(effect_catalogue()[v].variant) == ef.refines) at = v;
+    plain = fit_frame_clock_effect(runs, p, ref, at, nullptr);
+    refined = &plain;
+  }
+  std::vector<int> eff = ref.effects;
+  eff.push_back(effect);
+  if (!refined->valid) {
+    Fit f = *refined;
+    f.effects = eff;
+    f.x.push_back(ef.params[2].lo);
+    f.held_ci.resize(f.x.size(), {0.0, 0.0});
+    f.valid = false;
+    return f;
+  }
+  const size_t ip = param_count(ref.effects) + 1;   // the phase; ip + 1: k
+  const double period = refined->x[ip - 1];
+  // the set-points the changes go to: their mean pulse sets the phase shift
+  double mean_sp = 0;
+  const std::vector<SetpointChange> ch = setpoint_changes(p.m);
+  for (const SetpointChange& c : ch) mean_sp += p.m.sp[c.k];
+  mean_sp = ch.empty() ? 90.0 : mean_sp / static_cast<double>(ch.size());
+  const std::vector<double> slopes = {2.8, 5.6, 11.1, 16.7};   // us/deg
+  std::vector<std::vector<double>> xs(slopes.size());
+  std::vector<double> loss(slopes.size());
+  for (size_t k = 0; k < slopes.size(); ++k) {
+    double ph = refined->x[ip] - 1.5 - 1e-3 * slopes[k] * (mean_sp - 90.0);
+    ph = std::fmod(std::fmod(ph, period) + period, period);
+    xs[k] = refined->x;
+    xs[k][ip] = ph;
+    xs[k].push_back(slopes[k]);
+  }
+  // (each scan pairs its own runs)
+  for (size_t k = 0; k < slopes.size(); ++k) {
+    scan_phase(runs, p, eff, &xs[k], ip, 1.5, 0.1);
+    loss[k] = set_loss(runs, p, eff, xs[k], Samples::training);
+  }
+  std::vector<double> x = xs[static_cast<size_t>(std::min_element(loss.begin(), loss.end()) - loss.begin())];
+  GiveUp g = screen ? *screen : GiveUp{};
+  Fit f;
+  int evals = 0;
+  for (int turn = 0; turn < 3; ++turn) {
+    f = fit_model(runs, p, eff, x, Samples::training, kMaxEvalJoint, screen && turn == 0 ? &g : nullptr);
+    x = f.x;
+    evals += f.evals;
+    if (g.stopped) break;
+    scan_phase(runs, p, eff, &x, ip, 0.5, 0.05);
+    if (std::fabs(x[ip] - f.x[ip]) < 0.01) break;
+  }
+  if (screen) screen->stopped = g.stopped;
+  f = evaluate_fit(runs, p, eff, x);
+  f.evals = evals;
+  // intervals: period from the refined clock's; phase widened by the shift
+  // from it; k from the curvature of the training loss (-2 log-likelihood
+  // in noise units) at +-0.5 us/deg, inflated by the residual's correlation
+  f.held_ci = refined->held_ci;
+  f.held_ci.resize(x.size(), {0.0, 0.0});
+  const double ph0 = refined->x[ip];
+  const std::pair<double, double> pci = refined->held_ci.size() > ip ? refined->held_ci[ip] : std::make_pair(ph0, ph0);
+  const double pw = std::max(0.5 * (pci.second - pci.first), 0.0);
+  f.held_ci[ip] = {x[ip] - pw, x[ip] + pw};
+  const double dk = 0.5, kk = x[ip + 1];
+  std::vector<double> xp = x, xm = x;
+  xp[ip + 1] = std::min(ef.params[2].hi, kk + dk);
+  xm[ip + 1] = std::max(ef.params[2].lo, kk - dk);
+  const double sp = evaluate_fit(runs, p, eff, xp).sse_train, sm = evaluate_fit(runs, p, eff, xm).sse_train;
+  const double hp = xp[ip + 1] - kk, hm = kk - xm[ip + 1];
+  double sd = ef.params[2].hi - ef.params[2].lo;
+  if (hp > 0 && hm > 0) {
+    const double c2 = 2 * ((sp - f.sse_train) / hp + (sm - f.sse_train) / hm) / (hp + hm);
+    const double rho = std::clamp(f.rho_train, 0.0, 0.999);
+    if (c2 > 0) sd = std::sqrt(2.0 / c2 * (1 + rho) / (1 - rho));
+  }
+  f.held_ci[ip + 1] = {kk - 1.96 * sd, kk + 1.96 * sd};
+  return f;
+}
+
 }  // namespace
 
 // Why two starts: the reference was refitted without the new effect, so it
@@ -350,7 +443,8 @@ Fit fit_effect_start(ModelRuns& runs, const FitProblem& p, const Fit& ref, int e
 Fit fit_with_effect(ModelRuns& runs, const FitProblem& p, const Fit& ref, int effect, GiveUp* screen,
                     const Fit* refined) {
   if (effect_catalogue()[effect].fit == EffectFit::frame_clock)
-    return fit_frame_clock_effect(runs, p, ref, effect, screen);
+    return *effect_catalogue()[effect].refines ? fit_falling_edge(runs, p, ref, effect, screen, refined)
+                                              : fit_frame_clock_effect(runs, p, ref, effect, screen);
   Fit best = fit_effect_start(runs, p, ref, effect, 0, screen, refined);
   if (screen && screen->stopped) return best;
   Fit f = fit_effect_start(runs, p, ref, effect, 1);

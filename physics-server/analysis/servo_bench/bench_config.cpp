@@ -21,7 +21,8 @@ void load_servo(const StrictYaml& y, const YAML::Node& n, ServoParams* p) {
   y.keys(n, s,
          {"Kp", "Km", "Kt", "R", "L", "B", "J", "supply_v", "i_threshold_a", "coulomb_nm", "backlash_deg",
           "deadband_deg", "supply_sag_ohm", "pwm_frame_s", "current_limit_a", "pwm_frame_phase_s",
-          "supply_sag_linear_ohm", "backlash_stiffness_nm_rad", "supply_rail_f"});
+          "supply_sag_linear_ohm", "backlash_stiffness_nm_rad", "supply_rail_f",
+          "pwm_pulse_s_per_deg", "deadband_comparator_deg"});
   set(y, n, s, "Kp", 0, false, 1e6, &p->kp);
   set(y, n, s, "Km", 0, false, 1e3, &p->km);
   set(y, n, s, "Kt", 0, false, 1e3, &p->kt);
@@ -41,6 +42,8 @@ void load_servo(const StrictYaml& y, const YAML::Node& n, ServoParams* p) {
   set(y, n, s, "supply_sag_linear_ohm", 0, false, 1e6, &p->supply_sag_linear_ohm);
   set(y, n, s, "backlash_stiffness_nm_rad", 0, false, 1e9, &p->backlash_stiffness_nm_rad);
   set(y, n, s, "supply_rail_f", 0, false, 10, &p->supply_rail_f);
+  set(y, n, s, "pwm_pulse_s_per_deg", 0, false, 1e-3, &p->pwm_pulse_s_per_deg);
+  set(y, n, s, "deadband_comparator_deg", 0, false, 90, &p->deadband_comparator_deg);
 }
 
 }  // namespace

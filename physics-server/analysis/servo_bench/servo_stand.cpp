@@ -36,10 +36,17 @@ struct Row {
   double setpoint_deg = 0;
 };
 
+ServoParams with_pulse_origin(ServoParams p, double sp0_deg) {
+  if (p.pwm_pulse_s_per_deg > 0.0) p.pwm_pulse_origin_deg = sp0_deg;
+  return p;
+}
+
 class Stand {
  public:
-  Stand(const BenchConfig& b, BenchSolver solver)
-      : cfg_(b), model_(b.servo), h_(b.dt_us * 1e-6), solver_(solver) {
+  // sp0_deg: the first row's set-point, the stand's angle 0 (a servo that
+  // decodes pulses at their falling edge needs the absolute set-point)
+  Stand(const BenchConfig& b, BenchSolver solver, double sp0_deg)
+      : cfg_(b), model_(with_pulse_origin(b.servo, sp0_deg)), h_(b.dt_us * 1e-6), solver_(solver) {
     jl_ = std::max(b.load_inertia_kgm2, 1e-12);
     jh_ = jl_ / h_;
     if (solver_ == BenchSolver::closed_form) return;
@@ -196,7 +203,7 @@ std::vector<std::vector<BenchSample>> run_stands(const std::vector<const BenchCo
                                                  const std::vector<size_t>& counts, BenchSolver solver) {
   const size_t lanes = b.size();
   std::vector<std::unique_ptr<Stand>> stand(lanes);
-  for (size_t i = 0; i < lanes; ++i) stand[i] = std::make_unique<Stand>(*b[i], solver);
+  for (size_t i = 0; i < lanes; ++i) stand[i] = std::make_unique<Stand>(*b[i], solver, rows.front().setpoint_deg);
   const size_t count = *std::max_element(counts.begin(), counts.end());
   RowClock c{rows, std::vector<double>(count), rows.front().setpoint_deg, static_cast<double>(b[0]->dt_us)};
   for (size_t k = 0; k < count; ++k) c.rel[k] = (rows[k].t_s - rows.front().t_s) * 1e6;

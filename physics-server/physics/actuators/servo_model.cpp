@@ -56,6 +56,8 @@ void ServoModel::reset_state() {
   rail_v_ = p_.supply_v;
   time_s_ = 0.0;
   frame_ = -1;
+  latch_s_ = -1.0;
+  pending_ = applied_;
   delta_ = 0.0;
   wm_ = 0.0;
   engaged_ = !(p_.backlash_deg > 0.0);

@@ -74,6 +74,9 @@
 //    torque, both implicit in the step (see begin_step).
 //  * deadband  deadband_deg: the servo amplifier ignores position errors within
 //    +-deadband/2 (continuous dead zone on the error before Kp).
+//    Comparator form, deadband_comparator_deg: no drive within +-width/2,
+//    the whole error outside (an analogue servo's window comparator gates
+//    the amplifier; the drive jumps at the window's edge).
 //  * supply_sag  supply_sag_ohm: internal resistance of the supply; the bridge's
 //    duty cycle is applied to Vs - Rs |i| (i at the start of the step): a PWM
 //    bridge. Linear-driver variant, supply_sag_linear_ohm: the drive keeps its
@@ -90,6 +93,11 @@
 //    pwm_frame_phase_s after reset_state (before it the servo keeps the
 //    set-point it had). A frame inside a step acts for the part of the step
 //    after it (the step's drive uses the time-weighted mean set-point).
+//    Falling-edge variant, pwm_pulse_s_per_deg = k > 0: a frame starts a
+//    pulse whose width carries the set-point of that moment, 1.5 ms + k (sp -
+//    90 deg) (the RC convention: 1.5 ms is the middle), and the servo's
+//    decoder acts on it at the pulse's falling edge, so the delay depends on
+//    the set-point as well as on the frame phase.
 //  * current_limit  current_limit_a: the driver limits the drive voltage to
 //    Km w +- R I_lim (w at the start of the step), so |i| settles at <= I_lim.
 #pragma once
@@ -166,6 +174,10 @@ class ServoModel {
   double time_s_ = 0.0;      // since reset_state (pwm frames)
   long long frame_ = -1;     // the last pwm frame latched
   double applied_ = 0.0;     // set-point latched at the last frame
+  // pwm_frame_delay, falling edge: the set-point the pulse under way carries
+  // and the time it acts (its falling edge; < 0: none under way)
+  double pending_ = 0.0;
+  double latch_s_ = -1.0;
   double rail_v_ = 0.0;      // supply_sag, rail variant: the rail voltage, V
   double delta_ = 0.0;       // backlash: motor side - output, rad
   double wm_ = 0.0;          // backlash: motor-side rate, rad/s

@@ -21,6 +21,9 @@ namespace chainsim {
     const double half = deg_to_rad(0.5 * p_.deadband_deg);
     err = std::fabs(err) <= half ? 0.0 : err - std::copysign(half, err);
   }
+  // deadband, comparator form: no drive inside the window, the whole error
+  // outside it
+  if (p_.deadband_comparator_deg > 0.0 && std::fabs(err) <= deg_to_rad(0.5 * p_.deadband_comparator_deg)) err = 0.0;
   double ea = std::clamp(p_.kp * err, -p_.supply_v, p_.supply_v);
   if (p_.supply_sag_ohm > 0.0 && p_.supply_v > 0.0) {  // supply_sag: duty x (Vs - Rs |i|), or duty x V
     if (rail_rs_ > 0.0)
@@ -48,7 +51,37 @@ namespace chainsim {
   // sp_before drives the step until a frame inside it, sp_after for the
   // fraction `after` of the step that follows
   double sp_before = setpoint_, sp_after = setpoint_, after = 1.0;
-  if (p_.pwm_frame_s > 0.0) {
+  if (p_.pwm_frame_s > 0.0 && p_.pwm_pulse_s_per_deg > 0.0) {
+    // falling edge: the events of the step in time order; a frame (pulse
+    // start) takes the set-point of that moment, its falling edge latches it
+    // (the width is below the period, so at most one pulse is under way). A
+    // latch inside the step drives the part of the step after it
+    const double eps = 1e-9 * p_.pwm_frame_s;
+    const double end = time_s_ + h - eps;
+    sp_before = sp_after = applied_;
+    for (;;) {
+      const double edge = p_.pwm_frame_phase_s + static_cast<double>(frame_ + 1) * p_.pwm_frame_s;
+      if (latch_s_ >= 0.0 && latch_s_ < end && latch_s_ <= edge) {
+        if (latch_s_ <= time_s_ + eps) {
+          sp_before = pending_;
+          after = 1.0;
+        } else {
+          after = (time_s_ + h - latch_s_) / h;
+        }
+        sp_after = pending_;
+        applied_ = pending_;
+        latch_s_ = -1.0;
+      } else if (edge < end) {
+        ++frame_;
+        pending_ = setpoint_;
+        const double width =
+            1.5e-3 + p_.pwm_pulse_s_per_deg * (setpoint_ * kDegPerRad + p_.pwm_pulse_origin_deg - 90.0);
+        latch_s_ = edge + std::clamp(width, 0.0, 0.9 * p_.pwm_frame_s);
+      } else {
+        break;
+      }
+    }
+  } else if (p_.pwm_frame_s > 0.0) {
     const double eps = 1e-9 * p_.pwm_frame_s;
     // floor, without the library call: truncate, one down for a negative
     // fraction (the same integer as std::floor)

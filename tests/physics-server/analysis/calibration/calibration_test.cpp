@@ -25,6 +25,7 @@ const Pick kPicks[] = {
     {"B: supply_sag (linear driver, rail capacitor)", 101, false},
     {"B: supply_sag (PWM bridge, rail capacitor)", 100, false},
     {"cogging (outside the catalogue)", 1, true},
+    {"B: pwm_frame_delay (falling edge)", 100, false},
 };
 
 class Calibration : public ::testing::TestWithParam<Pick> {};
@@ -67,6 +68,10 @@ TEST_P(Calibration, NamesExactlyTheHiddenEffects) {
     const double period = t.frame_s * 1e3, phase = t.frame_phase_s * 1e3;
     EXPECT_NEAR(e["params"]["frame_ms"].get<double>(), period, 0.05);
     EXPECT_NEAR(e["params"]["phase_ms"].get<double>(), phase, 0.5);
+    // the falling-edge form: the pulse's slope within a fifth of the truth
+    if (t.pulse_s_per_deg > 0) {
+      EXPECT_NEAR(e["params"]["pulse_us_per_deg"].get<double>(), t.pulse_s_per_deg * 1e6, 0.2 * t.pulse_s_per_deg * 1e6);
+    }
     // each accepted effect has its evidence plot
     EXPECT_TRUE(std::filesystem::exists(dir + "/out/" + e["evidence"]["plot"].get<std::string>()));
   }

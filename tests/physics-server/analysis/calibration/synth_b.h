@@ -14,6 +14,15 @@
 //   driver draws from: C dV/dt = (Vs - V)/Rs - i_supply. A PWM bridge applies
 //   duty x V and draws duty x i (braking returns current to the rail); a
 //   linear driver applies clamp(Kp e, -V, V) and draws |i|.
+// * deadband (deadband_deg > 0): a window comparator before the amplifier:
+//   no drive while |error| < width/2, the whole error outside (analogue
+//   servos); generator A's is the dead zone that subtracts the band;
+// * set-point (with frames, frame_s > 0): sent as a pulse train, a pulse at
+//   every frame, 1.5 ms + k (sp - 90 deg) wide for the set-point of the
+//   moment it starts; the servo's decoder measures the pulse and acts on it
+//   at its falling edge (as an RC servo does), so the delay of a change is
+//   the time to the next frame plus that pulse's width. The integration is
+//   split at each falling edge.
 #pragma once
 
 #include <array>
@@ -28,6 +37,7 @@ using State = std::array<double, kN>;
 
 struct Servo {
   double kp, km, kt, r, l, b, j, jl, vs, tau_f, tau_load, g, rs, c, e;
+  double db = 0;      // comparator deadband, full width, rad
   bool linear;
   bool gear;          // with play
   bool engaged = false;
@@ -35,7 +45,8 @@ struct Servo {
   double ref = 0;
 
   void deriv(const State& x, State& dx) const {
-    const double err = ref - x[0];
+    double err = ref - x[0];
+    if (std::fabs(err) < 0.5 * db) err = 0;
     const double v = rs > 0 ? x[6] : vs;
     double ea, isup;
     if (linear) {
@@ -173,7 +184,8 @@ inline void advance(Servo& s, State& x, double t0, double t1, double& h) {
 
 }  // namespace b
 
-// generator B (above): backlash and supply sag only (other effects ignored)
+// generator B (above): backlash, supply sag, the comparator deadband and the
+// pulse train only (other effects ignored)
 inline Series generate_b(const Truth& tr, unsigned seed, double duration = 4.0) {
   std::mt19937_64 rng(seed ^ 0xb0b0b0b0u);
   std::uniform_real_distribution<double> u(-tr.base_spread, tr.base_spread);
@@ -188,6 +200,7 @@ inline Series generate_b(const Truth& tr, unsigned seed, double duration = 4.0) 
   s.g = 0.5 * tr.backlash_deg * deg;
   s.gear = tr.backlash_deg > 0;
   s.rs = tr.sag_ohm, s.c = tr.rail_c, s.e = tr.restitution, s.linear = tr.linear_driver;
+  s.db = tr.deadband_deg * deg;
   Series out;
   out.has_current = tr.current_column;
   out.t = sample_times(tr, duration, 1e-6, rng);
@@ -195,8 +208,30 @@ inline Series generate_b(const Truth& tr, unsigned seed, double duration = 4.0) 
   Meter meter(tr);
   b::State x = {out.sp[0] * deg, 0, out.sp[0] * deg, 0, 0, 0, tr.vs};
   double h = 1e-6;
+  // the pulses' falling edges and the set-points they carry (the set-point
+  // of the sample interval their frame falls in)
+  std::vector<std::pair<double, double>> latch;
+  if (tr.frame_s > 0) {
+    size_t j = 0;
+    for (double e = tr.frame_phase_s; e < out.t.back(); e += tr.frame_s) {
+      while (j + 1 < out.t.size() && out.t[j + 1] <= e) ++j;
+      const double w = 1.5e-3 + tr.pulse_s_per_deg * (out.sp[j] - 90);
+      latch.push_back({e + w, out.sp[j]});
+    }
+  }
+  size_t next = 0;
+  double held = out.sp[0];   // before the first pulse ends: the set-point it had
   for (size_t k = 0; k < out.t.size(); ++k) {
-    if (k > 0) {
+    if (k > 0 && tr.frame_s > 0) {
+      double t = out.t[k - 1];
+      for (; next < latch.size() && latch[next].first < out.t[k]; ++next) {
+        s.ref = held * deg;
+        if (latch[next].first > t) b::advance(s, x, t, latch[next].first, h), t = latch[next].first;
+        held = latch[next].second;
+      }
+      s.ref = held * deg;
+      b::advance(s, x, t, out.t[k], h);
+    } else if (k > 0) {
       s.ref = out.sp[k - 1] * deg;
       b::advance(s, x, out.t[k - 1], out.t[k], h);
     }

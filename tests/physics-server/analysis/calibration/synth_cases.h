@@ -67,6 +67,8 @@ inline std::vector<Case> cases() {
   for (const EffectSetter& e : es) {
     Case k{e.name, {e.name}, "explained", 'A', {}, e.set};
     if (e.name == "supply_sag") k.variant["supply_sag"] = "pwm_bridge";
+    if (e.name == "deadband") k.variant["deadband"] = "dead_zone";
+    if (e.name == "pwm_frame_delay") k.variant["pwm_frame_delay"] = "at_frame";
     c.push_back(k);
   }
   for (size_t a = 0; a < es.size(); ++a)
@@ -91,6 +93,23 @@ inline std::vector<Case> cases() {
                  t.sag_ohm = 4 * spread(r);
                  t.linear_driver = true;
                }});
+  // the pulse train decoded at its falling edge (RC servos), k log-uniform
+  // over 4-16 us/deg (1-2 ms over 180 deg is 5.6; 0.5-2.5 ms over 180 deg
+  // 11.1)
+  const auto falling = [](Truth& t, std::mt19937_64& r) {
+    t.frame_s = std::uniform_real_distribution<double>(0.008, 0.025)(r);
+    t.frame_phase_s = std::uniform_real_distribution<double>(0, t.frame_s)(r);
+    t.pulse_s_per_deg = 4e-6 * std::pow(4.0, std::uniform_real_distribution<double>(0, 1)(r));
+  };
+  c.push_back({"B: pwm_frame_delay (falling edge)", {"pwm_frame_delay"}, "explained", 'B',
+               {{"pwm_frame_delay", "falling_edge"}}, falling});
+  c.push_back({"B: pwm_frame_delay (falling edge)+backlash", {"pwm_frame_delay", "backlash"}, "explained", 'B',
+               {{"pwm_frame_delay", "falling_edge"}}, [falling](Truth& t, std::mt19937_64& r) {
+                 falling(t, r);
+                 t.backlash_deg = 3 * spread(r);
+               }});
+  c.push_back({"B: deadband (comparator)", {"deadband"}, "explained", 'B', {{"deadband", "comparator"}},
+               [](Truth& t, std::mt19937_64& r) { t.deadband_deg = 3 * spread(r); }});
   c.push_back({"B: backlash+supply_sag", {"backlash", "supply_sag"}, "explained", 'B',
                {{"backlash", "rigid"}, {"supply_sag", "pwm_bridge_rail"}}, [](Truth& t, std::mt19937_64& r) {
                  t.backlash_deg = 3 * spread(r);
@@ -106,7 +125,7 @@ inline Truth without_effect(Truth t, const std::string& name) {
   else if (name == "backlash") t.backlash_deg = 0;
   else if (name == "deadband") t.deadband_deg = 0;
   else if (name == "supply_sag") t.sag_ohm = 0;
-  else if (name == "pwm_frame_delay") t.frame_s = 0, t.frame_phase_s = 0;
+  else if (name == "pwm_frame_delay") t.frame_s = 0, t.frame_phase_s = 0, t.pulse_s_per_deg = 0;
   else if (name == "current_limit") t.ilim = 0;
   else throw std::invalid_argument("without_effect: no hidden effect named " + name);
   return t;

@@ -28,6 +28,9 @@ struct Truth {
   bool linear_driver = false;     // supply sag of a linear driver (else a PWM bridge)
   double restitution = 0.2;       // backlash impacts
   double rail_c = 470e-6;         // supply rail capacitor, F
+  // pulse train with frames (frame_s > 0): the pulse is 1.5 ms + this x (sp -
+  // 90 deg) wide and decoded at its falling edge, s/deg
+  double pulse_s_per_deg = 0;
   // measurement
   double angle_noise_deg = 0.2, angle_lsb_deg = 180.0 / 1023, current_noise_a = 0.002, current_full_a = 0.5;
   double base_spread = 0.05;  // true Kp, Km=Kt, R, Jl = datasheet x (1 +- U(spread))

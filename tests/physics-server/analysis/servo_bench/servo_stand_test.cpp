@@ -156,8 +156,9 @@ TEST(ServoStand, BenchFilesSetWhatTheyNameAndNameWhatIsWrong) {
   EXPECT_EQ(load_bench_text("", "b.yaml").dt_us, 500);  // empty: the defaults
   EXPECT_EQ(bench_error("servo:\n  Kq: 1\n"),
             "b.yaml:2:3: unknown key 'Kq' in 'servo' (known: B, J, Km, Kp, Kt, L, R, backlash_deg, "
-            "backlash_stiffness_nm_rad, coulomb_nm, current_limit_a, deadband_deg, i_threshold_a, "
-            "pwm_frame_phase_s, pwm_frame_s, supply_rail_f, supply_sag_linear_ohm, supply_sag_ohm, supply_v)");
+            "backlash_stiffness_nm_rad, coulomb_nm, current_limit_a, deadband_comparator_deg, deadband_deg, "
+            "i_threshold_a, pwm_frame_phase_s, pwm_frame_s, pwm_pulse_s_per_deg, supply_rail_f, "
+            "supply_sag_linear_ohm, supply_sag_ohm, supply_v)");
   EXPECT_EQ(bench_error("servo: {R: 0}\n"), "b.yaml:1:12: 'servo.R' = 0 must be > 0");
   EXPECT_EQ(bench_error("sim: {dt_us: 12.5}\n"), "b.yaml:1:14: 'sim.dt_us' must be an integer, not '12.5'");
   EXPECT_NE(bench_error("servo: {J: 0}\nload: {inertia_kgm2: 0}\n").find("b.yaml:2:7: "), std::string::npos);

@@ -64,6 +64,60 @@ TEST(ServoVariants, FramesStartAtThePhaseAndRepeatEveryPeriod) {
   EXPECT_EQ(st.theta, 0.0);
 }
 
+// the falling-edge variant: a frame starts a pulse 1.5 ms + k (sp - 90 deg)
+// wide for the set-point of that moment, acted on at its falling edge (RC
+// servos decode so); k = 1/90 ms per deg (0.5-2.5 ms over 180 deg)
+TEST(ServoVariants, AFallingEdgeDecoderActsAPulseWidthAfterTheFrame) {
+  ServoParams p;
+  p.pwm_frame_s = 0.02;
+  p.pwm_frame_phase_s = 0.007;
+  p.pwm_pulse_s_per_deg = 1e-3 / 90;
+  // 120 deg: 1.8333 ms after the frame at 7 ms, in the step from 8.8 ms
+  EXPECT_NEAR(latch_time(p, 0.003, 120 * kDeg), 0.0088, 1e-9);
+  // 60 deg: 1.1667 ms, in the step from 8.1 ms; the delay depends on the
+  // set-point by 0.67 ms
+  EXPECT_NEAR(latch_time(p, 0.003, 60 * kDeg), 0.0081, 1e-9);
+  // a change after the frame's start waits for the next pulse (27 ms)
+  EXPECT_NEAR(latch_time(p, 0.0075, 60 * kDeg), 0.0281, 1e-9);
+  // the set-point 0 of the model at 30 deg on the pulse's scale: 30 deg
+  // more is 60 deg, again 1.1667 ms
+  p.pwm_pulse_origin_deg = 30;
+  EXPECT_NEAR(latch_time(p, 0.003, 30 * kDeg), 0.0081, 1e-9);
+  // without the slope the frame latches at once (7 ms): the at-frame form
+  p.pwm_pulse_s_per_deg = 0;
+  EXPECT_NEAR(latch_time(p, 0.003, 30 * kDeg), 0.007, 1e-9);
+}
+
+// the deadband's comparator form: inside the window no drive; outside the
+// whole error drives (the first step's current as without a deadband), where
+// the dead zone drives with the error less the half-band
+TEST(ServoVariants, AComparatorDeadbandDrivesTheWholeErrorOutsideItsWindow) {
+  auto first_current = [](const ServoParams& p, double sp_deg) {
+    Stand st(p);
+    st.s.set_setpoint(sp_deg * kDeg);
+    st.step();
+    return st.s.mean_current_a();
+  };
+  ServoParams none, comparator, zone;
+  comparator.deadband_comparator_deg = 4;
+  zone.deadband_deg = 4;
+  // 1.5 deg: inside the window, no drive for either form
+  EXPECT_EQ(first_current(comparator, 1.5), 0.0);
+  EXPECT_EQ(first_current(zone, 1.5), 0.0);
+  // 3 deg: the comparator passes all of it, the dead zone 1 deg of it
+  const double full = first_current(none, 3.0);
+  ASSERT_GT(full, 0.0);
+  EXPECT_EQ(first_current(comparator, 3.0), full);
+  EXPECT_NEAR(first_current(zone, 3.0), full / 3, 0.05 * full);
+  // from 10 deg away the comparator stops the drive once inside the window:
+  // the servo comes to rest with the error within it, not at the set-point
+  Stand st(comparator);
+  st.run(0.5, 10 * kDeg);
+  const double err = 10 - st.theta / kDeg;
+  EXPECT_LE(std::fabs(err), 2.0 + 0.2);
+  EXPECT_GT(std::fabs(err), 0.05);
+}
+
 // a frame inside a step acts for the part of the step after it: half-way
 // through a 100 us step, the move lies half-way between the same frame
 // latched at the step's start and at its end (latched at the next step, as
