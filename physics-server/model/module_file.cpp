@@ -426,7 +426,10 @@ class Parser {
     for (const Field& f : kFields) keys.insert(f.key);
     check_keys(n, p, keys);
     ServoParams s;  // the paper's Table 1, then the file's overrides
-    for (const Field& f : kFields) s.*f.member = number(n, f.key, p, s.*f.member, f.lo, kBig);
+    for (const Field& f : kFields)
+      s.*f.member = number(n, f.key, p, s.*f.member, f.lo,
+                           f.member == &ServoParams::pwm_pulse_s_per_deg ? kMaxPulseSPerDeg : kBig);
+    if (const std::string why = servo_params_conflict(s); !why.empty()) fail(n, "'" + p + "': " + why);
     return s;
   }
 

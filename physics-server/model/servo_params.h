@@ -37,14 +37,32 @@ struct ServoParams {
   // deadband, comparator form: total width, degrees; inside no drive, outside
   // the whole error drives (an analogue servo's window comparator); 0 = off
   double deadband_comparator_deg = 0.0;
-  // ... and the set-point (deg on the pulse's scale) at the model's set-point
-  // 0 (the servo bench sets its first row's; servo_stand.cpp)
-  double pwm_pulse_origin_deg = 0.0;
+  // ... and the set-point (deg on the pulse's scale, where 90 is the 1.5 ms
+  // centre) at the model's set-point 0: in a module the joint angle 0 is the
+  // servo's centre, hence 90; the servo bench sets its first row's
+  // (servo_stand.cpp), its set-points being relative to it
+  double pwm_pulse_origin_deg = 90.0;
   // Current sense chain (our assumption, the paper gives no figures): a 1 ohm
   // shunt, an amplifier of gain 10 and a 10-bit ADC with a 5 V reference:
   // 1023 counts = 0.5 A (0.489 mA per count). The stall current is
   // Vs/R = 0.417 A = 853 counts, so the full range is used with headroom.
   double adc_full_scale_a = 0.5;
 };
+
+// The largest pulse width per degree a file may give, s/deg: 100 us/deg
+// (an 18 ms pulse over 180 degrees, near a 50 Hz frame; real servos take 5.6
+// for 1-2 ms and 11.1 for 0.5-2.5 ms). A figure from the calibration's
+// report, in us/deg, pasted as s/deg is caught by it.
+constexpr double kMaxPulseSPerDeg = 1e-4;
+
+// What is wrong with a combination of the effects' keys a file gave, naming
+// the keys; empty when nothing is. Each key alone is checked by its reader.
+inline const char* servo_params_conflict(const ServoParams& s) {
+  if (s.pwm_pulse_s_per_deg > 0.0 && !(s.pwm_frame_s > 0.0))
+    return "'pwm_pulse_s_per_deg' needs 'pwm_frame_s' (the pulses come once a frame)";
+  if (s.deadband_deg > 0.0 && s.deadband_comparator_deg > 0.0)
+    return "'deadband_deg' and 'deadband_comparator_deg' are two forms of one deadband: give one";
+  return "";
+}
 
 }  // namespace chainsim

@@ -42,8 +42,9 @@ void load_servo(const StrictYaml& y, const YAML::Node& n, ServoParams* p) {
   set(y, n, s, "supply_sag_linear_ohm", 0, false, 1e6, &p->supply_sag_linear_ohm);
   set(y, n, s, "backlash_stiffness_nm_rad", 0, false, 1e9, &p->backlash_stiffness_nm_rad);
   set(y, n, s, "supply_rail_f", 0, false, 10, &p->supply_rail_f);
-  set(y, n, s, "pwm_pulse_s_per_deg", 0, false, 1e-3, &p->pwm_pulse_s_per_deg);
+  set(y, n, s, "pwm_pulse_s_per_deg", 0, false, kMaxPulseSPerDeg, &p->pwm_pulse_s_per_deg);
   set(y, n, s, "deadband_comparator_deg", 0, false, 90, &p->deadband_comparator_deg);
+  if (const std::string why = servo_params_conflict(*p); !why.empty()) y.fail(n, "'servo': " + why);
 }
 
 }  // namespace

@@ -94,10 +94,11 @@
 //    set-point it had). A frame inside a step acts for the part of the step
 //    after it (the step's drive uses the time-weighted mean set-point).
 //    Falling-edge variant, pwm_pulse_s_per_deg = k > 0: a frame starts a
-//    pulse whose width carries the set-point of that moment, 1.5 ms + k (sp -
-//    90 deg) (the RC convention: 1.5 ms is the middle), and the servo's
-//    decoder acts on it at the pulse's falling edge, so the delay depends on
-//    the set-point as well as on the frame phase.
+//    pulse whose width carries the set-point of that moment, 1.5 ms + k (sp +
+//    pwm_pulse_origin_deg - 90 deg) (the RC convention: 1.5 ms is the middle;
+//    the origin 90, the default, puts it at a module's joint angle 0), and
+//    the servo's decoder acts on it at the pulse's falling edge, so the delay
+//    depends on the set-point as well as on the frame phase.
 //  * current_limit  current_limit_a: the driver limits the drive voltage to
 //    Km w +- R I_lim (w at the start of the step), so |i| settles at <= I_lim.
 #pragma once

@@ -104,6 +104,28 @@ TEST(ModuleFile, ServoCanSwitchOnCalibrationEffects) {
   EXPECT_DOUBLE_EQ(d.actuators[0].servo->deadband_deg, 0.0);  // not named: off
 }
 
+// the effects' keys that only make sense together, or not together, and a
+// pulse slope given in the report's us/deg where the file takes s/deg
+TEST(ModuleFile, ServoEffectKeysThatDoNotGoTogetherAreNamed) {
+  auto with_servo = [](const std::string& servo) {
+    std::string text = kGood;
+    const std::string from = "servo: {kt: 0.07}";
+    text.replace(text.find(from), from.size(), "servo: " + servo);
+    return text;
+  };
+  const std::string alone = error_of(with_servo("{pwm_pulse_s_per_deg: 1.1e-5}"));
+  EXPECT_NE(alone.find("'pwm_pulse_s_per_deg' needs 'pwm_frame_s'"), std::string::npos) << alone;
+  const std::string both = error_of(with_servo("{deadband_deg: 2, deadband_comparator_deg: 2}"));
+  EXPECT_NE(both.find("'deadband_deg' and 'deadband_comparator_deg' are two forms of one deadband"),
+            std::string::npos)
+      << both;
+  const std::string us = error_of(with_servo("{pwm_frame_s: 0.02, pwm_pulse_s_per_deg: 11.1}"));
+  EXPECT_NE(us.find("pwm_pulse_s_per_deg"), std::string::npos) << us;
+  const ModuleDef d = load_module_text(with_servo("{pwm_frame_s: 0.02, pwm_pulse_s_per_deg: 1.1e-5}"), "m.yaml");
+  EXPECT_DOUBLE_EQ(d.actuators[0].servo->pwm_pulse_s_per_deg, 1.1e-5);
+  EXPECT_DOUBLE_EQ(d.actuators[0].servo->pwm_pulse_origin_deg, 90.0);  // the joint's 0 is the 1.5 ms centre
+}
+
 TEST(ModuleFile, ShippedFilesAreTheBuiltInTypes) {
   const std::vector<std::string> want = {"extension", "helicoidal", "passive",  "rotation",
                                          "support",   "touch",      "traveller"};

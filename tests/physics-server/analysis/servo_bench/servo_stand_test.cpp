@@ -162,6 +162,10 @@ TEST(ServoStand, BenchFilesSetWhatTheyNameAndNameWhatIsWrong) {
   EXPECT_EQ(bench_error("servo: {R: 0}\n"), "b.yaml:1:12: 'servo.R' = 0 must be > 0");
   EXPECT_EQ(bench_error("sim: {dt_us: 12.5}\n"), "b.yaml:1:14: 'sim.dt_us' must be an integer, not '12.5'");
   EXPECT_NE(bench_error("servo: {J: 0}\nload: {inertia_kgm2: 0}\n").find("b.yaml:2:7: "), std::string::npos);
+  EXPECT_EQ(bench_error("servo: {pwm_pulse_s_per_deg: 1e-5}\n"),
+            "b.yaml:1:8: 'servo': 'pwm_pulse_s_per_deg' needs 'pwm_frame_s' (the pulses come once a frame)");
+  EXPECT_NE(bench_error("servo: {deadband_deg: 1, deadband_comparator_deg: 1}\n").find("two forms of one deadband"),
+            std::string::npos);
   EXPECT_THROW(load_bench_config("/no/such/bench.yaml"), BenchError);
 }
 

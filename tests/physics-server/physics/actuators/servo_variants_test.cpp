@@ -64,19 +64,24 @@ TEST(ServoVariants, FramesStartAtThePhaseAndRepeatEveryPeriod) {
   EXPECT_EQ(st.theta, 0.0);
 }
 
-// the falling-edge variant: a frame starts a pulse 1.5 ms + k (sp - 90 deg)
-// wide for the set-point of that moment, acted on at its falling edge (RC
-// servos decode so); k = 1/90 ms per deg (0.5-2.5 ms over 180 deg)
+// the falling-edge variant: a frame starts a pulse 1.5 ms + k (sp + origin -
+// 90 deg) wide for the set-point of that moment, acted on at its falling edge
+// (RC servos decode so); k = 1/90 ms per deg (0.5-2.5 ms over 180 deg). The
+// default origin, 90, is a module's: its joint angle 0 is the 1.5 ms centre
 TEST(ServoVariants, AFallingEdgeDecoderActsAPulseWidthAfterTheFrame) {
   ServoParams p;
   p.pwm_frame_s = 0.02;
   p.pwm_frame_phase_s = 0.007;
   p.pwm_pulse_s_per_deg = 1e-3 / 90;
-  // 120 deg: 1.8333 ms after the frame at 7 ms, in the step from 8.8 ms
-  EXPECT_NEAR(latch_time(p, 0.003, 120 * kDeg), 0.0088, 1e-9);
-  // 60 deg: 1.1667 ms, in the step from 8.1 ms; the delay depends on the
+  // joint angle 30 deg: 1.8333 ms after the frame at 7 ms, in the step from
+  // 8.8 ms
+  EXPECT_NEAR(latch_time(p, 0.003, 30 * kDeg), 0.0088, 1e-9);
+  // -30 deg: 1.1667 ms, in the step from 8.1 ms; the delay depends on the
   // set-point by 0.67 ms
-  EXPECT_NEAR(latch_time(p, 0.003, 60 * kDeg), 0.0081, 1e-9);
+  EXPECT_NEAR(latch_time(p, 0.003, -30 * kDeg), 0.0081, 1e-9);
+  // the pulse's scale given as on a bench: 120 deg is 1.8333 ms again
+  p.pwm_pulse_origin_deg = 0;
+  EXPECT_NEAR(latch_time(p, 0.003, 120 * kDeg), 0.0088, 1e-9);
   // a change after the frame's start waits for the next pulse (27 ms)
   EXPECT_NEAR(latch_time(p, 0.0075, 60 * kDeg), 0.0281, 1e-9);
   // the set-point 0 of the model at 30 deg on the pulse's scale: 30 deg
