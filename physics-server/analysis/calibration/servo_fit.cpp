@@ -228,6 +228,29 @@ void scan_phase(ModelRuns& runs, const FitProblem& p, const std::vector<int>& ef
   (*x)[i] = best_v;
 }
 
+// a frame clock's parameters from x: the phase (x[ip]) and the base's speed
+// trade off (a later frame looks like a slower servo), so they are fitted
+// together, then the phase scanned, until it stays; a fit that stops at the
+// screen is fitted no further (*stopped). The fit at the final x, with the
+// fits' model runs as its evals (not the scans')
+Fit fit_clock_and_phase(ModelRuns& runs, const FitProblem& p, const std::vector<int>& eff, std::vector<double> x,
+                        size_t ip, const GiveUp* screen, bool* stopped) {
+  GiveUp g = screen ? *screen : GiveUp{};
+  int evals = 0;
+  for (int turn = 0; turn < 3; ++turn) {
+    const Fit f = fit_model(runs, p, eff, x, Samples::training, kMaxEvalJoint, screen && turn == 0 ? &g : nullptr);
+    x = f.x;
+    evals += f.evals;
+    if (g.stopped) break;
+    scan_phase(runs, p, eff, &x, ip, 0.5, 0.05);
+    if (std::fabs(x[ip] - f.x[ip]) < 0.01) break;
+  }
+  *stopped = g.stopped;
+  Fit out = evaluate_fit(runs, p, eff, x);
+  out.evals = evals;
+  return out;
+}
+
 // a frame clock on top of ref: its period and phase from the set-point
 // changes' delays against two models without it (the reference, which may
 // have bent its base to mimic the delay, and the datasheet base), from every
@@ -265,23 +288,7 @@ Fit fit_frame_clock_effect(ModelRuns& runs, const FitProblem& p, const Fit& ref,
     x.push_back(ck.fc.clock.period_s * 1e3);
     x.push_back(ck.fc.clock.phase_s * 1e3);
     scan_phase(runs, p, eff, &x, ip, 1.5, 0.1);
-    // the phase and the base's speed trade off (a later frame looks like a
-    // slower servo): fitted together, then the phase scanned, until it
-    // stays; a clock that stops at the screen is fitted no further
-    GiveUp g = screen ? *screen : GiveUp{};
-    Fit f;
-    int evals = 0;   // the fits' model runs (not the scans')
-    for (int turn = 0; turn < 3; ++turn) {
-      f = fit_model(runs, p, eff, x, Samples::training, kMaxEvalJoint, screen && turn == 0 ? &g : nullptr);
-      x = f.x;
-      evals += f.evals;
-      if (g.stopped) break;
-      scan_phase(runs, p, eff, &x, ip, 0.5, 0.05);
-      if (std::fabs(x[ip] - f.x[ip]) < 0.01) break;
-    }
-    ck.stopped = g.stopped;
-    ck.fit = evaluate_fit(runs, p, eff, x);
-    ck.fit.evals = evals;
+    ck.fit = fit_clock_and_phase(runs, p, eff, x, ip, screen, &ck.stopped);
   });
   for (Clock& ck : clocks) {
     Fit& f = ck.fit;
@@ -362,21 +369,11 @@ Fit fit_falling_edge(ModelRuns& runs, const FitProblem& p, const Fit& ref, int e
     scan_phase(runs, p, eff, &xs[k], ip, 1.5, 0.1);
     loss[k] = set_loss(runs, p, eff, xs[k], Samples::training);
   }
-  std::vector<double> x = xs[static_cast<size_t>(std::min_element(loss.begin(), loss.end()) - loss.begin())];
-  GiveUp g = screen ? *screen : GiveUp{};
-  Fit f;
-  int evals = 0;
-  for (int turn = 0; turn < 3; ++turn) {
-    f = fit_model(runs, p, eff, x, Samples::training, kMaxEvalJoint, screen && turn == 0 ? &g : nullptr);
-    x = f.x;
-    evals += f.evals;
-    if (g.stopped) break;
-    scan_phase(runs, p, eff, &x, ip, 0.5, 0.05);
-    if (std::fabs(x[ip] - f.x[ip]) < 0.01) break;
-  }
-  if (screen) screen->stopped = g.stopped;
-  f = evaluate_fit(runs, p, eff, x);
-  f.evals = evals;
+  const size_t best = static_cast<size_t>(std::min_element(loss.begin(), loss.end()) - loss.begin());
+  bool stopped = false;
+  Fit f = fit_clock_and_phase(runs, p, eff, xs[best], ip, screen, &stopped);
+  if (screen) screen->stopped = stopped;
+  const std::vector<double>& x = f.x;
   // intervals: period from the refined clock's; phase widened by the shift
   // from it; k from the curvature of the training loss (-2 log-likelihood
   // in noise units) at +-0.5 us/deg, inflated by the residual's correlation
