@@ -43,7 +43,7 @@ struct Effect {
   // the simpler form of the same effect that this one refines (one more
   // parameter); "" for none, and a form that refines nothing itself. A
   // refining form is fitted only in a round where its simpler form shows the
-  // effect (effect_search.h)
+  // effect, or (a frame clock) finds no clock (effect_search.h)
   const char* refines = "";
 };
 

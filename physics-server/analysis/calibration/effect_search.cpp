@@ -83,14 +83,22 @@ const Candidate* refined_form(const std::vector<Candidate>& cands, const Effect&
 // whether the form that `ef` refines, fitted this round, shows the effect:
 // its profile interval excludes the null and it predicts the held-out blocks
 // better by the held-out test at the plain 5 % level (a screen: no
-// correction for the number of candidates, which acceptance applies)
+// correction for the number of candidates, which acceptance applies). A
+// frame clock needs only the first: where the pulse widths of a
+// falling-edge decoder spread the delays, the plain clock found is a
+// compromise that fits the training blocks and may not predict the
+// held-out ones, which the refining form, fitted from its own clocks too,
+// then does; and where no plain clock is found at all, the refining form
+// is tried all the same (its corrected delays may make one)
 bool shows_effect(const FitProblem& p, const Fit& ref, const std::vector<Candidate>& cands, const Effect& ef) {
   const Candidate* c = refined_form(cands, ef);
   if (!c) return false;
+  const bool clock = ef.fit == EffectFit::frame_clock;
+  if (clock && !c->fit.valid) return true;
   const int dof = dof_of(c->effect);
   return fitted_in_full(*c) &&
          profile_test(ref.sse_train, c->fit.sse_train, training_terms(p), c->fit.rho_train, dof).excludes_null &&
-         held_out_test(ref.loss, c->fit.loss, c->fit.rho_held, p.split, channels(p), 1, dof).significant;
+         (clock || held_out_test(ref.loss, c->fit.loss, c->fit.rho_held, p.split, channels(p), 1, dof).significant);
 }
 
 // of the passing candidate `best` and the other variants of its effect, the
@@ -164,7 +172,15 @@ GiveUp screen_for(const FitProblem& p, const Fit& ref, int e, const Fit* refined
   GiveUp g;
   const double n = static_cast<double>(param_count(ref.effects) + dof_of(e));
   g.after = static_cast<int>(kScreenSets * (2 * n + 1));
-  // against the refined form: its extra parameters only
+  // against the refined form, where it predicts the held-out blocks better
+  // than ref (at the plain 5 % level): its extra parameters only. Where it
+  // does not, the refining form need not beat it on the training blocks to
+  // be named (choose_variant weighs only forms that pass), so it is screened
+  // against ref as any other candidate
+  if (refined && (!refined->valid || !held_out_test(ref.loss, refined->loss, refined->rho_held, p.split, channels(p), 1,
+                                                    dof_of(refined->effects.back()))
+                                          .significant))
+    refined = nullptr;
   const Fit& against = refined ? *refined : ref;
   const int dof = refined ? dof_of(e) - dof_of(refined->effects.back()) : dof_of(e);
   const double terms = training_terms(p), samples = terms / channels(p);
@@ -380,10 +396,36 @@ void fit_refining_forms(ModelRuns& runs, const FitProblem& p, const Reference& r
     r.c = fit_candidate(runs, p, ref, regime, r.effect, true, &refined_form(*cands, effect_catalogue()[r.effect])->fit,
                         r.lines);
   });
+  // a frame clock's refining form fitted in full: the plain clock fitted
+  // again from its solution, kept where that fits the training blocks
+  // better than the plain clock's own fit (servo_fit.h, refit_plain_clock)
+  std::vector<std::pair<Candidate*, const Candidate*>> again;   // (plain, refining)
+  for (size_t k : fit) {
+    const Refining& r = rf[k];
+    if (effect_catalogue()[r.effect].fit != EffectFit::frame_clock || !fitted_in_full(r.c)) continue;
+    for (Candidate& c : *cands)
+      if (&c == refined_form(*cands, effect_catalogue()[r.effect])) again.push_back({&c, &r.c});
+  }
+  std::vector<Lines> again_lines(again.size());
+  run_paired_each(runs, again.size(), [&](ModelRuns& runs, size_t k) {
+    Candidate& c = *again[k].first;
+    const int runs_before = runs.count();
+    Fit f = refit_plain_clock(runs, p, ref.fit, c.effect, again[k].second->fit);
+    c.runs += runs.count() - runs_before;
+    if (c.fit.valid && !(f.train < c.fit.train)) return;
+    again_lines[k].push_back("  candidate " + effect_label(c.effect) + " fitted again from " +
+                             effect_label(again[k].second->effect) + "'s solution: training loss " +
+                             (c.fit.valid ? fmt_g(c.fit.train) : std::string("(no clock)")) + " -> " +
+                             fmt_g(f.train));
+    c.fit = std::move(f);
+    c.screen.stopped = false;
+    finish_candidate(runs, p, ref.fit, regime, c, again_lines[k]);
+  });
   for (Refining& r : rf) {
     for (const std::string& l : r.lines) say(l);
     if (r.fitted) cands->push_back(std::move(r.c));
   }
+  say_all(say, again_lines);
 }
 
 Selection select_candidate(ModelRuns& runs, const FitProblem& p, const Fit& ref, std::vector<Candidate>* cands,

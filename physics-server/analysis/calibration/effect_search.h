@@ -70,8 +70,10 @@ struct EffectSearch {
 // training loss at which the profile test's statistic against ref is
 // screen_crit (with ref's correlation inflation), or it stops there (a frame
 // clock: each clock found, in its first fit; servo_fit.h). With
-// refined (the fit of the form that effect refines), the loss is the one at
-// which its extra parameters' statistic against that fit is screen_crit.
+// refined (the fit of the form that effect refines), where that fit
+// predicts the held-out blocks better than ref at the plain 5 % level, the
+// loss is the one at which its extra parameters' statistic against that fit
+// is screen_crit.
 GiveUp screen_for(const FitProblem& p, const Fit& ref, int effect, const Fit* refined = nullptr);
 
 // whether a candidate of the smooth kind is also fitted from the datasheet
@@ -155,7 +157,9 @@ void fit_second_starts(ModelRuns& runs, const FitProblem& p, const Fit& ref, con
 
 // 4. the forms that refine another (not in `used`), each fitted, screened
 // against the form it refines and from its solution, where that form as
-// fitted in 2-3 shows the effect (shows_effect); appended to cands
+// fitted in 2-3 shows the effect (shows_effect: for a frame clock, on the
+// training blocks, or no clock found, when it is screened against the
+// reference and fitted from its own clocks); appended to cands
 void fit_refining_forms(ModelRuns& runs, const FitProblem& p, const Reference& ref, const std::vector<int>& regime,
                         const std::set<std::string>& used, std::vector<Candidate>* cands,
                         const CalibrationProgress& say);

@@ -76,7 +76,7 @@ std::vector<ChangeDelay> estimate_delays(ModelRuns& runs, const FitProblem& p, c
     // curvature over +-1 ms: e ~ e_min + (delay - d)^2 / sd^2
     const int s = std::max(1, static_cast<int>(std::lround(1e-3 / kGrid_s)));
     const int lo = std::max(0, best - s), hi = std::min(nd, best + s);
-    ChangeDelay d{tc, best * kGrid_s, -1, m.sp[ch[c].k] - m.sp[ch[c].k - 1]};
+    ChangeDelay d{tc, best * kGrid_s, -1, m.sp[ch[c].k] - m.sp[ch[c].k - 1], m.sp[ch[c].k]};
     if (hi > lo && best > 0 && best < nd) {
       const double hl = (best - lo) * kGrid_s, hh = (hi - best) * kGrid_s;
       const double c2 = 2 * ((e[lo] - e[best]) / hl + (e[hi] - e[best]) / hh) / (hl + hh);
@@ -110,9 +110,15 @@ FrameClockFit fit_frame_clock(const std::vector<ChangeDelay>& all, double t0, do
   if (d.size() < 4) return out;
   std::vector<double> tol(d.size());
   for (size_t c = 0; c < d.size(); ++c) tol[c] = std::max(5e-4, 2.5 * d[c].sd);
-  auto score = [&](double period, double frame_abs) {
+  // the clock's score; below `floor` it stops early and gives -1: each
+  // change adds at most 1, so a clock whose score plus the changes left
+  // cannot reach the floor is not scored further (the scan asks for the
+  // best so far, less a margin far above the sum's rounding: it picks the
+  // same clock as a full scoring would)
+  auto score = [&](double period, double frame_abs, double floor) {
     double s = 0;
     for (size_t c = 0; c < d.size(); ++c) {
+      if (s + static_cast<double>(d.size() - c) < floor) return -1.0;
       const double pred = std::fmod(std::fmod(frame_abs - d[c].t, period) + period, period);
       const double q = delay_dist(pred, d[c].delay, period, tol[c]) / tol[c];
       if (q < 1) s += 1 - q * q;
@@ -129,7 +135,7 @@ FrameClockFit fit_frame_clock(const std::vector<ChangeDelay>& all, double t0, do
   double best = -1, best_period = 0, best_frame = 0;
   for (double f = 1.0 / period_hi; f <= 1.0 / period_lo + 1e-12; f += df)
     for (size_t a : order) {
-      const double s = score(1.0 / f, d[a].t + d[a].delay);
+      const double s = score(1.0 / f, d[a].t + d[a].delay, best + 1e-9 - 1e-6);
       if (s > best + 1e-9) best = s, best_period = 1.0 / f, best_frame = d[a].t + d[a].delay;
     }
   // weighted least squares of the inliers' frame times on their frame numbers
@@ -149,7 +155,7 @@ FrameClockFit fit_frame_clock(const std::vector<ChangeDelay>& all, double t0, do
       ++inl;
       // a delay within 2 sd of 0 is censored (it cannot come out negative):
       // an inlier, but biased, so it stays out of the least squares
-      if (d[c].delay < 2 * d[c].sd) continue;
+      if (d[c].delay + d[c].shift < 2 * d[c].sd) continue;
       const double fc = d[c].t + d[c].delay;
       const double n = std::round((fc - frame) / period);
       const double w = 1.0 / (d[c].sd * d[c].sd);
@@ -213,9 +219,12 @@ FrameClockFit frame_clock_for(ModelRuns& runs, const FitProblem& p, const BenchC
   return fit_frame_clock(estimate_delays(runs, p, b, hi), p.m.t.front(), lo, hi);
 }
 
-std::vector<FrameClockFit> frame_clocks_for(ModelRuns& runs, const FitProblem& p, const BenchConfig& b) {
+namespace {
+
+// the clocks of delays d: from every change, and from the large steps where
+// their frames differ
+std::vector<FrameClockFit> clocks_of(const FitProblem& p, const std::vector<ChangeDelay>& d) {
   const auto [lo, hi] = period_range();
-  const std::vector<ChangeDelay> d = estimate_delays(runs, p, b, hi);
   std::vector<FrameClockFit> out;
   const FrameClockFit all = fit_frame_clock(d, p.m.t.front(), lo, hi);
   if (all.found) out.push_back(all);
@@ -225,6 +234,40 @@ std::vector<FrameClockFit> frame_clocks_for(ModelRuns& runs, const FitProblem& p
   const double span = p.m.t.back() - p.m.t.front();
   if (large.found && !(all.found && same_frames(all.clock, large.clock, span, 1e-3 * kClockPhaseWindowMs)))
     out.push_back(large);
+  return out;
+}
+
+}  // namespace
+
+std::vector<FrameClockFit> frame_clocks_for(ModelRuns& runs, const FitProblem& p, const BenchConfig& b) {
+  return clocks_of(p, estimate_delays(runs, p, b, period_range().second));
+}
+
+std::vector<ChangeDelay> falling_edge_delays(const std::vector<ChangeDelay>& d, double k_s_per_deg) {
+  std::vector<ChangeDelay> out = d;
+  for (ChangeDelay& c : out) {
+    const double s = 1.5e-3 + k_s_per_deg * (c.sp_deg - 90.0);
+    c.delay -= s;
+    c.shift += s;
+  }
+  return out;
+}
+
+std::vector<PulseClock> pulse_clocks_for(ModelRuns& runs, const FitProblem& p, const BenchConfig& b,
+                                         const std::vector<double>& slopes_us_per_deg) {
+  const std::vector<ChangeDelay> d = estimate_delays(runs, p, b, period_range().second);
+  std::vector<PulseClock> all;
+  for (double k : slopes_us_per_deg)
+    for (const FrameClockFit& fc : clocks_of(p, falling_edge_delays(d, 1e-6 * k))) all.push_back({k, fc});
+  std::stable_sort(all.begin(), all.end(),
+                   [](const PulseClock& a, const PulseClock& b) { return a.fit.inliers > b.fit.inliers; });
+  const double span = p.m.t.back() - p.m.t.front();
+  std::vector<PulseClock> out;
+  for (const PulseClock& c : all)
+    if (std::none_of(out.begin(), out.end(), [&](const PulseClock& o) {
+          return same_frames(o.fit.clock, c.fit.clock, span, 1e-3 * kClockPhaseWindowMs);
+        }))
+      out.push_back(c);
   return out;
 }
 

@@ -31,6 +31,8 @@ std::vector<SetpointChange> setpoint_changes(const MeasuredRecord& m);
 struct ChangeDelay {
   double t = 0, delay = 0, sd = -1;
   double step_deg = 0;   // the set-point's change
+  double sp_deg = 0;     // the set-point it goes to
+  double shift = 0;      // s taken off the measured delay (falling_edge_delays)
 };
 
 // A second clock from the large set-point steps alone: a small step's
@@ -79,5 +81,30 @@ FrameClockFit frame_clock_for(ModelRuns& runs, const FitProblem& p, const BenchC
 // of kClockMinStepDeg or more alone where its frames differ from the first
 // clock's by more than the fit's phase window (none, one or two)
 std::vector<FrameClockFit> frame_clocks_for(ModelRuns& runs, const FitProblem& p, const BenchConfig& b);
+
+
+// The delays a falling-edge decoder (docs/calibration.md, the catalogue's
+// `falling_edge` form) leaves to its frames, for a pulse slope k (s/deg):
+// each change waits for the next frame and then for its pulse, 1.5 ms + k
+// (sp - 90 deg) wide for the set-point sp it carries, so a change's delay
+// less that width is its wait for the frame. Spread by the pulse widths,
+// the measured delays may make no clock at all, or a compromise
+// (frame_clocks_for); corrected, they make the frames' clock. (A delay is
+// never explained beyond a period, so the whole width comes off, not only
+// its spread.)
+std::vector<ChangeDelay> falling_edge_delays(const std::vector<ChangeDelay>& d, double k_s_per_deg);
+
+// a clock found in the delays corrected for one pulse slope
+struct PulseClock {
+  double k_us_per_deg = 0;
+  FrameClockFit fit;
+};
+
+// per slope (us/deg), the clocks that the delays against the model b,
+// corrected so, make (from every change and from the large steps, as
+// frame_clocks_for); of clocks with the same frames, the one with the most
+// inliers (the first slope on a tie): one start each for the falling-edge fit
+std::vector<PulseClock> pulse_clocks_for(ModelRuns& runs, const FitProblem& p, const BenchConfig& b,
+                                         const std::vector<double>& slopes_us_per_deg);
 
 }  // namespace chainsim

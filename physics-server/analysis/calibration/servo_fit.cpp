@@ -251,6 +251,13 @@ Fit fit_clock_and_phase(ModelRuns& runs, const FitProblem& p, const std::vector<
   return out;
 }
 
+// a clock parameter's interval (ms): the delays' least-squares one (ci_s,
+// about their estimate est_s, in s), widened to reach the fitted value v
+std::pair<double, double> widened(double v, std::pair<double, double> ci_s, double est_s) {
+  const double w = std::max(0.5 * 1e3 * (ci_s.second - ci_s.first), std::fabs(v - 1e3 * est_s));
+  return std::make_pair(v - w, v + w);
+}
+
 // a frame clock on top of ref: its period and phase from the set-point
 // changes' delays against two models without it (the reference, which may
 // have bent its base to mimic the delay, and the datasheet base), from every
@@ -296,10 +303,6 @@ Fit fit_frame_clock_effect(ModelRuns& runs, const FitProblem& p, const Fit& ref,
     if (!best.valid || f.train < best.train) {
       // the intervals: the delays' least-squares ones, widened to reach
       // the fitted values
-      auto widened = [](double v, std::pair<double, double> ci_s, double est_s) {
-        const double w = std::max(0.5 * 1e3 * (ci_s.second - ci_s.first), std::fabs(v - 1e3 * est_s));
-        return std::make_pair(v - w, v + w);
-      };
       const double per = f.x[ip - 1], ph = f.x[ip];
       best = std::move(f);
       best.held_ci = ref.held_ci;
@@ -318,13 +321,34 @@ Fit fit_frame_clock_effect(ModelRuns& runs, const FitProblem& p, const Fit& ref,
   return f;
 }
 
+// the pulse (ms) of the mean set-point the changes go to, for a slope k
+// (us/deg): a plain clock fitted to a falling-edge decoder latches at that
+// pulse's falling edge, so its frames are that much later than the decoder's
+double mean_pulse_ms(const FitProblem& p, double k_us_per_deg) {
+  double mean_sp = 0;
+  const std::vector<SetpointChange> ch = setpoint_changes(p.m);
+  for (const SetpointChange& c : ch) mean_sp += p.m.sp[c.k];
+  mean_sp = ch.empty() ? 90.0 : mean_sp / static_cast<double>(ch.size());
+  return 1.5 + 1e-3 * k_us_per_deg * (mean_sp - 90.0);
+}
+
+// v in [0, period)
+double wrapped(double v, double period) { return std::fmod(std::fmod(v, period) + period, period); }
+
 // the falling-edge form (pulse width 1.5 ms + k (sp - 90 deg), acting at
-// its falling edge) from the clock of the form it refines (`refined`, fitted
-// on top of ref; fitted here when null): that clock's latch times are the
-// falling edges of the mean set-point's pulse, so the frames start earlier
-// by that pulse's width. Each slope k of a few physical conventions is tried
-// with the phase moved so, and scanned; from the best the base, period,
-// phase and k are fitted together as the clock's fit does
+// its falling edge), from two kinds of start:
+// * the clock of the form it refines (`refined`, fitted on top of ref;
+//   fitted here when null), where that clock was found: its latch times are
+//   the falling edges of the mean set-point's pulse, so the frames start
+//   earlier by that pulse's width. Each slope k of a few physical
+//   conventions is tried with the phase moved so, and scanned;
+// * the frame clocks of the delays less each change's pulse width for each
+//   of those slopes (pulse_clocks_for), against ref's base and the
+//   datasheet's: where the pulse widths spread the delays, the plain clock
+//   may not be found at all, or be a compromise, while the corrected delays
+//   make the frames' clock.
+// From the best start by the training loss the base, period, phase and k
+// are fitted together as the clock's fit does
 Fit fit_falling_edge(ModelRuns& runs, const FitProblem& p, const Fit& ref, int effect, GiveUp* screen,
                      const Fit* refined) {
   const Effect& ef = effect_catalogue()[effect];
@@ -339,50 +363,76 @@ Fit fit_falling_edge(ModelRuns& runs, const FitProblem& p, const Fit& ref, int e
   }
   std::vector<int> eff = ref.effects;
   eff.push_back(effect);
-  if (!refined->valid) {
+  const size_t ip = param_count(ref.effects) + 1;   // the phase; ip + 1: k
+  const std::vector<double> slopes = {2.8, 5.6, 11.1, 16.7};   // us/deg
+  auto frame_phase = [&](double latch_ms, double period_ms, double k) {
+    return wrapped(latch_ms - mean_pulse_ms(p, k), period_ms);
+  };
+  struct Start {
+    std::vector<double> x;
+    double span_ms = 1.5;   // the phase scan's
+    const FrameClockFit* clock = nullptr;   // the corrected delays' clock (none: refined's)
+  };
+  std::vector<Start> starts;
+  if (refined->valid)
+    for (double k : slopes) {
+      Start s{refined->x, 1.5, nullptr};
+      s.x[ip] = frame_phase(refined->x[ip], refined->x[ip - 1], k);
+      s.x.push_back(k);
+      starts.push_back(std::move(s));
+    }
+  std::vector<PulseClock> pulse[2];
+  for (int b = 0; b < 2; ++b) {
+    const std::vector<double> base = b == 0 ? ref.x : datasheet_start(ref.x);
+    pulse[b] = pulse_clocks_for(runs, p, model_config(p.datasheet, ref.effects, base), slopes);
+    for (const PulseClock& pc : pulse[b]) {
+      Start s{base, 0.5, &pc.fit};
+      s.x.push_back(1e3 * pc.fit.clock.period_s);
+      s.x.push_back(1e3 * pc.fit.clock.phase_s);
+      s.x.push_back(pc.k_us_per_deg);
+      starts.push_back(std::move(s));
+    }
+  }
+  if (starts.empty()) {
     Fit f = *refined;
     f.effects = eff;
-    f.x.push_back(ef.params[2].lo);
+    f.x.resize(param_count(ref.effects));
+    for (const EffectParam& q : ef.params) f.x.push_back(q.lo);
     f.held_ci.resize(f.x.size(), {0.0, 0.0});
     f.valid = false;
     return f;
   }
-  const size_t ip = param_count(ref.effects) + 1;   // the phase; ip + 1: k
-  const double period = refined->x[ip - 1];
-  // the set-points the changes go to: their mean pulse sets the phase shift
-  double mean_sp = 0;
-  const std::vector<SetpointChange> ch = setpoint_changes(p.m);
-  for (const SetpointChange& c : ch) mean_sp += p.m.sp[c.k];
-  mean_sp = ch.empty() ? 90.0 : mean_sp / static_cast<double>(ch.size());
-  const std::vector<double> slopes = {2.8, 5.6, 11.1, 16.7};   // us/deg
-  std::vector<std::vector<double>> xs(slopes.size());
-  std::vector<double> loss(slopes.size());
-  for (size_t k = 0; k < slopes.size(); ++k) {
-    double ph = refined->x[ip] - 1.5 - 1e-3 * slopes[k] * (mean_sp - 90.0);
-    ph = std::fmod(std::fmod(ph, period) + period, period);
-    xs[k] = refined->x;
-    xs[k][ip] = ph;
-    xs[k].push_back(slopes[k]);
-  }
   // (each scan pairs its own runs)
-  for (size_t k = 0; k < slopes.size(); ++k) {
-    scan_phase(runs, p, eff, &xs[k], ip, 1.5, 0.1);
-    loss[k] = set_loss(runs, p, eff, xs[k], Samples::training);
+  std::vector<double> loss(starts.size());
+  for (size_t k = 0; k < starts.size(); ++k) {
+    scan_phase(runs, p, eff, &starts[k].x, ip, starts[k].span_ms, 0.1);
+    loss[k] = set_loss(runs, p, eff, starts[k].x, Samples::training);
   }
   const size_t best = static_cast<size_t>(std::min_element(loss.begin(), loss.end()) - loss.begin());
   bool stopped = false;
-  Fit f = fit_clock_and_phase(runs, p, eff, xs[best], ip, screen, &stopped);
+  Fit f = fit_clock_and_phase(runs, p, eff, starts[best].x, ip, screen, &stopped);
   if (screen) screen->stopped = stopped;
   const std::vector<double>& x = f.x;
-  // intervals: period from the refined clock's; phase widened by the shift
-  // from it; k from the curvature of the training loss (-2 log-likelihood
-  // in noise units) at +-0.5 us/deg, inflated by the residual's correlation
-  f.held_ci = refined->held_ci;
+  // intervals: period and phase from the clock the start came from (the
+  // refined form's, or the corrected delays' least-squares ones), widened
+  // to reach the fitted values; k from the curvature of the training loss
+  // (-2 log-likelihood in noise units) at +-0.5 us/deg, inflated by the
+  // residual's correlation
+  f.held_ci = ref.held_ci;
   f.held_ci.resize(x.size(), {0.0, 0.0});
-  const double ph0 = refined->x[ip];
-  const std::pair<double, double> pci = refined->held_ci.size() > ip ? refined->held_ci[ip] : std::make_pair(ph0, ph0);
-  const double pw = std::max(0.5 * (pci.second - pci.first), 0.0);
-  f.held_ci[ip] = {x[ip] - pw, x[ip] + pw};
+  if (const FrameClockFit* fc = starts[best].clock) {
+    f.held_ci[ip - 1] = widened(x[ip - 1], fc->period_ci_s, fc->clock.period_s);
+    const double pw = 0.5 * 1e3 * (fc->phase_ci_s.second - fc->phase_ci_s.first);
+    f.held_ci[ip] = {x[ip] - pw, x[ip] + pw};
+  } else {
+    f.held_ci = refined->held_ci;
+    f.held_ci.resize(x.size(), {0.0, 0.0});
+    const double ph0 = refined->x[ip];
+    const std::pair<double, double> pci =
+        refined->held_ci.size() > ip ? refined->held_ci[ip] : std::make_pair(ph0, ph0);
+    const double pw = std::max(0.5 * (pci.second - pci.first), 0.0);
+    f.held_ci[ip] = {x[ip] - pw, x[ip] + pw};
+  }
   const double dk = 0.5, kk = x[ip + 1];
   std::vector<double> xp = x, xm = x;
   xp[ip + 1] = std::min(ef.params[2].hi, kk + dk);
@@ -447,6 +497,19 @@ Fit fit_with_effect(ModelRuns& runs, const FitProblem& p, const Fit& ref, int ef
   Fit f = fit_effect_start(runs, p, ref, effect, 1);
   if (f.train < best.train) return f;
   return best;
+}
+
+Fit refit_plain_clock(ModelRuns& runs, const FitProblem& p, const Fit& ref, int plain, const Fit& falling) {
+  std::vector<int> eff = ref.effects;
+  eff.push_back(plain);
+  const size_t ip = param_count(ref.effects) + 1;   // the phase
+  std::vector<double> x(falling.x.begin(), falling.x.begin() + static_cast<long>(ip + 1));
+  x[ip] = wrapped(x[ip] + mean_pulse_ms(p, falling.x[ip + 1]), x[ip - 1]);
+  scan_phase(runs, p, eff, &x, ip, 0.5, 0.1);
+  bool stopped = false;
+  Fit f = fit_clock_and_phase(runs, p, eff, x, ip, nullptr, &stopped);
+  f.held_ci.assign(falling.held_ci.begin(), falling.held_ci.begin() + static_cast<long>(ip + 1));
+  return f;
 }
 
 Fit refit_frame_clock(ModelRuns& runs, const FitProblem& p, const Fit& f) {

@@ -117,6 +117,15 @@ Fit fit_effect_start(ModelRuns& runs, const FitProblem& p, const Fit& ref, int e
 // or when the clock was the last effect found
 Fit refit_frame_clock(ModelRuns& runs, const FitProblem& p, const Fit& f);
 
+// the plain frame clock (the catalogue form `plain`, on top of ref) fitted
+// from a falling-edge fit's solution: the slope dropped, the phase moved to
+// the latch of the mean set-point's pulse (the inverse of the falling-edge
+// fit's first start), scanned and fitted as the clock's fit does. Where the
+// plain clock's own fit stopped at a compromise the falling-edge fit, with
+// its own clocks, got past, the richer form would otherwise be credited
+// with what the optimiser missed (effect_search.h, fit_refining_forms)
+Fit refit_plain_clock(ModelRuns& runs, const FitProblem& p, const Fit& ref, int plain, const Fit& falling);
+
 // 95 % intervals of f.x on all data (finite-difference Jacobian of the free
 // parameters; residual_stats.h confidence_intervals); held ones from f.held_ci
 std::vector<std::pair<double, double>> fit_intervals(ModelRuns& runs, const FitProblem& p, const Fit& f);

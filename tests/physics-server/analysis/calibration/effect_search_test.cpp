@@ -68,15 +68,31 @@ TEST(Screen, StopsAtTheLossOfTheChiSquareMedian) {
     EXPECT_EQ(two.after, 2 * (2 * (kNumBase + 3) + 1));
     EXPECT_NEAR(profiled_lr(ref.sse_train, two.loss * samples, 2 * samples) / inflation, screen_crit(2), 1e-6);
     EXPECT_LT(two.loss, one.loss);
-    // a refining form against the form it refines: its one extra parameter
+    // a refining form against the form it refines, where that form
+    // predicts the held-out blocks better than the reference: its one
+    // extra parameter
     Fit bridge;
     bridge.effects = {effect_variants("supply_sag")[0]};
     bridge.sse_train = 0.8 * ref.sse_train;
     bridge.rho_train = 0.1;
     ref.effects = {};
-    const GiveUp rail = screen_for(p, ref, effect_variants("supply_sag")[2], &bridge);
+    ref.loss.assign(p.m.t.size(), 2.0 * sse_per_term);
+    bridge.loss.assign(p.m.t.size(), 2.0 * 0.8 * sse_per_term);
+    const int rail_form = effect_variants("supply_sag")[2];
+    const GiveUp rail = screen_for(p, ref, rail_form, &bridge);
     EXPECT_EQ(rail.after, 2 * (2 * (kNumBase + 2) + 1));
     EXPECT_NEAR(profiled_lr(bridge.sse_train, rail.loss * samples, 2 * samples) / (1.1 / 0.9), screen_crit(1), 1e-6);
+    // where it does not (no better on the held-out blocks), or was not
+    // fitted, the refining form is screened against the reference with all
+    // its parameters, as the search may name it without beating that form
+    const GiveUp alone = screen_for(p, ref, rail_form);
+    bridge.loss = ref.loss;
+    const GiveUp no_better = screen_for(p, ref, rail_form, &bridge);
+    EXPECT_DOUBLE_EQ(no_better.loss, alone.loss);
+    EXPECT_GT(no_better.loss, rail.loss);
+    bridge.loss.assign(p.m.t.size(), 2.0 * 0.8 * sse_per_term);
+    bridge.valid = false;
+    EXPECT_DOUBLE_EQ(screen_for(p, ref, rail_form, &bridge).loss, alone.loss);
   }
 }
 

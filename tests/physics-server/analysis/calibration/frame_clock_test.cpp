@@ -117,6 +117,46 @@ TEST(FrameClock, NeitherHalfNorTwiceThePeriod) {
   EXPECT_FALSE(fit_frame_clock(d, 0.0, 2.5e-3, 40e-3).found);
 }
 
+// a falling-edge decoder: each change waits for the next frame, then for
+// its pulse, 1.5 ms + k (sp - 90 deg) wide. With set-points over 10-170
+// degrees and k = 11.1 us/deg the pulses spread the delays over 1.8 ms, more
+// than the scan's tolerance: the delays as measured make no clock, or one
+// that explains fewer changes; less each change's pulse width they make the
+// frames' clock, every change explained
+TEST(FrameClock, PulseWidthsSpreadTheDelaysTheirCorrectionGathersThem) {
+  const FrameClock truth{0.018, 0.0042};
+  const double k = 11.1e-6, t0 = 0.1;
+  int plain_found = 0;
+  for (unsigned seed = 1; seed <= 5; ++seed) {
+    std::vector<ChangeDelay> d = delays_of(truth, t0, 1e-4, seed);
+    std::mt19937_64 rng(100 + seed);
+    std::uniform_real_distribution<double> sp(10.0, 170.0);
+    for (ChangeDelay& c : d) {
+      c.sp_deg = sp(rng);
+      c.delay += 1.5e-3 + k * (c.sp_deg - 90.0);
+    }
+    const FrameClockFit plain = fit_frame_clock(d, t0, 2.5e-3, 40e-3);
+    plain_found += plain.found;
+    const std::vector<ChangeDelay> fe = falling_edge_delays(d, k);
+    ASSERT_EQ(fe.size(), d.size());
+    EXPECT_NEAR(fe[2].delay + fe[2].shift, d[2].delay, 1e-15);   // the measured delay is kept
+    const FrameClockFit f = fit_frame_clock(fe, t0, 2.5e-3, 40e-3);
+    ASSERT_TRUE(f.found) << seed;
+    EXPECT_EQ(f.inliers, static_cast<int>(d.size())) << seed;
+    if (plain.found) {
+      EXPECT_LT(plain.inliers, f.inliers) << seed;
+    }
+    EXPECT_NEAR(f.clock.period_s, truth.period_s, 2e-5) << seed;
+    EXPECT_NEAR(std::remainder(f.clock.phase_s - truth.phase_s, truth.period_s), 0.0, 6e-4) << seed;
+    // the wrong slope leaves a spread: fewer changes explained
+    const FrameClockFit w = fit_frame_clock(falling_edge_delays(d, 0.25 * k), t0, 2.5e-3, 40e-3);
+    if (w.found) {
+      EXPECT_LT(w.inliers, f.inliers) << seed;
+    }
+  }
+  std::printf("a plain clock found in %d of 5\n", plain_found);
+}
+
 // two of three changes are small steps whose delays an effect the model
 // lacks has scrambled (as a deadband does to a 3-5 degree step: off by
 // milliseconds with a narrow curvature): from every change no clock agrees
@@ -221,6 +261,39 @@ TEST(FrameClock, FittedAgainOnTopOfTheOtherEffects) {
   // a clock found last was fitted on top of everything already
   const Fit h = evaluate_fit(runs, p, {limit, pwm}, {1, 1, 1, 1, 0.2, 20.3, 5.0});
   EXPECT_EQ(refit_frame_clock(runs, p, h).x, h.x);
+}
+
+// a falling-edge solution on a record of plain frames (20 ms at 7 ms): the
+// plain clock fitted again from it latches where the falling edge of the
+// mean set-point's pulse fell (its frames moved later by that pulse, 1.5 ms
+// + k (mean sp - 90 deg)), and so finds the truth's frames, the slope
+// dropped and the other parameters in their places
+TEST(FrameClock, ThePlainClockFittedAgainFromAFallingEdgeSolution) {
+  ModelRuns runs;
+  const FitProblem p = problem_of(framed(0.02, 0.007), 3);
+  const std::vector<int> forms = effect_variants("pwm_frame_delay");
+  const int plain = forms.at(0), falling = forms.at(1);
+  ASSERT_STREQ(effect_catalogue()[falling].refines, effect_catalogue()[plain].variant);
+  const std::vector<double> base = {1, 1, 1, 1};
+  const Fit ref = evaluate_fit(runs, p, {}, base);
+  double mean_sp = 0;
+  const std::vector<SetpointChange> ch = setpoint_changes(p.m);
+  for (const SetpointChange& c : ch) mean_sp += p.m.sp[c.k];
+  mean_sp /= static_cast<double>(ch.size());
+  const double k = 8.0, pulse_ms = 1.5 + 1e-3 * k * (mean_sp - 90.0);
+  std::vector<double> x = base;
+  x.insert(x.end(), {20.0, 7.0 - pulse_ms, k});
+  const Fit fe = evaluate_fit(runs, p, {falling}, x);
+  const Fit g = refit_plain_clock(runs, p, ref, plain, fe);
+  std::printf("from a falling-edge solution (k %.1f us/deg, mean pulse %.3f ms): clock %.4f ms at %.3f ms, "
+              "training loss %.4g -> %.4g\n",
+              k, pulse_ms, g.x[kNumBase], g.x[kNumBase + 1], fe.train, g.train);
+  ASSERT_EQ(g.effects, std::vector<int>{plain});
+  ASSERT_EQ(g.x.size(), kNumBase + 2);
+  EXPECT_NEAR(g.x[kNumBase], 20.0, 0.05);
+  EXPECT_NEAR(g.x[kNumBase + 1], 7.0, 0.5);
+  EXPECT_LT(g.train, fe.train);
+  EXPECT_EQ(g.held_ci.size(), g.x.size());
 }
 
 // the screen (effect_search.h, screen_for) watches every clock found, each in
