@@ -74,7 +74,8 @@ const std::vector<Effect>& effect_catalogue() {
       // is 1.5 ms + k (sp - 90 deg) wide: the delay depends on the set-point
       // too. k from 1 us/deg to 25 us/deg spans the usual conventions (1-2 ms
       // over 180 deg: 5.6; 0.5-2.5 ms over 180 deg or 1-2 ms over 90 deg:
-      // 11.1). Refines the form above (from its clock, servo_fit.cpp)
+      // 11.1). Refines the form above (from its clock and from its own clocks,
+      // servo_fit.cpp)
       {"pwm_frame_delay", "falling_edge",
        "set-point sent as a pulse 1.5 ms + k (sp - 90 deg) wide at frames phase + n x period, acting at its falling "
        "edge",

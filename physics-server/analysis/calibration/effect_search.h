@@ -155,11 +155,16 @@ std::vector<Candidate> fit_candidates(ModelRuns& runs, const FitProblem& p, cons
 void fit_second_starts(ModelRuns& runs, const FitProblem& p, const Fit& ref, const std::vector<int>& regime,
                        std::vector<Candidate>* cands, const CalibrationProgress& say);
 
-// 4. the forms that refine another (not in `used`), each fitted, screened
-// against the form it refines and from its solution, where that form as
-// fitted in 2-3 shows the effect (shows_effect: for a frame clock, on the
-// training blocks, or no clock found, when it is screened against the
-// reference and fitted from its own clocks); appended to cands
+// 4. the forms that refine another (not in `used`), each fitted from the
+// solution of the form it refines, where that form as fitted in 2-3 shows
+// the effect (shows_effect: for a frame clock, on the training blocks, or
+// no clock found, when it is fitted from its own clocks), and screened
+// against it where it passes the held-out test, else against the
+// reference (screen_for); appended to cands, a frame clock's even where
+// no clock of its own is found either (it counts among the candidates of
+// the held-out test's correction). Where a frame clock's refining form is
+// fitted in full, the plain clock's candidate is fitted again from its
+// solution and replaced where that is better (servo_fit.h, refit_plain_clock)
 void fit_refining_forms(ModelRuns& runs, const FitProblem& p, const Reference& ref, const std::vector<int>& regime,
                         const std::set<std::string>& used, std::vector<Candidate>* cands,
                         const CalibrationProgress& say);

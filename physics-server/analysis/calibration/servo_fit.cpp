@@ -422,8 +422,7 @@ Fit fit_falling_edge(ModelRuns& runs, const FitProblem& p, const Fit& ref, int e
   f.held_ci.resize(x.size(), {0.0, 0.0});
   if (const FrameClockFit* fc = starts[best].clock) {
     f.held_ci[ip - 1] = widened(x[ip - 1], fc->period_ci_s, fc->clock.period_s);
-    const double pw = 0.5 * 1e3 * (fc->phase_ci_s.second - fc->phase_ci_s.first);
-    f.held_ci[ip] = {x[ip] - pw, x[ip] + pw};
+    f.held_ci[ip] = widened(x[ip], fc->phase_ci_s, fc->clock.phase_s);
   } else {
     f.held_ci = refined->held_ci;
     f.held_ci.resize(x.size(), {0.0, 0.0});
@@ -508,7 +507,17 @@ Fit refit_plain_clock(ModelRuns& runs, const FitProblem& p, const Fit& ref, int 
   scan_phase(runs, p, eff, &x, ip, 0.5, 0.1);
   bool stopped = false;
   Fit f = fit_clock_and_phase(runs, p, eff, x, ip, nullptr, &stopped);
-  f.held_ci.assign(falling.held_ci.begin(), falling.held_ci.begin() + static_cast<long>(ip + 1));
+  // intervals: the base's as the falling-edge fit's; period and phase the
+  // falling-edge fit's widths, about the refitted values, widened to reach
+  // where that fit put them (its phase moved to the latch)
+  f.held_ci = falling.held_ci;
+  f.held_ci.resize(ip + 1, {0.0, 0.0});
+  const double latch = wrapped(falling.x[ip] + mean_pulse_ms(p, falling.x[ip + 1]), falling.x[ip - 1]);
+  for (const auto& [i, from] : {std::make_pair(ip - 1, falling.x[ip - 1]), std::make_pair(ip, latch)}) {
+    const std::pair<double, double> ci = i < falling.held_ci.size() ? falling.held_ci[i] : std::make_pair(0.0, 0.0);
+    const double w = std::max(0.5 * (ci.second - ci.first), std::fabs(f.x[i] - from));
+    f.held_ci[i] = {f.x[i] - w, f.x[i] + w};
+  }
   return f;
 }
 

@@ -283,7 +283,10 @@ TEST(FrameClock, ThePlainClockFittedAgainFromAFallingEdgeSolution) {
   const double k = 8.0, pulse_ms = 1.5 + 1e-3 * k * (mean_sp - 90.0);
   std::vector<double> x = base;
   x.insert(x.end(), {20.0, 7.0 - pulse_ms, k});
-  const Fit fe = evaluate_fit(runs, p, {falling}, x);
+  Fit fe = evaluate_fit(runs, p, {falling}, x);
+  fe.held_ci.assign(x.size(), {0.0, 0.0});
+  fe.held_ci[kNumBase] = {19.99, 20.01};
+  fe.held_ci[kNumBase + 1] = {x[kNumBase + 1] - 0.1, x[kNumBase + 1] + 0.1};
   const Fit g = refit_plain_clock(runs, p, ref, plain, fe);
   std::printf("from a falling-edge solution (k %.1f us/deg, mean pulse %.3f ms): clock %.4f ms at %.3f ms, "
               "training loss %.4g -> %.4g\n",
@@ -293,7 +296,15 @@ TEST(FrameClock, ThePlainClockFittedAgainFromAFallingEdgeSolution) {
   EXPECT_NEAR(g.x[kNumBase], 20.0, 0.05);
   EXPECT_NEAR(g.x[kNumBase + 1], 7.0, 0.5);
   EXPECT_LT(g.train, fe.train);
-  EXPECT_EQ(g.held_ci.size(), g.x.size());
+  ASSERT_EQ(g.held_ci.size(), g.x.size());
+  // the clock's intervals are about the refitted values, at least the
+  // falling-edge fit's widths
+  for (size_t i : {kNumBase, kNumBase + 1}) {
+    EXPECT_LE(g.held_ci[i].first, g.x[i]) << i;
+    EXPECT_GE(g.held_ci[i].second, g.x[i]) << i;
+    EXPECT_GE(g.held_ci[i].second - g.held_ci[i].first, fe.held_ci[i].second - fe.held_ci[i].first - 1e-12) << i;
+  }
+  EXPECT_NEAR(0.5 * (g.held_ci[kNumBase + 1].first + g.held_ci[kNumBase + 1].second), g.x[kNumBase + 1], 1e-9);
 }
 
 // the screen (effect_search.h, screen_for) watches every clock found, each in
