@@ -49,6 +49,10 @@ struct ServoParams {
   double adc_full_scale_a = 0.5;
 };
 
+// An RC servo pulse's width, s: 1.5 ms at the set-point 90 deg on the
+// pulse's scale, k s more per degree (pwm_pulse_s_per_deg)
+inline double rc_pulse_width_s(double k_s_per_deg, double sp_deg) { return 1.5e-3 + k_s_per_deg * (sp_deg - 90.0); }
+
 // The largest pulse width per degree a file may give, s/deg: 100 us/deg
 // (an 18 ms pulse over 180 degrees, near a 50 Hz frame; real servos take 5.6
 // for 1-2 ms and 11.1 for 0.5-2.5 ms). A figure from the calibration's

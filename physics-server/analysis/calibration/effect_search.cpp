@@ -72,12 +72,20 @@ void test_candidates(const FitProblem& p, const Fit& ref, std::vector<Candidate>
 }
 
 // the candidate of the form that `ef` refines, fitted this round (or none)
-const Candidate* refined_form(const std::vector<Candidate>& cands, const Effect& ef) {
-  for (const Candidate& c : cands) {
+template <class Candidates>
+auto* refined_form(Candidates& cands, const Effect& ef) {
+  for (auto& c : cands) {
     const Effect& s = effect_catalogue()[c.effect];
     if (std::string(s.name) == ef.name && std::string(s.variant) == ef.refines) return &c;
   }
-  return nullptr;
+  return static_cast<decltype(&cands[0])>(nullptr);
+}
+
+// whether fit f (of `dof` parameters more than ref) predicts the held-out
+// blocks better than ref by the held-out test at the plain 5 % level (no
+// correction for the number of candidates, which acceptance applies)
+bool predicts_held_out(const FitProblem& p, const Fit& ref, const Fit& f, int dof) {
+  return held_out_test(ref.loss, f.loss, f.rho_held, p.split, channels(p), 1, dof).significant;
 }
 
 // whether the form that `ef` refines, fitted this round, shows the effect:
@@ -98,7 +106,7 @@ bool shows_effect(const FitProblem& p, const Fit& ref, const std::vector<Candida
   const int dof = dof_of(c->effect);
   return fitted_in_full(*c) &&
          profile_test(ref.sse_train, c->fit.sse_train, training_terms(p), c->fit.rho_train, dof).excludes_null &&
-         (clock || held_out_test(ref.loss, c->fit.loss, c->fit.rho_held, p.split, channels(p), 1, dof).significant);
+         (clock || predicts_held_out(p, ref, c->fit, dof));
 }
 
 // of the passing candidate `best` and the other variants of its effect, the
@@ -177,9 +185,7 @@ GiveUp screen_for(const FitProblem& p, const Fit& ref, int e, const Fit* refined
   // does not, the refining form need not beat it on the training blocks to
   // be named (choose_variant weighs only forms that pass), so it is screened
   // against ref as any other candidate
-  if (refined && (!refined->valid || !held_out_test(ref.loss, refined->loss, refined->rho_held, p.split, channels(p), 1,
-                                                    dof_of(refined->effects.back()))
-                                          .significant))
+  if (refined && (!refined->valid || !predicts_held_out(p, ref, *refined, dof_of(refined->effects.back()))))
     refined = nullptr;
   const Fit& against = refined ? *refined : ref;
   const int dof = refined ? dof_of(e) - dof_of(refined->effects.back()) : dof_of(e);
@@ -403,8 +409,7 @@ void fit_refining_forms(ModelRuns& runs, const FitProblem& p, const Reference& r
   for (size_t k : fit) {
     const Refining& r = rf[k];
     if (effect_catalogue()[r.effect].fit != EffectFit::frame_clock || !fitted_in_full(r.c)) continue;
-    for (Candidate& c : *cands)
-      if (&c == refined_form(*cands, effect_catalogue()[r.effect])) again.push_back({&c, &r.c});
+    if (Candidate* c = refined_form(*cands, effect_catalogue()[r.effect])) again.push_back({c, &r.c});
   }
   std::vector<Lines> again_lines(again.size());
   run_paired_each(runs, again.size(), [&](ModelRuns& runs, size_t k) {

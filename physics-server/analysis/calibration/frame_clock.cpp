@@ -246,7 +246,7 @@ std::vector<FrameClockFit> frame_clocks_for(ModelRuns& runs, const FitProblem& p
 std::vector<ChangeDelay> falling_edge_delays(const std::vector<ChangeDelay>& d, double k_s_per_deg) {
   std::vector<ChangeDelay> out = d;
   for (ChangeDelay& c : out) {
-    const double s = 1.5e-3 + k_s_per_deg * (c.sp_deg - 90.0);
+    const double s = rc_pulse_width_s(k_s_per_deg, c.sp_deg);
     c.delay -= s;
     c.shift += s;
   }

@@ -321,16 +321,19 @@ Fit fit_frame_clock_effect(ModelRuns& runs, const FitProblem& p, const Fit& ref,
   return f;
 }
 
-// the pulse (ms) of the mean set-point the changes go to, for a slope k
-// (us/deg): a plain clock fitted to a falling-edge decoder latches at that
-// pulse's falling edge, so its frames are that much later than the decoder's
-double mean_pulse_ms(const FitProblem& p, double k_us_per_deg) {
+// the mean of the set-points the changes go to (90 deg without changes): a
+// plain clock fitted to a falling-edge decoder latches at the falling edge
+// of that set-point's pulse, so its frames are that pulse later than the
+// decoder's
+double mean_change_setpoint(const FitProblem& p) {
   double mean_sp = 0;
   const std::vector<SetpointChange> ch = setpoint_changes(p.m);
   for (const SetpointChange& c : ch) mean_sp += p.m.sp[c.k];
-  mean_sp = ch.empty() ? 90.0 : mean_sp / static_cast<double>(ch.size());
-  return 1.5 + 1e-3 * k_us_per_deg * (mean_sp - 90.0);
+  return ch.empty() ? 90.0 : mean_sp / static_cast<double>(ch.size());
 }
+
+// that pulse (ms), for a slope k (us/deg)
+double mean_pulse_ms(double mean_sp, double k_us_per_deg) { return 1.5 + 1e-3 * k_us_per_deg * (mean_sp - 90.0); }
 
 // v in [0, period)
 double wrapped(double v, double period) { return std::fmod(std::fmod(v, period) + period, period); }
@@ -365,8 +368,9 @@ Fit fit_falling_edge(ModelRuns& runs, const FitProblem& p, const Fit& ref, int e
   eff.push_back(effect);
   const size_t ip = param_count(ref.effects) + 1;   // the phase; ip + 1: k
   const std::vector<double> slopes = {2.8, 5.6, 11.1, 16.7};   // us/deg
+  const double mean_sp = mean_change_setpoint(p);
   auto frame_phase = [&](double latch_ms, double period_ms, double k) {
-    return wrapped(latch_ms - mean_pulse_ms(p, k), period_ms);
+    return wrapped(latch_ms - mean_pulse_ms(mean_sp, k), period_ms);
   };
   struct Start {
     std::vector<double> x;
@@ -418,14 +422,13 @@ Fit fit_falling_edge(ModelRuns& runs, const FitProblem& p, const Fit& ref, int e
   // to reach the fitted values; k from the curvature of the training loss
   // (-2 log-likelihood in noise units) at +-0.5 us/deg, inflated by the
   // residual's correlation
-  f.held_ci = ref.held_ci;
+  const FrameClockFit* fc = starts[best].clock;
+  f.held_ci = fc ? ref.held_ci : refined->held_ci;
   f.held_ci.resize(x.size(), {0.0, 0.0});
-  if (const FrameClockFit* fc = starts[best].clock) {
+  if (fc) {
     f.held_ci[ip - 1] = widened(x[ip - 1], fc->period_ci_s, fc->clock.period_s);
     f.held_ci[ip] = widened(x[ip], fc->phase_ci_s, fc->clock.phase_s);
   } else {
-    f.held_ci = refined->held_ci;
-    f.held_ci.resize(x.size(), {0.0, 0.0});
     const double ph0 = refined->x[ip];
     const std::pair<double, double> pci =
         refined->held_ci.size() > ip ? refined->held_ci[ip] : std::make_pair(ph0, ph0);
@@ -502,8 +505,11 @@ Fit refit_plain_clock(ModelRuns& runs, const FitProblem& p, const Fit& ref, int 
   std::vector<int> eff = ref.effects;
   eff.push_back(plain);
   const size_t ip = param_count(ref.effects) + 1;   // the phase
+  // the falling-edge solution's latch of the mean set-point's pulse
+  const double latch =
+      wrapped(falling.x[ip] + mean_pulse_ms(mean_change_setpoint(p), falling.x[ip + 1]), falling.x[ip - 1]);
   std::vector<double> x(falling.x.begin(), falling.x.begin() + static_cast<long>(ip + 1));
-  x[ip] = wrapped(x[ip] + mean_pulse_ms(p, falling.x[ip + 1]), x[ip - 1]);
+  x[ip] = latch;
   scan_phase(runs, p, eff, &x, ip, 0.5, 0.1);
   bool stopped = false;
   Fit f = fit_clock_and_phase(runs, p, eff, x, ip, nullptr, &stopped);
@@ -512,7 +518,6 @@ Fit refit_plain_clock(ModelRuns& runs, const FitProblem& p, const Fit& ref, int 
   // where that fit put them (its phase moved to the latch)
   f.held_ci = falling.held_ci;
   f.held_ci.resize(ip + 1, {0.0, 0.0});
-  const double latch = wrapped(falling.x[ip] + mean_pulse_ms(p, falling.x[ip + 1]), falling.x[ip - 1]);
   for (const auto& [i, from] : {std::make_pair(ip - 1, falling.x[ip - 1]), std::make_pair(ip, latch)}) {
     const std::pair<double, double> ci = i < falling.held_ci.size() ? falling.held_ci[i] : std::make_pair(0.0, 0.0);
     const double w = std::max(0.5 * (ci.second - ci.first), std::fabs(f.x[i] - from));

@@ -75,7 +75,7 @@ namespace chainsim {
         ++frame_;
         pending_ = setpoint_;
         const double width =
-            1.5e-3 + p_.pwm_pulse_s_per_deg * (setpoint_ * kDegPerRad + p_.pwm_pulse_origin_deg - 90.0);
+            rc_pulse_width_s(p_.pwm_pulse_s_per_deg, setpoint_ * kDegPerRad + p_.pwm_pulse_origin_deg);
         latch_s_ = edge + std::clamp(width, 0.0, 0.9 * p_.pwm_frame_s);
       } else {
         break;
