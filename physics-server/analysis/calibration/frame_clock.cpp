@@ -95,7 +95,7 @@ std::vector<ChangeDelay> estimate_delays(ModelRuns& runs, const FitProblem& p, c
 }
 
 double frame_delay(const FrameClock& c, double t0, double t) {
-  const double x = std::fmod(c.phase_s - (t - t0), c.period_s);
+  const double x = fmod_exact(c.phase_s - (t - t0), c.period_s);
   return x < 0 ? x + c.period_s : x;
 }
 
@@ -115,13 +115,19 @@ FrameClockFit fit_frame_clock(const std::vector<ChangeDelay>& all, double t0, do
   // cannot reach the floor is not scored further (the scan asks for the
   // best so far, less a margin far above the sum's rounding: it picks the
   // same clock as a full scoring would)
-  auto score = [&](double period, double frame_abs, double floor) {
+  // (f: the clock's frequency, 1 / period or near it. A distance below the
+  // tolerance is the one whose ratio to it is below 1: the division is made
+  // for those only)
+  auto score = [&](double period, double f, double frame_abs, double floor) {
     double s = 0;
     for (size_t c = 0; c < d.size(); ++c) {
       if (s + static_cast<double>(d.size() - c) < floor) return -1.0;
-      const double pred = std::fmod(std::fmod(frame_abs - d[c].t, period) + period, period);
-      const double q = delay_dist(pred, d[c].delay, period, tol[c]) / tol[c];
-      if (q < 1) s += 1 - q * q;
+      const double pred = wrap_to_period(frame_abs - d[c].t, period, f);
+      const double dist = delay_dist(pred, d[c].delay, period, tol[c]);
+      if (dist < tol[c]) {
+        const double q = dist / tol[c];
+        s += 1 - q * q;
+      }
     }
     return s;
   };
@@ -135,7 +141,7 @@ FrameClockFit fit_frame_clock(const std::vector<ChangeDelay>& all, double t0, do
   double best = -1, best_period = 0, best_frame = 0;
   for (double f = 1.0 / period_hi; f <= 1.0 / period_lo + 1e-12; f += df)
     for (size_t a : order) {
-      const double s = score(1.0 / f, d[a].t + d[a].delay, best + 1e-9 - 1e-6);
+      const double s = score(1.0 / f, f, d[a].t + d[a].delay, best + 1e-9 - 1e-6);
       if (s > best + 1e-9) best = s, best_period = 1.0 / f, best_frame = d[a].t + d[a].delay;
     }
   // weighted least squares of the inliers' frame times on their frame numbers
@@ -150,7 +156,7 @@ FrameClockFit fit_frame_clock(const std::vector<ChangeDelay>& all, double t0, do
     std::vector<double> wts;
     int inl = 0;
     for (size_t c = 0; c < d.size(); ++c) {
-      const double pred = std::fmod(std::fmod(frame - d[c].t, period) + period, period);
+      const double pred = wrap_to_period(frame - d[c].t, period);
       if (delay_dist(pred, d[c].delay, period, tol[c]) >= tol[c]) continue;
       ++inl;
       // a delay within 2 sd of 0 is censored (it cannot come out negative):

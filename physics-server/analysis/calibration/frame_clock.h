@@ -8,12 +8,46 @@
 // docs/calibration.md, "Method".
 #pragma once
 
+#include <cmath>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
 #include "analysis/calibration/servo_fit.h"
 
 namespace chainsim {
+
+// std::fmod(x, p) bit for bit (p > 0), without fmod's long division where
+// the quotient fits: for q = trunc(x p_inv), p_inv 1 / p or near it (the
+// quotient may then be one off), x - q p lies in [0, p) (x >= 0) or (-p, 0]
+// (x < 0) only if q is the quotient, and then it is the remainder, which is
+// representable, so one fma (rounding once) gives it exactly; otherwise
+// std::fmod. The frame clock's scan spends most of its time here
+// (fit_frame_clock)
+inline double fmod_exact(double x, double p, double p_inv) {
+  const double qf = x * p_inv;
+  if (std::fabs(qf) < 0x1p52) {
+    const double q = static_cast<double>(static_cast<int64_t>(qf));
+    const double r = std::fma(-q, p, x);
+    if (r == 0.0) return std::copysign(0.0, x);   // x a multiple of p: fmod's zero has x's sign
+    if (x > 0 ? (r > 0 && r < p) : (r < 0 && r > -p)) return r;
+  }
+  return std::fmod(x, p);
+}
+inline double fmod_exact(double x, double p) { return fmod_exact(x, p, 1.0 / p); }
+
+// v wrapped into [0, p): std::fmod(std::fmod(v, p) + p, p) bit for bit
+// (p > 0; p_inv as for fmod_exact). The inner remainder r is in (-p, p), so
+// r + p (rounded) is in [0, 2p], and its remainder is itself below p, else
+// its difference with p (exact: p <= r + p <= 2p), which is p only at 2p,
+// whose remainder is 0
+inline double wrap_to_period(double v, double p, double p_inv) {
+  const double s = fmod_exact(v, p, p_inv) + p;
+  if (s < p) return s;
+  const double t = s - p;
+  return t < p ? t : 0.0;
+}
+inline double wrap_to_period(double v, double p) { return wrap_to_period(v, p, 1.0 / p); }
 
 // a set-point change of more than 0.25 degrees: its first sample and time
 struct SetpointChange {

@@ -335,9 +335,6 @@ double mean_change_setpoint(const FitProblem& p) {
 // that pulse (ms), for a slope k (us/deg)
 double mean_pulse_ms(double mean_sp, double k_us_per_deg) { return 1.5 + 1e-3 * k_us_per_deg * (mean_sp - 90.0); }
 
-// v in [0, period)
-double wrapped(double v, double period) { return std::fmod(std::fmod(v, period) + period, period); }
-
 // the falling-edge form (pulse width 1.5 ms + k (sp - 90 deg), acting at
 // its falling edge), from two kinds of start:
 // * the clock of the form it refines (`refined`, fitted on top of ref;
@@ -370,7 +367,7 @@ Fit fit_falling_edge(ModelRuns& runs, const FitProblem& p, const Fit& ref, int e
   const std::vector<double> slopes = {2.8, 5.6, 11.1, 16.7};   // us/deg
   const double mean_sp = mean_change_setpoint(p);
   auto frame_phase = [&](double latch_ms, double period_ms, double k) {
-    return wrapped(latch_ms - mean_pulse_ms(mean_sp, k), period_ms);
+    return wrap_to_period(latch_ms - mean_pulse_ms(mean_sp, k), period_ms);
   };
   struct Start {
     std::vector<double> x;
@@ -507,7 +504,7 @@ Fit refit_plain_clock(ModelRuns& runs, const FitProblem& p, const Fit& ref, int 
   const size_t ip = param_count(ref.effects) + 1;   // the phase
   // the falling-edge solution's latch of the mean set-point's pulse
   const double latch =
-      wrapped(falling.x[ip] + mean_pulse_ms(mean_change_setpoint(p), falling.x[ip + 1]), falling.x[ip - 1]);
+      wrap_to_period(falling.x[ip] + mean_pulse_ms(mean_change_setpoint(p), falling.x[ip + 1]), falling.x[ip - 1]);
   std::vector<double> x(falling.x.begin(), falling.x.begin() + static_cast<long>(ip + 1));
   x[ip] = latch;
   scan_phase(runs, p, eff, &x, ip, 0.5, 0.1);

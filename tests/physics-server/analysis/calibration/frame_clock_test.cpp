@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <random>
 
 #include "analysis/calibration/effect_catalogue.h"
@@ -17,6 +19,44 @@
 
 namespace chainsim {
 namespace {
+
+// fmod_exact and wrap_to_period give std::fmod's bits, on the scan's own
+// kind of arguments (frame times less change times, periods of 1-50 ms, the
+// quotient from the frequency or from an inverse a little off) and on the
+// hard ones: exact multiples and their neighbours (where x / p rounds
+// to the next integer), negative values and zeros, quotients beyond 2^52
+TEST(FrameClock, TheFastRemainderIsFmodBitForBit) {
+  auto bits = [](double v) {
+    uint64_t b;
+    std::memcpy(&b, &v, sizeof b);
+    return b;
+  };
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> ux(-12.0, 12.0), up(1e-3, 50e-3);
+  std::uniform_int_distribution<int> un(-4000, 4000);
+  int checked = 0, near_multiples = 0;
+  for (int i = 0; i < 400000; ++i) {
+    const double p = up(rng);
+    std::vector<double> xs = {ux(rng), un(rng) * p, 0.0, -0.0, 1e17 * ux(rng)};
+    const double m = un(rng) * p;
+    xs.push_back(std::nextafter(m, 1e300));
+    xs.push_back(std::nextafter(m, -1e300));
+    // the scan's inverse: the frequency the period was made from; and one
+    // a little off, so that the quotient is often one off
+    const double f = 1.0 / p, p_f = 1.0 / f, off = f * (1 + 1e-9);
+    for (double x : xs) {
+      ASSERT_EQ(bits(fmod_exact(x, p)), bits(std::fmod(x, p))) << x << " " << p;
+      ASSERT_EQ(bits(wrap_to_period(x, p)), bits(std::fmod(std::fmod(x, p) + p, p))) << x << " " << p;
+      ASSERT_EQ(bits(wrap_to_period(x, p_f, f)), bits(std::fmod(std::fmod(x, p_f) + p_f, p_f))) << x << " " << p_f;
+      ASSERT_EQ(bits(wrap_to_period(x, p, off)), bits(std::fmod(std::fmod(x, p) + p, p))) << x << " " << p;
+      ++checked;
+    }
+    near_multiples += std::fmod(m, p) != 0.0;
+  }
+  EXPECT_EQ(checked, 400000 * 7);
+  // the multiples of p made so are not all exact ones: both branches taken
+  EXPECT_GT(near_multiples, 1000);
+}
 
 // 15 changes at random times over 4 s, delayed by the clock, plus noise
 std::vector<ChangeDelay> delays_of(const FrameClock& c, double t0, double noise, unsigned seed) {
