@@ -18,12 +18,14 @@
 namespace chainsim {
 
 // std::fmod(x, p) bit for bit (p > 0), without fmod's long division where
-// the quotient fits: for q = trunc(x p_inv), p_inv 1 / p or near it (the
-// quotient may then be one off), x - q p lies in [0, p) (x >= 0) or (-p, 0]
-// (x < 0) only if q is the quotient, and then it is the remainder, which is
-// representable, so one fma (rounding once) gives it exactly; otherwise
-// std::fmod. The frame clock's scan spends most of its time here
-// (fit_frame_clock)
+// the quotient fits: q = trunc(x p_inv), p_inv 1 / p or near it (q may then
+// be off), and r = x - q p by one fma (rounding once). The exact x - q p is
+// a multiple of the smallest subnormal, so r is 0 only when it is exactly
+// 0, and rounding never carries it across 0 or p (both representable): r
+// lies in [0, p) (x >= 0) or (-p, 0] (x < 0) only if q is the quotient, and
+// then the exact value is the remainder, which is representable, so r is
+// it. Otherwise std::fmod. The frame clock's scan spends most of its time
+// here (fit_frame_clock)
 inline double fmod_exact(double x, double p, double p_inv) {
   const double qf = x * p_inv;
   if (std::fabs(qf) < 0x1p52) {
@@ -36,12 +38,14 @@ inline double fmod_exact(double x, double p, double p_inv) {
 }
 inline double fmod_exact(double x, double p) { return fmod_exact(x, p, 1.0 / p); }
 
-// v wrapped into [0, p): std::fmod(std::fmod(v, p) + p, p) bit for bit
-// (p > 0; p_inv as for fmod_exact). The inner remainder r is in (-p, p), so
-// r + p (rounded) is in [0, 2p], and its remainder is itself below p, else
-// its difference with p (exact: p <= r + p <= 2p), which is p only at 2p,
-// whose remainder is 0
+// v wrapped into [0, p): std::fmod(std::fmod(v, p) + p, p) bit for bit (p_inv
+// as for fmod_exact). For 0 < p < 2^1022 the inner remainder r is in (-p, p),
+// so r + p (rounded) is in (0, 2p], and its remainder is itself below p,
+// else its difference with p (exact: p <= r + p <= 2p), which is p only at
+// 2p, whose remainder is 0; any other p (zero, negative, NaN, huge) goes
+// the long way, so that a bad period still gives what fmod gives
 inline double wrap_to_period(double v, double p, double p_inv) {
+  if (!(p > 0.0 && p < 0x1p1022)) return std::fmod(std::fmod(v, p) + p, p);
   const double s = fmod_exact(v, p, p_inv) + p;
   if (s < p) return s;
   const double t = s - p;

@@ -22,40 +22,72 @@ namespace {
 
 // fmod_exact and wrap_to_period give std::fmod's bits, on the scan's own
 // kind of arguments (frame times less change times, periods of 1-50 ms, the
-// quotient from the frequency or from an inverse a little off) and on the
-// hard ones: exact multiples and their neighbours (where x / p rounds
-// to the next integer), negative values and zeros, quotients beyond 2^52
+// quotient from the frequency) and on the hard ones: near-multiples and
+// their neighbours (where x / p rounds to the next integer), p's own
+// neighbour below (r + p rounds to 2p), negative values, zeros of both
+// signs, subnormal x, tiny and subnormal periods, quotients about 2^52 and
+// beyond, inverses that are off (so that the quotient is off), and periods
+// wrap_to_period must refuse (zero, negative, NaN, huge). Both of
+// fmod_exact's ways are taken, many times each
 TEST(FrameClock, TheFastRemainderIsFmodBitForBit) {
   auto bits = [](double v) {
     uint64_t b;
     std::memcpy(&b, &v, sizeof b);
     return b;
   };
+  // fmod_exact's own test for its fast way, repeated here to count the ways
+  auto fast = [](double x, double p, double p_inv) {
+    const double qf = x * p_inv;
+    if (!(std::fabs(qf) < 0x1p52)) return false;
+    const double q = static_cast<double>(static_cast<int64_t>(qf));
+    const double r = std::fma(-q, p, x);
+    return r == 0.0 || (x > 0 ? (r > 0 && r < p) : (r < 0 && r > -p));
+  };
   std::mt19937_64 rng(12);
   std::uniform_real_distribution<double> ux(-12.0, 12.0), up(1e-3, 50e-3);
-  std::uniform_int_distribution<int> un(-4000, 4000);
-  int checked = 0, near_multiples = 0;
-  for (int i = 0; i < 400000; ++i) {
-    const double p = up(rng);
-    std::vector<double> xs = {ux(rng), un(rng) * p, 0.0, -0.0, 1e17 * ux(rng)};
+  std::uniform_int_distribution<int> un(-4000, 4000), uk(-3, 3);
+  long checked = 0, fast_way = 0, long_way = 0;
+  for (int i = 0; i < 100000; ++i) {
+    double p = up(rng);
+    if (i % 100 == 1) p *= 1e-300;                  // tiny: 1 / p overflows
+    if (i % 100 == 2) p = 4.9e-324 * (1 + i % 7);   // subnormal
     const double m = un(rng) * p;
-    xs.push_back(std::nextafter(m, 1e300));
-    xs.push_back(std::nextafter(m, -1e300));
-    // the scan's inverse: the frequency the period was made from; and one
-    // a little off, so that the quotient is often one off
-    const double f = 1.0 / p, p_f = 1.0 / f, off = f * (1 + 1e-9);
+    std::vector<double> xs = {ux(rng),
+                              m,
+                              std::nextafter(m, 1e300),
+                              std::nextafter(m, -1e300),
+                              std::nextafter(p, 0.0),
+                              -std::nextafter(p, 0.0),
+                              0.0,
+                              -0.0,
+                              ux(rng) * 1e-310,
+                              (0x1p52 + uk(rng)) * p,
+                              1e17 * ux(rng)};
+    // the scan's inverse: the frequency the period was made from (p_f its
+    // period); and inverses that are off
+    const double f = 1.0 / p, p_f = 1.0 / f;
+    const std::vector<double> p_invs = {f, f * (1 + 1e-9), f * (1 - 1e-3), f * (1 + 1e-3), 2 * f, 0.0};
     for (double x : xs) {
       ASSERT_EQ(bits(fmod_exact(x, p)), bits(std::fmod(x, p))) << x << " " << p;
       ASSERT_EQ(bits(wrap_to_period(x, p)), bits(std::fmod(std::fmod(x, p) + p, p))) << x << " " << p;
       ASSERT_EQ(bits(wrap_to_period(x, p_f, f)), bits(std::fmod(std::fmod(x, p_f) + p_f, p_f))) << x << " " << p_f;
-      ASSERT_EQ(bits(wrap_to_period(x, p, off)), bits(std::fmod(std::fmod(x, p) + p, p))) << x << " " << p;
-      ++checked;
+      for (double pi : p_invs) {
+        ASSERT_EQ(bits(fmod_exact(x, p, pi)), bits(std::fmod(x, p))) << x << " " << p << " " << pi;
+        ASSERT_EQ(bits(wrap_to_period(x, p, pi)), bits(std::fmod(std::fmod(x, p) + p, p))) << x << " " << p << " " << pi;
+        ++(fast(x, p, pi) ? fast_way : long_way);
+        ++checked;
+      }
     }
-    near_multiples += std::fmod(m, p) != 0.0;
   }
-  EXPECT_EQ(checked, 400000 * 7);
-  // the multiples of p made so are not all exact ones: both branches taken
-  EXPECT_GT(near_multiples, 1000);
+  EXPECT_EQ(checked, 100000L * 11 * 6);
+  EXPECT_GT(fast_way, 1000000);
+  EXPECT_GT(long_way, 1000000);
+  // periods wrap_to_period leaves to fmod: the same bits (NaN: a NaN)
+  for (double p : {0.0, -0.02, -5e-324, 1e308, std::nan("")}) {
+    const double ref = std::fmod(std::fmod(1.234, p) + p, p);
+    if (std::isnan(ref)) EXPECT_TRUE(std::isnan(wrap_to_period(1.234, p, 1.0 / p))) << p;
+    else EXPECT_EQ(bits(wrap_to_period(1.234, p, 1.0 / p)), bits(ref)) << p;
+  }
 }
 
 // 15 changes at random times over 4 s, delayed by the clock, plus noise
