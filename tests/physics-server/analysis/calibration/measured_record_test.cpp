@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <fstream>
 #include <string>
 
@@ -13,8 +15,12 @@
 namespace chainsim {
 namespace {
 
+// (a file of this test's own: ctest runs the tests of this file at once,
+// and other checkouts' test runs may share the temporary directory)
 std::string error_of(const std::string& text) {
-  const std::string path = testing::TempDir() + "/measured_record_test.csv";
+  const std::string path = testing::TempDir() + "/measured_record_test_" +
+                           testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+                           std::to_string(getpid()) + ".csv";
   std::ofstream(path) << text;
   try {
     read_measured(path, 3);
