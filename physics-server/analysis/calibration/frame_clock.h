@@ -26,15 +26,22 @@ namespace chainsim {
 // then the exact value is the remainder, which is representable, so r is
 // it. Otherwise std::fmod. The frame clock's scan spends most of its time
 // here (fit_frame_clock)
-inline double fmod_exact(double x, double p, double p_inv) {
+// (the fast way alone: true with the remainder in r, false where it does
+// not tell and std::fmod must)
+inline bool fmod_by_fma(double x, double p, double p_inv, double& r) {
   const double qf = x * p_inv;
-  if (std::fabs(qf) < 0x1p52) {
-    const double q = static_cast<double>(static_cast<int64_t>(qf));
-    const double r = std::fma(-q, p, x);
-    if (r == 0.0) return std::copysign(0.0, x);   // x a multiple of p: fmod's zero has x's sign
-    if (x > 0 ? (r > 0 && r < p) : (r < 0 && r > -p)) return r;
+  if (!(std::fabs(qf) < 0x1p52)) return false;
+  const double q = static_cast<double>(static_cast<int64_t>(qf));
+  r = std::fma(-q, p, x);
+  if (r == 0.0) {
+    r = std::copysign(0.0, x);   // x a multiple of p: fmod's zero has x's sign
+    return true;
   }
-  return std::fmod(x, p);
+  return x > 0 ? (r > 0 && r < p) : (r < 0 && r > -p);
+}
+inline double fmod_exact(double x, double p, double p_inv) {
+  double r;
+  return fmod_by_fma(x, p, p_inv, r) ? r : std::fmod(x, p);
 }
 inline double fmod_exact(double x, double p) { return fmod_exact(x, p, 1.0 / p); }
 
