@@ -1,11 +1,15 @@
-// Same scene and seed, same bytes: whatever the machine load, and whether a
-// module is spawned by the server or started by hand.
+// Same scene and seed, same bytes: whatever the machine load, whether a
+// module is spawned by the server or started by hand, and whether the CPU has
+// the FMA instructions that glibc's faster libm variants use.
 #include <gtest/gtest.h>
 
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdlib>
+#include <optional>
+#include <string>
 #include <regex>
 
 #include "scenario_util.h"
@@ -34,7 +38,7 @@ TEST(Determinism, SameSceneAndSeedGiveTheSameTraceEvenBesideACpuHog) {
   }
   ASSERT_EQ(b.exit_code, 0) << b.stderr_text;
   EXPECT_EQ(a.summary["trace_sha256"], b.summary["trace_sha256"]);
-  EXPECT_EQ(read_file(a.dir + "/trace.csv"), read_file(b.dir + "/trace.csv"));
+  EXPECT_TRUE(read_file(a.dir + "/trace.csv") == read_file(b.dir + "/trace.csv")) << a.dir << " and " << b.dir;
   EXPECT_EQ(read_file(a.dir + "/bus.log"), read_file(b.dir + "/bus.log"));
 }
 
@@ -64,4 +68,69 @@ TEST(Determinism, ModuleStartedByHandGivesTheSameTrace) {
   waitpid(by_hand, nullptr, 0);
   ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
   EXPECT_EQ(o.summary["trace_sha256"], ref.summary["trace_sha256"]);
+}
+
+namespace {
+
+// an environment variable set for the processes a test starts, restored after
+struct EnvFor {
+  std::string name;
+  std::optional<std::string> old;
+  EnvFor(const std::string& n, const char* value) : name(n) {
+    if (const char* v = std::getenv(n.c_str())) old = v;
+    if (value) setenv(n.c_str(), value, 1);
+    else unsetenv(n.c_str());
+  }
+  ~EnvFor() {
+    if (old) setenv(name.c_str(), old->c_str(), 1);
+    else unsetenv(name.c_str());
+  }
+};
+
+// the default scene for 3 s (long enough for the variants' last bits to
+// reach the trace), on this CPU (hwcaps nullptr) or as on one without some
+// of its instructions: "-FMA" as without FMA, whose glibc has no FMA variants
+// to give (chainsim itself hides them through AVX2); "-AVX" as without AVX,
+// which leaves glibc the SSE2 variants where chainsim's tunable leaves the
+// AVX ones (the same C code)
+Outcome default_scene(const std::string& dir, const char* hwcaps) {
+  const std::string t = std::string("glibc.cpu.hwcaps=") + (hwcaps ? hwcaps : "");
+  EnvFor e("GLIBC_TUNABLES", hwcaps ? t.c_str() : nullptr);
+  return run({"--duration", "3", "--seed", "7"}, dir);
+}
+
+}  // namespace
+
+TEST(Determinism, TheTraceIsTheSameOnACpuWithoutTheFmaVariantsOfLibm) {
+  __builtin_cpu_init();
+  if (!__builtin_cpu_supports("fma") || !__builtin_cpu_supports("avx2"))
+    GTEST_SKIP() << "this CPU has no FMA and AVX2: glibc gives every process the baseline libm here, so there is no "
+                    "other variant to compare with";
+  const std::string dir = temp_dir("det-libm");
+  std::string machine_baseline_trace;
+  // first that the test can see a difference: with the machine's own
+  // variants (CHAINSIM_LIBM=machine) the two traces differ
+  {
+    EnvFor machine("CHAINSIM_LIBM", "machine");
+    const Outcome a = default_scene(dir + "/machine-fma", nullptr);
+    const Outcome b = default_scene(dir + "/machine-baseline", "-FMA");
+    machine_baseline_trace = read_file(b.dir + "/trace.csv");
+    ASSERT_EQ(a.exit_code, 0) << a.stderr_text;
+    ASSERT_EQ(b.exit_code, 0) << b.stderr_text;
+    ASSERT_NE(a.summary["trace_sha256"], b.summary["trace_sha256"])
+        << "the FMA variants no longer change this run's trace: choose a longer run for this test";
+  }
+  // by default chainsim restarts itself with the baseline variants: the same
+  // bytes whichever the CPU offers, and those of the baseline run above
+  EnvFor unset("CHAINSIM_LIBM", nullptr);
+  const Outcome a = default_scene(dir + "/fma", nullptr);
+  const Outcome b = default_scene(dir + "/baseline", "-FMA");
+  const Outcome c = default_scene(dir + "/sse2", "-AVX");
+  for (const Outcome* o : {&a, &b, &c}) ASSERT_EQ(o->exit_code, 0) << o->stderr_text;
+  for (const Outcome* o : {&b, &c}) {
+    EXPECT_TRUE(read_file(a.dir + "/trace.csv") == read_file(o->dir + "/trace.csv")) << a.dir << " and " << o->dir;
+    EXPECT_EQ(read_file(a.dir + "/bus.log"), read_file(o->dir + "/bus.log"));
+  }
+  EXPECT_TRUE(read_file(a.dir + "/trace.csv") == machine_baseline_trace) << "not the baseline variants' trace";
+  EXPECT_EQ(a.stderr_text, "");
 }

@@ -134,8 +134,12 @@ TEST(Elbow, TRRHPassesTheElbow) {
 // entry). With the solver converged (the exact solver; 1000
 // iterations agree) T R R H does not get its head out: the bent chain stalls
 // 0.7 s after the contact (18.8 s), breaks free at about 25 s and brings the
-// head to the bend's end, and the straightening at 26.8 s throws the chain
-// back 4-9 cm; the helicoidal module never reaches the elbow. Held bent
+// head to the bend's end (y 0.087-0.090 m); the helicoidal module never
+// reaches the elbow. Where the straightening at 26.8 s leaves the head is not
+// pinned: it turns on the last bits of libm's results (left at the bend's
+// end, y 0.089 m, with glibc's baseline variants, which chainsim uses on
+// every CPU; thrown back 7 cm, to y 0.017 m, with its FMA variants,
+// CHAINSIM_LIBM=machine on this project's machine). Held bent
 // longer (12 s), the head gets 3.8 cm into the outgoing leg and the helicoidal
 // module stalls at the elbow's entry, at stall current, where it stalls
 // alone (next test). docs/firmware.md, "Elbow negotiation"; this pins the
@@ -155,8 +159,7 @@ TEST(Elbow, TRRHGivenTheTurnDoesNotPassWhenTheSolverConverges) {
     std::printf("[ elbow ] T R R H, exact: head peaked at y = %.3f m, ends at (%.3f, %.3f); H at most x = %.3f m\n",
                 peak, h.x, h.y, *std::max_element(hx.begin(), hx.end()));
     EXPECT_LT(h.t_out, 0) << text(h);
-    EXPECT_GT(peak, 0.06);                // the head reached the bend's end (y = 0.08) ...
-    EXPECT_LT(h.y, 0.03) << text(h);      // ... and was thrown back by the straightening
+    EXPECT_GT(peak, 0.06);                // the head reached the bend's end (y = 0.08), not out (t_out above)
     EXPECT_LT(*std::max_element(hx.begin(), hx.end()), 0.56);  // the H never reached the elbow (0.547)
   }
   {

@@ -24,11 +24,13 @@
 #include "chainsim/test_command.h"
 #include "chainsim/view_command.h"
 #include "cosim/run_options.h"
+#include "determinism/libm_variants.h"
 #include "testing/test_runner.h"
 
 using namespace chainsim;
 
 int main(int argc, char** argv) {
+  use_baseline_libm("chainsim", argv);  // the same bytes on every CPU (may start this program again)
   CLI::App app{"chainsim: firmware-in-the-loop co-simulator for chained modular robots"};
   app.require_subcommand(1);
   const std::vector<Command> commands = {

@@ -11,11 +11,13 @@
 
 #include "cosim/lockstep_server.h"
 #include "cosim/program_params.h"
+#include "determinism/libm_variants.h"
 #include "scene/scene.h"
 
 using namespace chainsim;
 
 int main(int argc, char** argv) {
+  use_baseline_libm("chainsim-evaluate", argv);  // the same bytes on every CPU
   if (argc != 4 && argc != 5) {
     std::fprintf(stderr, "usage: chainsim-evaluate SCENE.yaml OUT_DIR MODULE_TIMEOUT_S [FIRMWARE_DIR[:DIR...]]\n");
     return kExitBadInput;

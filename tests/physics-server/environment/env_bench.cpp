@@ -33,6 +33,7 @@
 #include "model/units.h"
 #include "physics/world.h"
 #include "world_of.h"
+#include "determinism/libm_variants.h"
 
 using namespace chainsim;
 
@@ -258,6 +259,7 @@ int write_example_meshes(const std::string& dir) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  chainsim::use_baseline_libm("env_bench", argv);  // the libm chainsim uses
   if (argc > 2 && std::strcmp(argv[1], "--write-example-meshes") == 0) return write_example_meshes(argv[2]);
   const double seconds = argc > 1 ? std::atof(argv[1]) : 1.0;
   const Pipe pipes[] = {{"analytic", PipeCollider::Analytic, 0},

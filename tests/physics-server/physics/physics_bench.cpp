@@ -13,10 +13,12 @@
 #include "model/units.h"
 #include "physics/world.h"
 #include "world_of.h"
+#include "determinism/libm_variants.h"
 
 using namespace chainsim;
 
 int main(int argc, char** argv) {
+  chainsim::use_baseline_libm("physics_bench", argv);  // the libm chainsim uses
   const char* usage = "physics_bench [seconds=5] [iterations=<WorldConfig default>] [modules... = 2 8 32]";
   bench::help_or_continue(argc, argv, usage);
   const double seconds = argc > 1 ? bench::positive(argv[1], "seconds", usage) : 5.0;

@@ -31,6 +31,7 @@
 #include "physics/placement.h"
 #include "physics/world.h"
 #include "world_of.h"
+#include "determinism/libm_variants.h"
 
 using namespace chainsim;
 
@@ -111,6 +112,7 @@ WorldConfig scene(const Case& k, WorldConfig::Solver solver) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  chainsim::use_baseline_libm("pipe_drive_bench", argv);  // the libm chainsim uses
   const char* usage = "pipe_drive_bench [seconds=3]";
   bench::help_or_continue(argc, argv, usage);
   if (argc > 2) {

@@ -116,7 +116,7 @@ TEST(CsvTable, BlankReportsMissingAndEmptyCells) {
 }
 
 TEST(CsvTable, ReadsFilesAndNamesOnesThatCannotBeOpened) {
-  const std::string path = testing::TempDir() + "/csv_table_test.csv";
+  const std::string path = testing::TempDir() + "/csv_table_test_" + std::to_string(getpid()) + ".csv";
   std::ofstream(path) << "t_s,v\n0,1\n";
   EXPECT_EQ(CsvTable::read_file(path, "the test file", kTimeSeries).rows(), 1u);
   std::remove(path.c_str());
@@ -140,12 +140,12 @@ TEST(CsvTable, OnlyRegularFilesOfBoundedSizeAreRead) {
     return std::string("(no error)");
   };
   EXPECT_EQ(error("/dev/zero"), "/dev/zero: the test file is not a regular file");
-  const std::string fifo = testing::TempDir() + "/csv_table_test.fifo";
+  const std::string fifo = testing::TempDir() + "/csv_table_test_" + std::to_string(getpid()) + ".fifo";
   std::remove(fifo.c_str());
   ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
   EXPECT_EQ(error(fifo), fifo + ": the test file is not a regular file");
   std::remove(fifo.c_str());
-  const std::string big = testing::TempDir() + "/csv_table_test_big.csv";
+  const std::string big = testing::TempDir() + "/csv_table_test_big_" + std::to_string(getpid()) + ".csv";
   { std::ofstream(big) << "t_s,v\n"; }
   ASSERT_EQ(truncate(big.c_str(), static_cast<off_t>(CsvTable::kMaxFileBytes) + 1), 0);
   EXPECT_EQ(error(big), big + ": the test file is larger than 32 MiB");

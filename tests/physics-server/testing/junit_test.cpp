@@ -2,6 +2,8 @@
 // failures (expectation and measured value), time and properties.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <boost/property_tree/ptree.hpp>
 #include <boost/property_tree/xml_parser.hpp>
 
@@ -9,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 #include <sstream>
+#include <string>
 
 #include "testing/junit.h"
 
@@ -113,7 +116,7 @@ TEST(Junit, TheReportValidatesAgainstTheSchemasCiServersUse) {
   TestCaseResult d = c;
   d.status = TestCaseResult::Status::interrupted;
   d.error.clear();
-  const std::string xml = testing::TempDir() + "/junit_schema_test.xml";
+  const std::string xml = testing::TempDir() + "/junit_schema_test_" + std::to_string(getpid()) + ".xml";
   const std::string xsd = std::string(CHAINSIM_SOURCE_DIR) + "/tests/physics-server/testing/junit-common.xsd";
   const std::string log = xml + ".log";
   std::ofstream(xml) << junit_xml({a, b, c, d}, 12345.5);

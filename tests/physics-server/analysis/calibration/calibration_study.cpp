@@ -24,6 +24,7 @@
 #include <unistd.h>
 
 #include "common.h"
+#include "determinism/libm_variants.h"
 #include "synth_c.h"
 
 namespace {
@@ -104,6 +105,7 @@ std::string rate_bin(double hz) { return hz < 400 ? "200-400 Hz" : hz < 900 ? "4
 }  // namespace
 
 int main(int argc, char** argv) {
+  chainsim::use_baseline_libm("calibration_study", argv);  // the records' bytes as on every CPU
   int seeds = 10, first = -1, jobs = 1;   // first: 100 (A, B), 900 (C)
   char generator = 'a';   // a: generators A and B (synth_cases.h); c: generator C (synth_c.h)
   bool plain = false, check = false;   // check: exit 1 unless every run comes out right

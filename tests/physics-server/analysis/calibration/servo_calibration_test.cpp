@@ -7,11 +7,14 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <string>
 
 #include "analysis/calibration/calibration_report.h"
 #include "analysis/calibration/paired_runs.h"
@@ -148,7 +151,7 @@ TEST(ServoCalibration, NoEffectIsAddedWhenNoneIsMissingAndTheReportSaysSo) {
   EXPECT_TRUE(c.final_fit.effects.empty());
   EXPECT_LE(c.base.white, kWhiteMax);
 
-  const std::string dir = testing::TempDir() + "/servo_calibration_test";
+  const std::string dir = testing::TempDir() + "/servo_calibration_test_" + std::to_string(getpid());
   std::filesystem::create_directories(dir);
   write_calibration_report(c, "", "m.csv", dir);
   std::ifstream jf(dir + "/report.json");
@@ -179,7 +182,7 @@ TEST(ServoCalibration, TheShippedBacklashRecordNamesBacklashAlone) {
   BenchConfig truth = sheet;
   truth.servo.backlash_deg = 3.0;
   const SetpointProgram prog = read_setpoints(scenes + "step-30-120.csv");
-  const std::string dir = testing::TempDir() + "/servo_calibration_shipped";
+  const std::string dir = testing::TempDir() + "/servo_calibration_shipped_" + std::to_string(getpid());
   std::filesystem::create_directories(dir);
   {
     std::ofstream(dir + "/m.csv") << format_bench_csv(prog, simulate_bench(truth, prog.t_s, prog.setpoint_deg));

@@ -2,10 +2,13 @@
 // axis of a scene, and the speed table's reading.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
+#include <string>
 
 #include "analysis/robot_calibration/head_speed.h"
 #include "output/run_reader.h"
@@ -83,7 +86,7 @@ TEST(SpeedTable, TheShippedTableAndWhatIsWrongWithOthers) {
   EXPECT_EQ(t.rows[1].key, "30");
   EXPECT_EQ(t.rows[1].real, 2.1);
   EXPECT_EQ(t.rows[1].paper, 2.3);
-  const std::string path = testing::TempDir() + "/speed_table_test.csv";
+  const std::string path = testing::TempDir() + "/speed_table_test_" + std::to_string(getpid()) + ".csv";
   auto error_of = [&](const std::string& text) -> std::string {
     std::ofstream(path) << text;
     try {

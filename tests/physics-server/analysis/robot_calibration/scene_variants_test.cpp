@@ -4,9 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <string>
 
 #include "model/module_def.h"
 
@@ -16,7 +19,7 @@ namespace {
 const std::string kScenes = std::string(CHAINSIM_SOURCE_DIR) + "/scenes/";
 
 std::string temp_dir(const std::string& name) {
-  const std::string d = testing::TempDir() + "/scene_variants_test_" + name;
+  const std::string d = testing::TempDir() + "/scene_variants_test_" + std::to_string(getpid()) + "_" + name;
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d);
   return d;

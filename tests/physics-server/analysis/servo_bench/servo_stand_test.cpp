@@ -3,6 +3,8 @@
 // and set-point files read and fail as documented, the output format.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -170,7 +172,7 @@ TEST(ServoStand, BenchFilesSetWhatTheyNameAndNameWhatIsWrong) {
 }
 
 TEST(ServoStand, SetPointsAreATimeSeriesAndTheOutputHasNoNegativeZero) {
-  const std::string path = testing::TempDir() + "/servo_stand_test.csv";
+  const std::string path = testing::TempDir() + "/servo_stand_test_" + std::to_string(getpid()) + ".csv";
   std::ofstream(path) << "setpoint_deg,t_s\n30,0\n120,0.002\n";
   const SetpointProgram p = read_setpoints(path);
   ASSERT_EQ(p.t_s.size(), 2u);
