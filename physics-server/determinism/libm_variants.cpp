@@ -3,11 +3,12 @@
 #include <sys/auxv.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
-#include <algorithm>
 #include <cstring>
+#include <string>
 
 namespace chainsim {
 
@@ -16,45 +17,46 @@ namespace {
 constexpr const char* kHwcaps = "glibc.cpu.hwcaps=";
 constexpr const char* kRestarted = "CHAINSIM_LIBM_RESTARTED";
 
-// the items of a hwcaps value ("-AVX2,-FMA"), each compared whole
-bool has_item(const std::string& value, const std::string& item) {
+// the items of s between the separators, in order, empty ones too
+template <typename F>
+void for_each_item(const std::string& s, char sep, F&& f) {
   size_t start = 0;
-  while (start <= value.size()) {
-    const size_t end = std::min(value.find(',', start), value.size());
-    if (value.compare(start, end - start, item) == 0) return true;
+  while (start <= s.size()) {
+    const size_t end = std::min(s.find(sep, start), s.size());
+    f(s.substr(start, end - start));
     start = end + 1;
   }
-  return false;
+}
+
+void append_item(std::string& list, char sep, const std::string& item) {
+  list += (list.empty() ? "" : std::string(1, sep)) + item;
+}
+
+// item appended unless one of the list's items is it (compared whole)
+void add_item(std::string& list, char sep, const std::string& item) {
+  bool has = false;
+  for_each_item(list, sep, [&](const std::string& x) { has = has || x == item; });
+  if (!has) append_item(list, sep, item);
 }
 
 }  // namespace
 
 std::string tunables_with_baseline_libm(const char* current) {
-  const std::string cur = current ? current : "";
-  // the tunables are name=value entries separated by ':'
+  // the tunables are name=value entries separated by ':', a hwcaps value
+  // items separated by ','
   std::string out;
   bool found = false;
-  size_t start = 0;
-  while (start <= cur.size()) {
-    const size_t end = std::min(cur.find(':', start), cur.size());
-    std::string entry = cur.substr(start, end - start);
+  for_each_item(current ? current : "", ':', [&](std::string entry) {
     if (entry.rfind(kHwcaps, 0) == 0) {
       found = true;
       std::string value = entry.substr(std::strlen(kHwcaps));
-      for (const char* item : {"-AVX2", "-FMA4"})
-        if (!has_item(value, item)) value += (value.empty() ? "" : ",") + std::string(item);
+      for_each_item(kBaselineLibmHwcaps, ',', [&](const std::string& item) { add_item(value, ',', item); });
       entry = kHwcaps + value;
     }
-    if (!entry.empty()) out += (out.empty() ? "" : ":") + entry;
-    start = end + 1;
-  }
-  if (!found) out += (out.empty() ? "" : ":") + std::string(kHwcaps) + kBaselineLibmHwcaps;
+    if (!entry.empty()) append_item(out, ':', entry);
+  });
+  if (!found) append_item(out, ':', kHwcaps + std::string(kBaselineLibmHwcaps));
   return out;
-}
-
-bool baseline_libm_chosen() {
-  const char* t = std::getenv("GLIBC_TUNABLES");
-  return t && tunables_with_baseline_libm(t) == t;
 }
 
 void use_baseline_libm(const char* program, char** argv) {
@@ -66,7 +68,10 @@ void use_baseline_libm(const char* program, char** argv) {
   if (choice && *choice && std::strcmp(choice, "baseline") != 0 && !restarted)
     std::fprintf(stderr, "%s: CHAINSIM_LIBM=%s is neither 'baseline' (the default) nor 'machine': using baseline\n",
                  program, choice);
-  if (baseline_libm_chosen()) return;
+  // GLIBC_TUNABLES as glibc read it at this start, and as it must be
+  const char* before = std::getenv("GLIBC_TUNABLES");
+  const std::string t = tunables_with_baseline_libm(before);
+  if (before && t == before) return;
   const char* machine = "this run uses the machine's libm variants, whose last bits can differ from another CPU's";
   // a set-user-ID start: glibc erases the tunable, a restart cannot keep it
   if (getauxval(AT_SECURE)) {
@@ -101,10 +106,8 @@ void use_baseline_libm(const char* program, char** argv) {
                  program, self, kBaselineLibmHwcaps, machine);
     return;
   }
-  const char* before = std::getenv("GLIBC_TUNABLES");
   const bool had = before != nullptr;
   const std::string old = had ? before : "";
-  const std::string t = tunables_with_baseline_libm(before);
   setenv("GLIBC_TUNABLES", t.c_str(), 1);
   setenv(kRestarted, "1", 1);
   execv(self, argv);

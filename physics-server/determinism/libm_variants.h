@@ -36,14 +36,10 @@ inline constexpr const char* kBaselineLibmHwcaps = "-AVX2,-FMA4";
 // entry, or the entry appended; the same string when it already has them
 std::string tunables_with_baseline_libm(const char* current);
 
-// true when GLIBC_TUNABLES holds the items (read at this process's start by
-// glibc, so the baseline variants whatever the CPU). It does not read
-// CHAINSIM_LIBM: a process started by one that restarted inherits the
-// tunable, and CHAINSIM_LIBM=machine set for it alone cannot undo it.
-bool baseline_libm_chosen();
-
 // Call first in main(). Returns when the process already runs with the
-// tunable (or CHAINSIM_LIBM=machine says not to); otherwise sets it and
+// tunable (or CHAINSIM_LIBM=machine says not to; a process started by one
+// that restarted inherits the tunable, which CHAINSIM_LIBM=machine set for
+// it alone cannot undo); otherwise sets it and
 // execs the program again, so it does not return. Where it cannot restart
 // (set-user-ID, started through the dynamic loader, the exec failing, the
 // tunable dropped at the restart) it says so on stderr, naming `program`,

@@ -7,10 +7,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <cstdlib>
-#include <optional>
-#include <string>
 #include <regex>
+#include <string>
 
 #include "scenario_util.h"
 
@@ -72,21 +70,6 @@ TEST(Determinism, ModuleStartedByHandGivesTheSameTrace) {
 
 namespace {
 
-// an environment variable set for the processes a test starts, restored after
-struct EnvFor {
-  std::string name;
-  std::optional<std::string> old;
-  EnvFor(const std::string& n, const char* value) : name(n) {
-    if (const char* v = std::getenv(n.c_str())) old = v;
-    if (value) setenv(n.c_str(), value, 1);
-    else unsetenv(n.c_str());
-  }
-  ~EnvFor() {
-    if (old) setenv(name.c_str(), old->c_str(), 1);
-    else unsetenv(name.c_str());
-  }
-};
-
 // the default scene for 3 s (long enough for the variants' last bits to
 // reach the trace), on this CPU (hwcaps nullptr) or as on one without some
 // of its instructions: "-FMA" as without FMA, whose glibc has no FMA variants
@@ -95,7 +78,7 @@ struct EnvFor {
 // AVX ones (the same C code)
 Outcome default_scene(const std::string& dir, const char* hwcaps) {
   const std::string t = std::string("glibc.cpu.hwcaps=") + (hwcaps ? hwcaps : "");
-  EnvFor e("GLIBC_TUNABLES", hwcaps ? t.c_str() : nullptr);
+  EnvForChildren e("GLIBC_TUNABLES", hwcaps ? t.c_str() : nullptr);
   return run({"--duration", "3", "--seed", "7"}, dir);
 }
 
@@ -111,7 +94,7 @@ TEST(Determinism, TheTraceIsTheSameOnACpuWithoutTheFmaVariantsOfLibm) {
   // first that the test can see a difference: with the machine's own
   // variants (CHAINSIM_LIBM=machine) the two traces differ
   {
-    EnvFor machine("CHAINSIM_LIBM", "machine");
+    EnvForChildren machine("CHAINSIM_LIBM", "machine");
     const Outcome a = default_scene(dir + "/machine-fma", nullptr);
     const Outcome b = default_scene(dir + "/machine-baseline", "-FMA");
     machine_baseline_trace = read_file(b.dir + "/trace.csv");
@@ -122,7 +105,7 @@ TEST(Determinism, TheTraceIsTheSameOnACpuWithoutTheFmaVariantsOfLibm) {
   }
   // by default chainsim restarts itself with the baseline variants: the same
   // bytes whichever the CPU offers, and those of the baseline run above
-  EnvFor unset("CHAINSIM_LIBM", nullptr);
+  EnvForChildren unset("CHAINSIM_LIBM", nullptr);
   const Outcome a = default_scene(dir + "/fma", nullptr);
   const Outcome b = default_scene(dir + "/baseline", "-FMA");
   const Outcome c = default_scene(dir + "/sse2", "-AVX");

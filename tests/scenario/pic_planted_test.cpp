@@ -18,6 +18,7 @@
 #include <fstream>
 #include <mutex>
 
+#include "pic_tree.h"
 #include "scenario_util.h"
 
 using namespace scenario;
@@ -84,12 +85,10 @@ const std::string& planted() {
 // a run of the planted project also runs the tree's own programs for the PIC
 // (the central control's fw-central.hex): the toolchain can be in the shared
 // cache while this build tree's programs were never built
-std::string tree_central_hex() { return build_dir() + "/pic/fw-central.hex"; }
-
 #define REQUIRE_TREE_PIC_PROGRAMS()                                                                       \
   REQUIRE_TOOLCHAIN();                                                                                    \
-  if (struct stat st {}; stat(tree_central_hex().c_str(), &st) != 0)                                      \
-  GTEST_SKIP() << "this build tree's PIC programs are not built (" << tree_central_hex()                  \
+  if (!tree_pic_built())                                                                                  \
+  GTEST_SKIP() << "this build tree's PIC programs are not built (" << tree_pic_dir()                      \
                << "): run tools/pic-build.sh, as tools/test-all.sh does"
 
 nlohmann::json read_json(const std::string& path) {

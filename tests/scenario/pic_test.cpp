@@ -5,33 +5,22 @@
 // it they are skipped with the reason.
 #include <gtest/gtest.h>
 
-#include <sys/stat.h>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <regex>
 
+#include "pic_tree.h"
 #include "scenario_util.h"
 
 using namespace scenario;
 
 namespace {
 
-std::string pic_dir() {
-  const std::string exe = CHAINSIM_EXE;
-  return exe.substr(0, exe.rfind('/')) + "/../pic";
-}
-
-bool pic_built() {
-  struct stat st {};
-  return stat((pic_dir() + "/fw-rotation.hex").c_str(), &st) == 0 && stat(CHAINSIM_PIC_EXE, &st) == 0;
-}
-
 #define REQUIRE_PIC_BUILD()                                                                               \
-  if (!pic_built())                                                                                       \
-  GTEST_SKIP() << "the PIC build is missing (" << pic_dir()                                               \
-               << "/fw-rotation.hex): run tools/pic-build.sh, as tools/test-all.sh does"
+  if (!tree_pic_built())                                                                                  \
+  GTEST_SKIP() << "the PIC build is missing (" << tree_pic_dir()                                          \
+               << "/fw-rotation.hex, fw-central.hex): run tools/pic-build.sh, as tools/test-all.sh does"
 
 nlohmann::json read_json(const std::string& path) {
   std::ifstream f(path);

@@ -217,12 +217,12 @@ std::vector<double> log_times(const std::string& log, const std::string& what) {
   return out;
 }
 
-TmpDirForChildren::TmpDirForChildren(const std::string& dir) {
-  if (const char* t = getenv("TMPDIR")) had = true, old = t;
-  setenv("TMPDIR", dir.c_str(), 1);
+EnvForChildren::EnvForChildren(const std::string& n, const char* value) : name(n) {
+  if (const char* t = getenv(name.c_str())) had = true, old = t;
+  value ? setenv(name.c_str(), value, 1) : unsetenv(name.c_str());
 }
 
-TmpDirForChildren::~TmpDirForChildren() { had ? setenv("TMPDIR", old.c_str(), 1) : unsetenv("TMPDIR"); }
+EnvForChildren::~EnvForChildren() { had ? setenv(name.c_str(), old.c_str(), 1) : unsetenv(name.c_str()); }
 
 std::vector<std::string> socket_dirs_in(const std::string& dir) {
   std::vector<std::string> out;

@@ -64,13 +64,20 @@ std::string central_log(const Outcome& o, int n);
 // bend"), in the log's order
 std::vector<double> log_times(const std::string& log, const std::string& what);
 
-// TMPDIR for the chainsim processes a test starts (their socket
-// directories), restored when it goes
-struct TmpDirForChildren {
-  std::string old;
+// an environment variable for the processes a test starts (value nullptr:
+// unset), restored when it goes
+struct EnvForChildren {
+  std::string name, old;
   bool had = false;
-  explicit TmpDirForChildren(const std::string& dir);
-  ~TmpDirForChildren();
+  EnvForChildren(const std::string& name, const char* value);
+  ~EnvForChildren();
+  EnvForChildren(const EnvForChildren&) = delete;
+  EnvForChildren& operator=(const EnvForChildren&) = delete;
+};
+
+// TMPDIR for the chainsim processes a test starts (their socket directories)
+struct TmpDirForChildren : EnvForChildren {
+  explicit TmpDirForChildren(const std::string& dir) : EnvForChildren("TMPDIR", dir.c_str()) {}
 };
 
 // the socket directories in dir (chainsim-sock-*)

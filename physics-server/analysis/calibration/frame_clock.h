@@ -25,15 +25,13 @@ namespace chainsim {
 // assume FMA (no -march), so std::fma calls glibc's fma(), which is the
 // instruction where glibc finds FMA usable and an exact emulation in
 // software, several times slower than fmod, where it does not (an older
-// CPU, or GLIBC_TUNABLES hiding FMA). Either gives the same bits.
-inline bool fma_is_an_instruction() {
+// CPU, or GLIBC_TUNABLES hiding FMA). Either gives the same bits. Read once
+// at start-up, not in fmod_exact's hot loop.
 #if defined(__x86_64__) && __has_include(<sys/platform/x86.h>)
-  static const bool active = CPU_FEATURE_ACTIVE(FMA);
-  return active;
+inline const bool kFmaIsAnInstruction = CPU_FEATURE_ACTIVE(FMA);
 #else
-  return true;
+inline const bool kFmaIsAnInstruction = true;
 #endif
-}
 
 // std::fmod(x, p) bit for bit (p > 0), without fmod's long division where
 // the quotient fits: q = trunc(x p_inv), p_inv 1 / p or near it (q may then
@@ -43,7 +41,7 @@ inline bool fma_is_an_instruction() {
 // lies in [0, p) (x >= 0) or (-p, 0] (x < 0) only if q is the quotient, and
 // then the exact value is the remainder, which is representable, so r is
 // it. Otherwise std::fmod, and always std::fmod where fma is no instruction
-// (fma_is_an_instruction). The frame clock's scan spends most of its time
+// (kFmaIsAnInstruction). The frame clock's scan spends most of its time
 // here (fit_frame_clock)
 // (the fast way alone: true with the remainder in r, false where it does
 // not tell and std::fmod must)
@@ -60,7 +58,7 @@ inline bool fmod_by_fma(double x, double p, double p_inv, double& r) {
 }
 inline double fmod_exact(double x, double p, double p_inv) {
   double r;
-  return fma_is_an_instruction() && fmod_by_fma(x, p, p_inv, r) ? r : std::fmod(x, p);
+  return kFmaIsAnInstruction && fmod_by_fma(x, p, p_inv, r) ? r : std::fmod(x, p);
 }
 inline double fmod_exact(double x, double p) { return fmod_exact(x, p, 1.0 / p); }
 

@@ -32,7 +32,7 @@ std::string slurp(const std::string& path) {
 }
 
 // run argv (libm_probe, or the loader with it) with env added to this
-// process's environment minus the names in `drop`
+// process's environment, less its GLIBC_TUNABLES and CHAINSIM_LIBM*
 Probe probe(std::vector<std::string> argv, const std::vector<std::string>& env) {
   std::vector<std::string> envs;
   for (char** e = environ; *e; ++e) {
