@@ -1,7 +1,7 @@
 // Two fits at once on one core. A model run (the bench's closed form,
-// servo_stand.h) is a chain of dependent divisions the CPU mostly waits on;
+// servo_stand.h) is a chain of dependent operations the CPU mostly waits on;
 // two independent runs stepped side by side (simulate_benches) overlap and
-// take about 0.6-0.7 of the time of the two one after the other. The
+// take about 0.75-0.95 of the time of the two one after the other. The
 // calibration's independent work (its candidates, its starts, a parameter's
 // two sides in the intervals) is therefore run as tasks, two at a time:
 // whenever both tasks wait for a model run, the two runs are simulated as

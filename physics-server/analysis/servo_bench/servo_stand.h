@@ -38,8 +38,9 @@ std::vector<BenchSample> simulate_bench(const BenchConfig& b, const std::vector<
 // several benches (the same step dt_us) on the same set-points, stepped side
 // by side: result i is bench i's first counts[i] samples, byte for byte what
 // simulate_bench gives it alone. On one core two closed-form benches run in
-// about 0.6-0.7 of the time of the two one after the other (each step waits
-// on its own chain of divisions; two chains overlap). Throws
+// about 0.75-0.95 of the time of the two one after the other, by the VM's
+// state (servo_stand_bench: each step waits on its own chain of dependent
+// operations, a division among them; two chains overlap). Throws
 // std::invalid_argument as simulate_bench, and for steps that differ.
 std::vector<std::vector<BenchSample>> simulate_benches(const std::vector<const BenchConfig*>& b,
                                                        const std::vector<double>& t_s,

@@ -30,6 +30,8 @@ void ServoModel::update_constants(double h) {
   }
   ef_ = p_.current_filter_tau_s > 0.0 ? std::exp(-h / p_.current_filter_tau_s) : 0.0;
   jh_ = p_.j / h;
+  inv_r_ = 1.0 / p_.r;
+  drive_gain_ = (1.0 - phi_) / p_.r;
   ci_ = p_.km * (1.0 - phi_) / p_.r;
   er_ = rail_rs_ > 0.0 ? std::exp(-h / (rail_rs_ * p_.supply_rail_f)) : 0.0;
 }

@@ -56,7 +56,7 @@
 // is off by default and its parameter's null value (0) removes it exactly:
 //  * static_friction_threshold  i_threshold_a (above).
 //  * coulomb_friction  coulomb_nm: output-side friction torque -Tc tanh(w/ws),
-//    ws = kCoulombRate (0.005 rad/s), linearised at the start-of-step rate with
+//    ws = kCoulombRate (0.005 rad/s; tanh by fast_tanh.h), linearised at the start-of-step rate with
 //    the slope implicit (a damper Tc sech^2/ws added to the law), so a holding
 //    joint sticks without chatter.
 //  * backlash  backlash_deg: gear play of that total width between the motor
@@ -198,6 +198,10 @@ class ServoModel {
   double phi_ = 0.0;    // (tau_e/h)(1 - e^(-h/tau_e)): weight of i_n in the step average
   double ef_ = 0.0;     // e^(-h/tau_f)
   double jh_ = 0.0;     // J/h
+  // 1/R and (1 - phi)/R: multiplications in the step where it divided by R
+  // (a division's latency twice on the step's chain of dependent operations)
+  double inv_r_ = 0.0;
+  double drive_gain_ = 0.0;
   double ci_ = 0.0;     // Km (1 - phi)/R: the step-average current's slope in w' when driven
   double rail_rs_ = 0.0;  // supply_sag's Rs when the rail variant is on, else 0
   double er_ = 0.0;       // e^(-h/(Rs C))

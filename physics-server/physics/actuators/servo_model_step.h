@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "model/units.h"
+#include "physics/actuators/fast_tanh.h"
 #include "physics/actuators/servo_model.h"
 
 namespace chainsim {
@@ -128,7 +129,7 @@ namespace chainsim {
   if (drive_) {
     ea_ = drive_voltage(sp_after, theta, wr);
     if (after < 1.0) ea_ = after * ea_ + (1.0 - after) * drive_voltage(sp_before, theta, wr);
-    i0 = (1.0 - phi_) * ea_ / p_.r + phi_ * i_;
+    i0 = ea_ * drive_gain_ + phi_ * i_;
     ci = ci_;
   } else {
     ea_ = 0.0;
@@ -153,7 +154,7 @@ namespace chainsim {
   if (p_.coulomb_nm > 0.0) {
     // (times the rate's inverse: two divisions fewer on the step's chain)
     constexpr double kInvRate = 1.0 / kCoulombRate;
-    const double th = std::tanh(w * kInvRate);
+    const double th = fast_tanh(w * kInvRate);
     dc = p_.coulomb_nm * (1.0 - th * th) * kInvRate;
     tc0 = -p_.coulomb_nm * th + dc * w;
   }
@@ -215,7 +216,7 @@ namespace chainsim {
   }
   const double wr = gap_step_ || mesh_step_ ? wm_ : w_next;  // the rotor's rate (back-EMF)
   if (!gap_step_ && !mesh_step_) wm_ = w_next;
-  const double i_inf = drive_ ? (ea_ - p_.km * wr) / p_.r : 0.0;
+  const double i_inf = drive_ ? (ea_ - p_.km * wr) * inv_r_ : 0.0;
   i_mean_ = (1.0 - phi_) * i_inf + phi_ * i_;
   i_ = i_inf + (i_ - i_inf) * e_;
   // RC filter of |i|, exact for the step-average |i| held over the step
