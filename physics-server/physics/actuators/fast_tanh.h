@@ -1,8 +1,8 @@
 // tanh without the library call, for the servo model's Coulomb friction
 // (servo_model_step.h), which takes one per step: glibc's tanh (through its
-// expm1) waits about 47 ns per call on the calibration's critical path, this
-// one about half as long, and inlined, two models stepped side by side
-// overlap it (servo_stand_bench, docs/benchmarks.md).
+// expm1) waits about 45 ns per call on the calibration's critical path, this
+// one 0.6 of that, and inlined, two models stepped side by side overlap it
+// (servo_stand_bench, docs/benchmarks.md).
 //
 //   tanh(x) = sign(x) m / (m + 2),  m = e^(2|x|) - 1,  +-1 for |x| >= 20;
 //   e^y = 2^k e^r,  k = round(y / ln 2),  r = y - k ln 2 (ln 2 in two parts,
