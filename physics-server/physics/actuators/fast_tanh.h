@@ -23,9 +23,9 @@
 // the same bits on every x86-64 CPU and with every C library.
 #pragma once
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 
 namespace chainsim {
 
@@ -40,8 +40,7 @@ namespace chainsim {
   constexpr double kShift = 0x1.8p52;
   const double z = y * kInvLn2 + kShift;
   const double kd = z - kShift;
-  uint64_t zb;
-  std::memcpy(&zb, &z, sizeof zb);
+  const uint64_t zb = std::bit_cast<uint64_t>(z);
   const double r = (y - kd * kLn2Hi) - kd * kLn2Lo;
   constexpr double c2 = 1.0 / 2, c3 = 1.0 / 6, c4 = 1.0 / 24, c5 = 1.0 / 120, c6 = 1.0 / 720, c7 = 1.0 / 5040,
                    c8 = 1.0 / 40320, c9 = 1.0 / 362880, c10 = 1.0 / 3628800, c11 = 1.0 / 39916800,
@@ -55,9 +54,7 @@ namespace chainsim {
   const double big_p = (q0 + q1 * r4) + q2 * r8;
   const double em_r = r + r2 * big_p;   // e^r - 1
   // 2^k from k's bits (0 <= k <= 58)
-  const uint64_t scale_bits = (zb + 1023) << 52;
-  double scale;
-  std::memcpy(&scale, &scale_bits, sizeof scale);
+  const double scale = std::bit_cast<double>((zb + 1023) << 52);
   // m = 2^k (e^r - 1) + (2^k - 1): both parts exact (k <= 53; beyond,
   // tanh is 1 within 1 ulp), one rounding; for k = 0 the series itself
   const double m = em_r * scale + (scale - 1.0);

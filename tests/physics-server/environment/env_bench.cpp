@@ -18,8 +18,6 @@
 // surfaces (tests/physics-server/environment/pipe_probe.h), max and mean (of max(0, depth)) over steps;
 // jitter = peak-to-peak and RMS of the body centres about their mean (across
 // the axis, and along it), and RMS speed.
-#include <time.h>
-
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -28,6 +26,7 @@
 
 #include "environment/pipe_mesh.h"
 #include "environment/pipe_path.h"
+#include "physics-server/physics/bench_clock.h"
 #include "pipe_probe.h"
 #include "physics/placement.h"
 #include "model/units.h"
@@ -38,13 +37,6 @@
 using namespace chainsim;
 
 namespace {
-
-// CPU time of this thread, us: the figures hold on a loaded machine
-double cpu_us() {
-  timespec t;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return t.tv_sec * 1e6 + t.tv_nsec * 1e-3;
-}
 
 struct Pipe {
   const char* name;
@@ -105,9 +97,9 @@ Figures slide(const Pipe& p, double seconds) {
   double cost = 0;
   int probes = 0;
   for (int k = 0; k < steps; ++k) {
-    const double t0 = cpu_us();
+    const double t0 = bench::cpu_us();
     w.step();
-    cost += cpu_us() - t0;
+    cost += bench::cpu_us() - t0;
     f.contacts += w.last_contact_count();
     if (k % 4 == 0) {
       const double d = probe_bodies(w, defs, l, 8, [&](const Eigen::Vector3d& x, double r) {
@@ -155,9 +147,9 @@ Figures elbow(const Pipe& p, double seconds, double* exit_time_s) {
   double cost = 0;
   int probes = 0;
   for (int k = 0; k < steps; ++k) {
-    const double t0 = cpu_us();
+    const double t0 = bench::cpu_us();
     w.step();
-    cost += cpu_us() - t0;
+    cost += bench::cpu_us() - t0;
     f.contacts += w.last_contact_count();
     if (*exit_time_s < 0 && (w.chain_com() - l.pieces[2].start.point).dot(l.pieces[2].start.tangent) > 0)
       *exit_time_s = (k + 1) * 5e-4;
@@ -189,9 +181,9 @@ Figures rest(const Pipe& p, const std::string& type, double diameter, double sec
   Figures f;
   double cost = 0, speed2 = 0;
   for (int k = 0; k < steps; ++k) {
-    const double t0 = cpu_us();
+    const double t0 = bench::cpu_us();
     w.step();
-    cost += cpu_us() - t0;
+    cost += bench::cpu_us() - t0;
     f.contacts += w.last_contact_count();
     int i = 0;
     for (int m = 0; m < w.module_count(); ++m)

@@ -19,14 +19,13 @@
 // solver (physics.solver: exact).
 // Per case: us per step, us per step per helicoidal module, contact joints per
 // step, and how far the head moved (a sanity check that the drive works).
-#include <time.h>
-
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
 
 #include "bench_args.h"
+#include "bench_clock.h"
 #include "model/module_file.h"
 #include "physics/placement.h"
 #include "physics/world.h"
@@ -36,12 +35,6 @@
 using namespace chainsim;
 
 namespace {
-
-double cpu_us() {
-  timespec t;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return t.tv_sec * 1e6 + t.tv_nsec * 1e-3;
-}
 
 struct Case {
   const char* name;
@@ -149,12 +142,12 @@ int main(int argc, char** argv) {
       const Eigen::Vector3d start = w.body_state(0, 0).position;
       const int steps = static_cast<int>(seconds / (w.dt_us() * 1e-6));
       long contacts = 0;
-      const double t0 = cpu_us();
+      const double t0 = bench::cpu_us();
       for (int i = 0; i < steps; ++i) {
         w.step();
         contacts += w.last_contact_count();
       }
-      const double us = (cpu_us() - t0) / steps;
+      const double us = (bench::cpu_us() - t0) / steps;
       std::printf("%-20s %-9s %8d %10.2f %12.2f %10.2f %10.1f\n", k.name,
                   solver == WorldConfig::Solver::Exact ? "exact" : "quickstep", bodies, us,
                   n_h > 0 ? us / n_h : 0.0, static_cast<double>(contacts) / steps,

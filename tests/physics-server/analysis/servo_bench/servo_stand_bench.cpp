@@ -7,8 +7,6 @@
 // figures, asserts nothing. Figures of record: docs/benchmarks.md ("Servo
 // calibration's model runs").
 //   servo_stand_bench [repeats=15]
-#include <time.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -18,6 +16,7 @@
 
 #include "analysis/servo_bench/servo_stand.h"
 #include "bench_args.h"
+#include "bench_clock.h"
 #include "determinism/libm_variants.h"
 #include "physics/actuators/fast_tanh.h"
 
@@ -25,11 +24,7 @@ using namespace chainsim;
 
 namespace {
 
-double cpu_ms() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
-}
+double cpu_ms() { return bench::cpu_us() * 1e-3; }
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());

@@ -2,26 +2,16 @@
 // tanh, and its exact values (zeros, saturation, NaN, symmetry).
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <cstring>
 #include <limits>
 #include <random>
 
 #include "physics/actuators/fast_tanh.h"
 
 using chainsim::fast_tanh;
-
-namespace {
-
-uint64_t bits_of(double x) {
-  uint64_t b;
-  std::memcpy(&b, &x, sizeof b);
-  return b;
-}
-
-}  // namespace
 
 // against long double's tanhl (64-bit mantissa: the exact tanh to well
 // within the ulp of a double), in units of the double's ulp at the result
@@ -53,13 +43,13 @@ TEST(FastTanh, IsWithin3UlpOfTheExactTanhOverTwentyMillionArguments) {
 TEST(FastTanh, IsOdd) {
   for (int k = 0; k <= 200000; ++k) {
     const double x = k * 1e-4;   // 0 .. 20
-    EXPECT_EQ(bits_of(fast_tanh(-x)), bits_of(-fast_tanh(x))) << x;
+    EXPECT_EQ(std::bit_cast<uint64_t>(fast_tanh(-x)), std::bit_cast<uint64_t>(-fast_tanh(x))) << x;
   }
 }
 
 TEST(FastTanh, GivesTheExactValuesAtZeroAtSaturationAndForNan) {
-  EXPECT_EQ(bits_of(fast_tanh(0.0)), bits_of(0.0));
-  EXPECT_EQ(bits_of(fast_tanh(-0.0)), bits_of(-0.0));
+  EXPECT_EQ(std::bit_cast<uint64_t>(fast_tanh(0.0)), std::bit_cast<uint64_t>(0.0));
+  EXPECT_EQ(std::bit_cast<uint64_t>(fast_tanh(-0.0)), std::bit_cast<uint64_t>(-0.0));
   for (double x : {19.1, 20.0, 21.5, 700.0, 1e300, std::numeric_limits<double>::infinity()}) {
     EXPECT_EQ(fast_tanh(x), 1.0) << x;
     EXPECT_EQ(fast_tanh(-x), -1.0) << x;
