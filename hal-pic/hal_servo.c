@@ -73,6 +73,15 @@ void hp_isr_high(void) __interrupt(1)
             next_pins = slot_bit;
 #endif
     }
+    /* gpsim 0.31 never matches a compare value of 0 (its Timer1/3 breaks
+     * only at values above the timer's, and the rollover comes first), so an
+     * edge scheduled at Timer3 = 0 stopped the pulses for good: slot 0's
+     * falling edge of a servo at 0 deg gets there after 16.4 s, slot 7's
+     * start after 41 s whatever the servos. The part matches at 0; one count
+     * later does no harm there: that one edge 0.2 us late, the next slots
+     * still counted from slot_start */
+    if (edge == 0)
+        edge = 1;
     /* High byte first: the half-written value (new high, old low) never
      * equals Timer3 before the low byte follows. Then the high byte once
      * more, and only then clear the flag: a PIC18 sees the same compare

@@ -134,6 +134,32 @@ TEST(PicInTheLoop, TheElbowWithTouchAndHelicoidalModulesOnTheBoardsBinaries) {
   const auto& cmd = tr.at("m3.s0.command");
   EXPECT_EQ(*std::max_element(cmd.begin(), cmd.end()), 1.0);
   EXPECT_GT(speed(p), 0.005);
+  // the rotation modules' boards take the bend the central control sends at
+  // the elbow (16.7-17 s): their yaw set-points reach its -38.95 deg. They
+  // stayed at 0, limp, while an edge at Timer3 = 0 stopped the boards'
+  // servo pulses for good (gpsim never matches a compare at 0), 16.4 s in
+  ASSERT_FALSE(log_times(log, "elbow: bend").empty()) << log;
+  for (const char* yaw : {"m1.s1.setpoint_deg", "m2.s1.setpoint_deg"}) {
+    const auto& sp = tr.at(yaw);
+    EXPECT_LT(*std::min_element(sp.begin(), sp.end()), -38.0) << yaw;
+  }
+}
+
+// a board's servo keeps its pulses, 50 a second, however long the run: a
+// rotation module idle at 0 deg (no gait) for 42 s has its slot 0's falling
+// edge at Timer3 = 0 at 16.4 s and slot 7's start there at 41 s, where gpsim
+// matches no compare (hal-pic/hal_servo.c moves such an edge one count on)
+TEST(PicInTheLoop, ABoardsServosKeepTheirPulsesPastTimer3AtZero) {
+  REQUIRE_PIC_BUILD();
+  const double duration = 42.0;
+  const Outcome o = run_scene("pic-idle", "default", duration,
+                              {{"chain: RRRRRRRR", "chain: R\nprograms:\n  rotation: {target: pic}"},
+                               {"gait: 1 ", "gait: 0 "}});
+  ASSERT_EQ(o.exit_code, 0) << o.stderr_text;
+  const auto& pins = o.summary["modules"][0]["pic"]["pins"];
+  ASSERT_EQ(pins["servo_pulses"].size(), 2u) << pins.dump();
+  for (const auto& n : pins["servo_pulses"]) EXPECT_GE(n.get<double>(), 50 * duration - 5) << pins.dump();
+  EXPECT_EQ(pins["servo_glitches"], 0);
 }
 
 TEST(PicInTheLoop, NativeAndPicModulesMixInOneChain) {

@@ -324,6 +324,11 @@ nlohmann::json PicModule::stats() const {
       {"pins", {{"frames_to_chip", i2c_.delivered()}, {"frames_from_chip", frames_from_chip_},
                 {"log_lines", log_lines_}, {"uart_framing_errors", uart_.framing_errors()},
                 {"servo_glitches", [this] { uint64_t g = 0; for (const auto& p : pulses_) g += p.glitches(); return g; }()},
+                {"servo_pulses", [this] {
+                   nlohmann::json n = nlohmann::json::array();
+                   for (int i = 0; i < servos_; ++i) n.push_back(pulses_[static_cast<size_t>(i)].pulses());
+                   return n;
+                 }()},
                 {"overrun_warnings", overrun_warnings_}}},
       // wall-clock and CPU figures of this machine: they vary from run to run
       {"host", {{"gpsim_cpu_s", gpsim_cpu_s_}, {"bridge_cpu_s", std::max(0.0, tick_cpu_s_ - gpsim_cpu_s_)},
