@@ -6,8 +6,8 @@
  * slot i: its pin (RB2 + i) goes high at the slot start and low after its
  * pulse width. The high-priority interrupt sets each compare relative to the
  * previous scheduled edge, never to "now", so the latency cancels out: the
- * width is exact to the instruction cycle (0.2 us) and the frame is exactly
- * 20 ms.
+ * width is exact to the instruction cycle (0.2 us; one edge in 41 s one
+ * count late, below) and the frame is exactly 20 ms.
  *
  * Set-point mapping (centidegrees -> pulse):
  *     width_us = 1500 + cdeg / 18          (-9000 -> 1000 us, 0 -> 1500, 9000 -> 2000)
@@ -85,7 +85,7 @@ void hp_isr_high(void) __interrupt(1)
     /* High byte first: the half-written value (new high, old low) never
      * equals Timer3 before the low byte follows. Then the high byte once
      * more, and only then clear the flag: a PIC18 sees the same compare
-     * value and no match in these few cycles (the next edge is >= 2500
+     * value and no match in these few cycles (the next edge is >= 2499
      * counts away). gpsim 0.31 copies CCPR1L into CCPR1H at every Timer2
      * period match (its PWM duty-cycle latch, also in compare mode) and
      * takes the compare value from both registers at each write: a copy
